@@ -1,0 +1,1 @@
+"""Swing optimizers: the paper's pattern search and a CasADi/Ipopt NLP, on one problem type."""
