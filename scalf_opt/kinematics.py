@@ -56,8 +56,15 @@ class LegKinematics:
 
     def jacobian_dot_expr(self, q: ca.SX, qd: ca.SX) -> ca.SX:
         """Time derivative of the Jacobian along ``qd`` (2x2) [m/(rad s)]: sum_j dJ/dq_j qd_j."""
+        return self._jacobian_dot_fn(q, qd)
+
+    @cached_property
+    def _jacobian_dot_fn(self) -> ca.Function:
+        # jtimes differentiates with respect to a purely symbolic q, so build it on symbols once
+        q, qd = ca.SX.sym("q", 2), ca.SX.sym("qd", 2)
         jac = self.jacobian_expr(q)
-        return ca.horzcat(*[ca.jtimes(jac[:, j], q, qd) for j in range(2)])
+        jdot = ca.horzcat(*[ca.jtimes(jac[:, j], q, qd) for j in range(2)])
+        return ca.Function("jacobian_dot", [q, qd], [jdot])
 
     def inverse_expr(self, p: ca.SX) -> ca.SX:
         """Closed-form inverse kinematics on the leg's fixed knee branch (2x1) [rad].

@@ -1,0 +1,160 @@
+"""The swing optimization as a smooth NLP, built with CasADi and solved by Ipopt.
+
+Built from :meth:`SwingProblem.graph` (the evaluator's own expressions), with two smooth
+reformulations of the non-smooth energy:
+
+* ``|tau_i qd_i|`` at every sample becomes a slack pair: ``s+ - s- = tau qd``, ``s+, s- >= 0``,
+  and the objective charges ``s+ + s-``; at an optimum one of the two is zero, so the objective
+  equals the exact mechanical energy;
+* the friction heat's ``max(v, 0)`` becomes ``(v + sqrt(v^2 + eps^2)) / 2`` with
+  ``eps = HEAT_SMOOTHING_EPS_M_S``.
+
+Constraints at every swing sample: joint limits, cylinder stroke, foot at or above the ground
+(interior samples; lift-off and touch-down are on the ground by construction), the IK reach in
+foot space, and the mid-swing clearance. Derivatives (gradient, constraint Jacobian, Lagrangian
+Hessian) are exact, from CasADi's automatic differentiation.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from scalf_opt.optimize.problem import HEAT_SMOOTHING_EPS_M_S, SwingProblem
+from scalf_opt.energy import mechanical_power, trapezoid_weights
+
+IPOPT_DEFAULTS: dict[str, Any] = {
+    "tol": 1e-10,
+    "acceptable_tol": 1e-8,
+    "max_iter": 3000,
+    "print_level": 0,
+    "sb": "yes",
+    "mu_strategy": "adaptive",
+}
+
+
+@dataclass
+class NlpBuild:
+    """A built NLP: the CasADi solver and the bounds and layout it needs."""
+
+    solver: ca.Function
+    lbx: np.ndarray
+    ubx: np.ndarray
+    lbg: np.ndarray
+    ubg: np.ndarray
+    n_theta: int
+    n_samples: int
+    p_mech: ca.Function  # theta -> signed mechanical power (2 x n), for slack initial guesses
+
+
+def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None) -> NlpBuild:
+    """Build the NLP of ``problem`` (no solving)."""
+    n_theta = problem.n_params
+    n = problem.path.tau_s.size
+    theta = ca.SX.sym("theta", n_theta)
+    s_pos = ca.SX.sym("s_pos", 2 * n)
+    s_neg = ca.SX.sym("s_neg", 2 * n)
+    g = problem.graph(theta, HEAT_SMOOTHING_EPS_M_S)
+    w = ca.DM(np.tile(trapezoid_weights(problem.path.tau_s), 2))
+    p_mech = ca.reshape(g["p_mech"].T, 2 * n, 1)  # column-major: all hip samples, then knee
+    heat = ca.reshape(g["p_heat"].T, 2 * n, 1)
+    accounting = problem.model.accounting
+    if accounting == "paper":
+        mech_cost = s_pos + s_neg
+    else:  # the other accountings are smooth enough without slacks except at tau qd = 0
+        mech_cost = mechanical_power(p_mech, accounting)
+    objective = ca.dot(w, mech_cost + heat)
+
+    constraints, lower, upper = [], [], []
+
+    def add(expr: ca.SX, lo: np.ndarray | float, hi: np.ndarray | float) -> None:
+        size = expr.numel()
+        constraints.append(ca.reshape(expr, size, 1))
+        lower.append(np.broadcast_to(np.asarray(lo, dtype=float), (size,)).ravel())
+        upper.append(np.broadcast_to(np.asarray(hi, dtype=float), (size,)).ravel())
+
+    if accounting == "paper":
+        add(s_pos - s_neg - p_mech, 0.0, 0.0)
+    q_lo, q_hi = problem.bounds["q"]
+    add(g["q"], np.repeat(q_lo, n, axis=1).ravel(order="F"), np.repeat(q_hi, n, axis=1).ravel(order="F"))
+    l_lo, l_hi = problem.bounds["cyl_len"]
+    for i in range(2):
+        if np.isfinite(l_lo[i, 0]):
+            add(g["cyl_len"][i, :], l_lo[i, 0], l_hi[i, 0])
+    add(g["foot"][1, 1:-1], problem.ground_z_m, np.inf)
+    if "reach" in g:
+        add(g["reach"], -1.0, 1.0)
+    gait = problem.model.gait
+    mid = int(np.argmin(np.abs(problem.path.tau_s - 0.5 * gait.swing_duration_s)))
+    add(g["foot"][1, mid], problem.ground_z_m + gait.clearance_m - 1e-9, np.inf)
+
+    x = ca.vertcat(theta, s_pos, s_neg) if accounting == "paper" else theta
+    options = {"ipopt": {**IPOPT_DEFAULTS, **(ipopt_options or {})}, "print_time": False}
+    solver = ca.nlpsol(
+        f"{problem.leg}_{problem.family.name}_nlp",
+        "ipopt",
+        {"x": x, "f": objective, "g": ca.vertcat(*constraints)},
+        options,
+    )
+    n_slack = 4 * n if accounting == "paper" else 0
+    lbx = np.concatenate([np.full(n_theta, -np.inf), np.zeros(n_slack)])
+    ubx = np.full(n_theta + n_slack, np.inf)
+    return NlpBuild(
+        solver=solver,
+        lbx=lbx,
+        ubx=ubx,
+        lbg=np.concatenate(lower),
+        ubg=np.concatenate(upper),
+        n_theta=n_theta,
+        n_samples=n,
+        p_mech=ca.Function("p_mech", [theta], [p_mech]),
+    )
+
+
+@dataclass
+class NlpSolution:
+    """Ipopt's answer.
+
+    Attributes:
+        theta: Parameters at Ipopt's final iterate (family units).
+        success: Ipopt reported a solved problem.
+        status: Ipopt's return status.
+        iterations: Ipopt iterations.
+        objective_j: Smooth objective at the final iterate [J].
+        wall_time_s: Time spent in the solver [s].
+        stats: Ipopt's statistics as returned by CasADi.
+    """
+
+    theta: np.ndarray
+    success: bool
+    status: str
+    iterations: int
+    objective_j: float
+    wall_time_s: float
+    stats: dict[str, Any]
+
+
+def solve_nlp(build: NlpBuild, theta0: np.ndarray) -> NlpSolution:
+    """Solve a built NLP from ``theta0`` (slacks initialised consistently)."""
+    theta0 = np.asarray(theta0, dtype=float)
+    x0 = theta0
+    if build.lbx.size > build.n_theta:
+        pm = np.array(build.p_mech(theta0)).ravel()
+        x0 = np.concatenate([theta0, np.maximum(pm, 0.0), np.maximum(-pm, 0.0)])
+    start = time.perf_counter()
+    sol = build.solver(x0=x0, lbx=build.lbx, ubx=build.ubx, lbg=build.lbg, ubg=build.ubg)
+    elapsed = time.perf_counter() - start
+    stats = build.solver.stats()
+    return NlpSolution(
+        theta=np.array(sol["x"]).ravel()[: build.n_theta],
+        success=bool(stats.get("success", False)),
+        status=str(stats.get("return_status", "unknown")),
+        iterations=int(stats.get("iter_count", -1)),
+        objective_j=float(sol["f"]),
+        wall_time_s=elapsed,
+        stats={k: v for k, v in stats.items() if isinstance(v, int | float | str | bool)},
+    )

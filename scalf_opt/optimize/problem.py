@@ -1,0 +1,148 @@
+"""The swing-optimization problem of one leg, shared by the pattern search and the NLP.
+
+Decision variables: the swing family's free parameters ``theta`` (degrees or centimetres, see
+:mod:`scalf_opt.swing`). Objective: the leg's swing energy [J] (stance energy does not depend on
+the swing). Constraints at every swing sample (decision 14): joint angles inside their limits,
+foot at or above the ground, cylinder inside its stroke, the target inside the leg's reach (foot
+space), and the clearance H at mid-swing (met by construction by every family).
+
+The CasADi graph ``theta -> path samples -> per-sample physics`` is built once here. The exact
+(non-smooth) energy is a compiled function of ``theta``; the NLP reuses the very same graph with
+the smooth friction-heat variant.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import casadi as ca
+import numpy as np
+
+from scalf_opt.actuators import stroke_limits_m
+from scalf_opt.cycle import RobotEnergyModel
+from scalf_opt.energy import SAMPLE_OUTPUTS, trapezoid_weights
+from scalf_opt.swing import AffinePath, SwingFamily
+
+FEASIBILITY_TOLERANCE = 1e-9
+"""Round-off allowed on every constraint when judging a point feasible [rad, m]."""
+
+HEAT_SMOOTHING_EPS_M_S = 1e-4
+"""Velocity scale of the smooth max in the NLP's friction heat [m/s].
+
+It is 70x below the smaller Stribeck velocity (0.007 m/s); the smooth max overestimates
+``max(v, 0)`` by at most eps/2, so the heat rate changes by at most ``F_s eps / 2 = 2.5 mW`` per
+cylinder: far below the energies compared (the exact energy is what every report prints).
+"""
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """Exact evaluation of one parameter vector.
+
+    Attributes:
+        energy_j: Swing energy of both joints [J] (exact, non-smooth).
+        reason: ``None`` if feasible, else which constraint fails first.
+    """
+
+    energy_j: float
+    reason: str | None
+
+
+@dataclass
+class SwingProblem:
+    """One leg's swing optimization over one family.
+
+    Attributes:
+        model: The robot energy model (robot, gait, accounting).
+        leg: Leg name.
+        family: Swing family.
+    """
+
+    model: RobotEnergyModel
+    leg: str
+    family: SwingFamily
+    _cache: dict[str, object] = field(default_factory=dict, repr=False)
+
+    @cached_property
+    def path(self) -> AffinePath:
+        """The family's affine swing path for this leg."""
+        return self.model.swing_path(self.leg, self.family)
+
+    @property
+    def n_params(self) -> int:
+        """Number of free parameters."""
+        return self.family.n_params
+
+    @cached_property
+    def weights(self) -> np.ndarray:
+        """Trapezoidal weights of the swing samples [s]."""
+        return trapezoid_weights(self.path.tau_s)
+
+    @cached_property
+    def bounds(self) -> dict[str, tuple[np.ndarray, np.ndarray]]:
+        """Lower/upper bounds (2, 1) of joint angles [rad] and cylinder lengths [m]."""
+        leg = self.model.physics(self.leg).leg
+        lo, hi = leg.lower_limits_rad, leg.upper_limits_rad
+        l_lo, l_hi = np.full(2, -np.inf), np.full(2, np.inf)
+        for i, cyl in enumerate(leg.cylinders):
+            if cyl is not None:
+                l_lo[i], l_hi[i] = stroke_limits_m(cyl, lo[i], hi[i])
+        return {"q": (lo[:, None], hi[:, None]), "cyl_len": (l_lo[:, None], l_hi[:, None])}
+
+    @property
+    def ground_z_m(self) -> float:
+        """Ground height in the leg frame [m]."""
+        return -self.model.gait.stance_height_m
+
+    def graph(self, theta: ca.SX, heat_eps: float | None) -> dict[str, ca.SX]:
+        """Per-sample outputs (each 2 x n) and the reach cosines (1 x n) as functions of ``theta``."""
+        path = self.path
+        n = path.tau_s.size
+        ys = []
+        for d in range(3):
+            y = ca.DM(path.base[d])
+            if path.n_params:
+                rows = [ca.mtimes(ca.DM(path.basis[d, c]), theta).T for c in range(2)]
+                y = y + ca.vertcat(*rows)
+            ys.append(y)
+        physics = self.model.physics(self.leg)
+        fn = physics.sample_function(path.space, self.model.accounting, heat_eps).map(n)
+        outs = fn(ys[0], ys[1], ys[2], ca.DM.zeros(2, n))
+        result = dict(zip(SAMPLE_OUTPUTS, outs, strict=True))
+        if path.space == "foot":
+            result["reach"] = physics.kin.functions["reach"].map(n)(ys[0])
+        return result
+
+    @cached_property
+    def exact_function(self) -> ca.Function:
+        """Compiled ``theta -> (energy, q, foot, cyl_len, reach)`` with the exact energy."""
+        theta = ca.SX.sym("theta", self.n_params)
+        g = self.graph(theta, None)
+        energy = ca.sum1(ca.mtimes(g["power"], ca.DM(self.weights)))
+        reach = g.get("reach", ca.DM.zeros(1, self.path.tau_s.size))
+        return ca.Function(
+            f"{self.leg}_{self.family.name}_swing_energy",
+            [theta],
+            [energy, g["q"], g["foot"], g["cyl_len"], reach],
+            ["theta"],
+            ["energy", "q", "foot", "cyl_len", "reach"],
+        )
+
+    def evaluate(self, theta: np.ndarray) -> Evaluation:
+        """Exact swing energy and feasibility of ``theta`` (family units)."""
+        energy, q, foot, cyl_len, reach = (
+            np.array(v) for v in self.exact_function(np.asarray(theta, dtype=float))
+        )
+        tol = FEASIBILITY_TOLERANCE
+        if np.any(~(np.abs(reach) <= 1.0 + tol)) or not np.all(np.isfinite(q)):
+            return Evaluation(float("inf"), "foot target out of reach")
+        lo, hi = self.bounds["q"]
+        if np.any(q < lo - tol) or np.any(q > hi + tol):
+            return Evaluation(float("inf"), "joint limit")
+        if np.any(foot[1] < self.ground_z_m - tol):
+            return Evaluation(float("inf"), "foot below ground")
+        l_lo, l_hi = self.bounds["cyl_len"]
+        if np.any(cyl_len < l_lo - tol) or np.any(cyl_len > l_hi + tol):
+            return Evaluation(float("inf"), "cylinder stroke")
+        return Evaluation(float(energy), None)
