@@ -81,15 +81,13 @@ class SymbolicChain:
     """
 
     def __init__(self, model: pin.Model) -> None:
-        if model.nq != model.nv:
-            raise ModelError(f"model {model.name!r}: nq != nv; only 1-dof joints are supported")
-        self.model = model
-        self.nq = int(model.nq)
-        self.nv = int(model.nv)
         self._joints: list[tuple[str, np.ndarray, int]] = [("root", np.zeros(3), -1)]
         for i in range(1, model.njoints):
             kind, axis = _joint_kind(model.joints[i], model.names[i])
             self._joints.append((kind, axis, int(model.joints[i].idx_q)))
+        self.model = model
+        self.nq = int(model.nq)
+        self.nv = int(model.nv)
 
     # --- building blocks on SX ---------------------------------------------------------------
     def _joint_motion(self, i: int, q: ca.SX) -> Placement:
