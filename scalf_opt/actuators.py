@@ -243,8 +243,11 @@ def actuator_path_for(urdf_path: str | Path) -> Path:
 
 
 def load_actuators_for(robot: Robot) -> dict[str, HydraulicCylinder]:
-    """The robot's cylinders from the actuator file beside its URDF; ``{}`` if there is none
-    (every joint then has an ideal actuator: no cylinder, no friction)."""
+    """The robot's cylinders from the actuator file beside its URDF.
+
+    Without such a file the result is ``{}``: every joint has an ideal actuator (no cylinder, no
+    friction).
+    """
     path = actuator_path_for(robot.urdf_path)
     if not path.is_file():
         return {}

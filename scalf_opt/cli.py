@@ -12,6 +12,8 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from scalf_opt.errors import ScalfError
+from scalf_opt.gait import GaitSpec
+from scalf_opt.robot import Robot
 
 
 def _add_urdf(parser: argparse.ArgumentParser) -> None:
@@ -52,19 +54,15 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
-def load_robot(args: argparse.Namespace):  # type: ignore[no-untyped-def]  # noqa: ANN201
+def load_robot(args: argparse.Namespace) -> Robot:
     """The robot named by ``--urdf`` or ``--robot``."""
-    from scalf_opt.robot import Robot
-
     if getattr(args, "robot", None):
         return Robot.from_preset(args.robot)
     return Robot.from_urdf(args.urdf)
 
 
-def load_gait(args: argparse.Namespace, robot=None):  # type: ignore[no-untyped-def]  # noqa: ANN001, ANN201
+def load_gait(args: argparse.Namespace, robot: Robot | None = None) -> GaitSpec:
     """The gait of ``--gait`` or the paper's default (at the robot's stance height)."""
-    from scalf_opt.gait import GaitSpec
-
     if args.gait is not None:
         return GaitSpec.from_toml(args.gait)
     if robot is not None and robot.preset.name != "scalf":

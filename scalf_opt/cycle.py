@@ -1,4 +1,4 @@
-"""One gait cycle of the whole robot: stance forces, every leg's phases, energies, cost of transport.
+"""One gait cycle of the whole robot: stance forces, every leg's phases, energies, CoT.
 
 Each leg is computed directly with its own Pinocchio model and its own stance forces; the paper's
 symmetry argument (LF repeats RF, RH repeats LH half a cycle later) is then a check, not an input.
@@ -136,8 +136,10 @@ class RobotEnergyModel:
                 support = gait.stance_legs_at(t, leg)
                 feet = []
                 for other in support:
-                    local = tau_j if other in (leg, DIAGONAL_PARTNER[leg]) else (
-                        gait.local_stance_time_s(t, other)
+                    local = (
+                        tau_j
+                        if other in (leg, DIAGONAL_PARTNER[leg])
+                        else (gait.local_stance_time_s(t, other))
                     )
                     p_other = gait.stance_path(np.array([local]))[0]
                     feet.append(self.foot_in_trunk_xz(other, p_other)[:, 0])
@@ -153,8 +155,12 @@ class RobotEnergyModel:
         return np.array(self.gait.stance_path(tau)), tau
 
     def check_workspace(self, leg: str, space: str, samples: np.ndarray, phase: str) -> None:
-        """Raise :class:`GaitError` (stance) or :class:`InfeasibleError` (swing) if a path leaves
-        the leg's reach or joint limits."""
+        """Refuse a path that leaves the leg's reach or joint limits.
+
+        Raises:
+            GaitError: In stance (the gait itself is impossible for this leg).
+            InfeasibleError: In swing.
+        """
         physics = self.physics(leg)
         err = GaitError if phase == "stance" else InfeasibleError
         try:
@@ -211,13 +217,12 @@ class RobotEnergyModel:
             self.accounting,
         )
 
-    def leg_cycle(
-        self, leg: str, family: SwingFamily, theta: np.ndarray | None = None
-    ) -> LegCycle:
+    def leg_cycle(self, leg: str, family: SwingFamily, theta: np.ndarray | None = None) -> LegCycle:
         """One leg's stance and swing."""
         theta_arr = np.zeros(family.n_params) if theta is None else np.asarray(theta, float)
-        return LegCycle(leg, self.stance(leg), self.swing(leg, family, theta_arr), family.name,
-                        theta_arr)
+        return LegCycle(
+            leg, self.stance(leg), self.swing(leg, family, theta_arr), family.name, theta_arr
+        )
 
     def robot_cycle(
         self,

@@ -37,6 +37,7 @@ from scalf_opt.actuators import (
 from scalf_opt.errors import ConfigError
 from scalf_opt.kinematics import LegKinematics
 from scalf_opt.robot import Leg
+from scalf_opt.typing import Expr
 
 ACCOUNTINGS = ("paper", "positive", "regenerative")
 
@@ -58,8 +59,8 @@ SAMPLE_OUTPUTS = (
 
 
 def mechanical_power(
-    signed_power_w: ca.SX, accounting: str, abs_fn: Callable[[ca.SX], ca.SX] = ca.fabs
-) -> ca.SX:
+    signed_power_w: Expr, accounting: str, abs_fn: Callable[[Expr], Expr] = ca.fabs
+) -> Expr:
     """Mechanical power drawn for a signed joint power ``tau * qd`` [W] under ``accounting``."""
     if accounting == "paper":
         return abs_fn(signed_power_w)
@@ -89,17 +90,19 @@ class LegPhysics:
 
     def sample_expr(
         self,
-        q: ca.SX,
-        qd: ca.SX,
-        qdd: ca.SX,
-        grf: ca.SX,
+        q: Expr,
+        qd: Expr,
+        qdd: Expr,
+        grf: Expr,
         accounting: str = "paper",
         heat_eps: float | None = None,
-    ) -> dict[str, ca.SX]:
+    ) -> dict[str, Expr]:
         """Every per-sample quantity for joint motion ``(q, qd, qdd)`` and foot force ``grf``.
 
         Args:
-            q: Joint angles (2x1) [rad]; ``qd`` [rad/s] and ``qdd`` [rad/s^2] likewise.
+            q: Joint angles (2x1) [rad].
+            qd: Joint rates (2x1) [rad/s].
+            qdd: Joint accelerations (2x1) [rad/s^2].
             grf: Ground reaction force on the foot (F_x, F_z) in the leg frame [N].
             accounting: Power accounting for ``power`` (see module docstring).
             heat_eps: ``None`` for the exact friction heat; a velocity [m/s] to replace
@@ -108,10 +111,10 @@ class LegPhysics:
         leg = self.leg
         jac = self.kin.jacobian_expr(q)
         tau = leg.symbolic.rnea(q, qd, qdd) - ca.mtimes(jac.T, grf)
-        max_fn: Callable[[ca.SX, float | ca.SX], ca.SX] = (
+        max_fn: Callable[[Expr, Expr], Expr] = (
             ca.fmax if heat_eps is None else (lambda x, _zero: smooth_max(x, heat_eps))
         )
-        cols: dict[str, list[ca.SX]] = {k: [] for k in ("len", "vel", "force", "fric", "heat")}
+        cols: dict[str, list[Expr]] = {k: [] for k in ("len", "vel", "force", "fric", "heat")}
         nan = ca.SX(float("nan"))
         for i, cyl in enumerate(leg.cylinders):
             if cyl is None:  # ideal actuator: no cylinder, no friction

@@ -68,7 +68,10 @@ class GaitSpec:
             )
         if isinstance(self.cycles, bool) or not isinstance(self.cycles, int) or self.cycles < 1:
             raise GaitError(f"gait field cycles = {self.cycles!r} must be an integer >= 1")
-        for name, duration in (("stance", self.stance_duration_s), ("swing", self.swing_duration_s)):
+        for name, duration in (
+            ("stance", self.stance_duration_s),
+            ("swing", self.swing_duration_s),
+        ):
             if duration * self.sample_rate_hz < 4:
                 raise GaitError(
                     f"gait field sample_rate_hz = {self.sample_rate_hz!r} is too low: the {name} "
@@ -97,12 +100,12 @@ class GaitSpec:
         values: dict[str, float | int] = {}
         for key, value in table.items():
             if key not in known:
-                raise ConfigError(
-                    f"{path}: unknown gait field {key!r} (known: {', '.join(known)})"
-                )
+                raise ConfigError(f"{path}: unknown gait field {key!r} (known: {', '.join(known)})")
             if key == "cycles":
                 if isinstance(value, bool) or not isinstance(value, int):
-                    raise ConfigError(f"{path}: gait field cycles must be an integer, got {value!r}")
+                    raise ConfigError(
+                        f"{path}: gait field cycles must be an integer, got {value!r}"
+                    )
             elif isinstance(value, bool) or not isinstance(value, int | float):
                 raise ConfigError(f"{path}: gait field {key} must be a number, got {value!r}")
             values[key] = value
@@ -161,7 +164,9 @@ class GaitSpec:
         """
         tau = np.asarray(tau_s, dtype=float)
         v = self.speed_m_s
-        p = np.vstack([0.5 * self.step_length_m - v * tau, np.full_like(tau, -self.stance_height_m)])
+        p = np.vstack(
+            [0.5 * self.step_length_m - v * tau, np.full_like(tau, -self.stance_height_m)]
+        )
         pd = np.vstack([np.full_like(tau, -v), np.zeros_like(tau)])
         return p, pd, np.zeros((2, tau.size))
 

@@ -1,4 +1,4 @@
-"""Sagittal kinematics of a leg: closed-form IK, foot Jacobian and its time derivative.
+r"""Sagittal kinematics of a leg: closed-form IK, foot Jacobian and its time derivative.
 
 Every formula is written once as a CasADi expression; numeric calls evaluate compiled
 ``casadi.Function`` objects (mapped over samples). Foot positions are ``(x, z)`` in the leg
@@ -31,6 +31,7 @@ import numpy as np
 
 from scalf_opt.errors import InfeasibleError
 from scalf_opt.robot import Leg
+from scalf_opt.typing import Expr
 
 REACH_TOLERANCE = 1e-12
 """Slack on |cos(beta)| <= 1 before a target counts as unreachable (round-off of exact targets)."""
@@ -43,18 +44,18 @@ class LegKinematics:
         self.leg = leg
 
     # --- expressions (SX, MX or DM in; same type out) -------------------------------------------
-    def forward_expr(self, q: ca.SX) -> ca.SX:
+    def forward_expr(self, q: Expr) -> Expr:
         """Foot position ``(x, z)`` in the leg frame for joint angles ``q`` (2x1) [m]."""
         p = self.leg.symbolic.frame_position(q, self.leg.foot_frame)
         hip = self.leg.hip_origin_m
         return ca.vertcat(p[0] - hip[0], p[2] - hip[2])
 
-    def jacobian_expr(self, q: ca.SX) -> ca.SX:
+    def jacobian_expr(self, q: Expr) -> Expr:
         """Sagittal foot Jacobian d(x, z)/dq (2x2) [m/rad], Pinocchio's LOCAL_WORLD_ALIGNED rows."""
         jac = self.leg.symbolic.frame_jacobian(q, self.leg.foot_frame, "LOCAL_WORLD_ALIGNED")
         return ca.vertcat(jac[0, :], jac[2, :])
 
-    def jacobian_dot_expr(self, q: ca.SX, qd: ca.SX) -> ca.SX:
+    def jacobian_dot_expr(self, q: Expr, qd: Expr) -> Expr:
         """Time derivative of the Jacobian along ``qd`` (2x2) [m/(rad s)]: sum_j dJ/dq_j qd_j."""
         return self._jacobian_dot_fn(q, qd)
 
@@ -66,7 +67,7 @@ class LegKinematics:
         jdot = ca.horzcat(*[ca.jtimes(jac[:, j], q, qd) for j in range(2)])
         return ca.Function("jacobian_dot", [q, qd], [jdot])
 
-    def inverse_expr(self, p: ca.SX) -> ca.SX:
+    def inverse_expr(self, p: Expr) -> Expr:
         """Closed-form inverse kinematics on the leg's fixed knee branch (2x1) [rad].
 
         Outside the reach the result is NaN (``acos`` of a number beyond +-1); use
@@ -85,14 +86,12 @@ class LegKinematics:
         hip_rel = ca.atan2(p[0] * vz - p[1] * vx, p[0] * vx + p[1] * vz)  # = s1 * q1
         return ca.vertcat(s1 * hip_rel + shift_hip, s2 * knee_rel + shift_knee)
 
-    def reach_cosine_expr(self, p: ca.SX) -> ca.SX:
+    def reach_cosine_expr(self, p: Expr) -> Expr:
         """Cosine of the knee's interior angle; the target is reachable iff it lies in [-1, 1]."""
         l1, l2 = self.leg.thigh_length_m, self.leg.shank_length_m
         return (p[0] ** 2 + p[1] ** 2 - l1**2 - l2**2) / (2 * l1 * l2)
 
-    def joint_motion_expr(
-        self, p: ca.SX, pd: ca.SX, pdd: ca.SX
-    ) -> tuple[ca.SX, ca.SX, ca.SX]:
+    def joint_motion_expr(self, p: Expr, pd: Expr, pdd: Expr) -> tuple[Expr, Expr, Expr]:
         """Joint angles, rates and accelerations for a foot position, velocity and acceleration."""
         q = self.inverse_expr(p)
         jac = self.jacobian_expr(q)
@@ -103,7 +102,10 @@ class LegKinematics:
     # --- compiled functions -------------------------------------------------------------------
     @cached_property
     def functions(self) -> dict[str, ca.Function]:
-        """Compiled per-sample functions ``fk``, ``ik``, ``reach``, ``jacobian``, ``jacobian_dot``, ``motion``."""
+        """Compiled per-sample functions.
+
+        Names: ``fk``, ``ik``, ``reach``, ``jacobian``, ``jacobian_dot``, ``motion``.
+        """
         q, qd = ca.SX.sym("q", 2), ca.SX.sym("qd", 2)
         p, pd, pdd = ca.SX.sym("p", 2), ca.SX.sym("pd", 2), ca.SX.sym("pdd", 2)
         motion = self.joint_motion_expr(p, pd, pdd)
@@ -147,7 +149,7 @@ class LegKinematics:
             )
 
     def inverse(self, p: np.ndarray) -> np.ndarray:
-        """Joint angles (2, n) [rad] for foot targets (2, n) [m]; raises if a target is unreachable."""
+        """Joint angles (2, n) [rad] for foot targets (2, n) [m]; raises if one is unreachable."""
         self.check_reachable(p)
         p_clipped = np.asarray(p, dtype=float)
         return self._mapped("ik", p_clipped)[0].reshape(np.shape(p))

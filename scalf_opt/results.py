@@ -50,8 +50,19 @@ CSV_COLUMNS: tuple[str, ...] = (
 )
 """Columns of ``samples.csv``: SI units, joint angles in the URDF convention."""
 
-_PAIRED = ("q", "qd", "qdd", "foot", "grf", "tau", "cyl_len", "cyl_vel", "cyl_force", "friction",
-           "power")
+_PAIRED = (
+    "q",
+    "qd",
+    "qdd",
+    "foot",
+    "grf",
+    "tau",
+    "cyl_len",
+    "cyl_vel",
+    "cyl_force",
+    "friction",
+    "power",
+)
 
 
 def write_atomic(path: str | Path, text: str) -> Path:
@@ -75,7 +86,7 @@ def write_atomic(path: str | Path, text: str) -> Path:
 
 
 def samples_csv_text(cycle: RobotCycle) -> str:
-    """``samples.csv`` content: one row per sample per leg and phase, legs in RF, LH, LF, RH order."""
+    """``samples.csv`` content: one row per sample per leg and phase (RF, LH, LF, RH)."""
     buffer = io.StringIO()
     writer = csv.writer(buffer, lineterminator="\n")
     writer.writerow(CSV_COLUMNS)

@@ -119,7 +119,10 @@ def default_urdf_path() -> Path:
 
 
 def preset_urdf_path(preset: str) -> Path:
-    """Return the URDF path of a named robot preset (SCalf in the repo, others from example-robot-data)."""
+    """Return the URDF path of a named robot preset.
+
+    SCalf's lives in this repository, the others come from example-robot-data.
+    """
     if preset not in PRESETS:
         raise ModelError(f"unknown robot {preset!r}: choose one of {', '.join(PRESETS)}")
     if preset == "scalf":
@@ -131,9 +134,7 @@ def preset_urdf_path(preset: str) -> Path:
 
 def _detect_preset(model: pin.Model, path: Path) -> RobotPreset:
     for preset in PRESETS.values():
-        if all(
-            model.existJointName(name) for leg in LEG_NAMES for name in preset.names(leg)[:3]
-        ):
+        if all(model.existJointName(name) for leg in LEG_NAMES for name in preset.names(leg)[:3]):
             return preset
     raise ModelError(
         f"{path}: joint names match no known robot ({', '.join(PRESETS)}); "
@@ -163,7 +164,7 @@ class Robot:
             urdf_path: Path of the URDF; default: the repository's SCalf URDF.
 
         Raises:
-            ModelError: The file is missing, is not a URDF Pinocchio can read, or names no known legs.
+            ModelError: The file is missing, is not a URDF Pinocchio reads, or has no known legs.
         """
         path = Path(urdf_path) if urdf_path is not None else default_urdf_path()
         if not path.is_file():
@@ -177,7 +178,7 @@ class Robot:
 
     @classmethod
     def from_preset(cls, name: str) -> Robot:
-        """Load a named robot: ``scalf`` (this repository), ``hyq`` or ``solo12`` (example-robot-data)."""
+        """Load a named robot: ``scalf`` (this repository), ``hyq`` or ``solo12``."""
         return cls.from_urdf(preset_urdf_path(name))
 
     @property
@@ -214,7 +215,8 @@ class Robot:
         keep = {model.getJointId(pitch), model.getJointId(knee)}
         lock = [j for j in range(1, model.njoints) if j not in keep]
         reduced = pin.buildReducedModel(model, lock, pin.neutral(model))
-        cylinders = tuple(actuators.get(j) if actuators else None for j in (pitch, knee))
+        table = actuators or {}
+        cylinders = (table.get(pitch), table.get(knee))
         return Leg(
             name=name,
             robot=self,

@@ -86,8 +86,11 @@ def link_com_m(distance_m: float, angle_rad: float, sx: int) -> tuple[float, flo
 
 
 def effort_limits_nm(actuator_file: Path) -> dict[str, float]:
-    """Chosen effort limits: force-sensor range x largest moment arm over the joint range,
-    rounded up to 10 N m (hip pitch, knee of the RF leg; the roll joint gets the hip value)."""
+    """Chosen effort limits [N m] of the hip pitch and knee joints.
+
+    Force-sensor range times the largest moment arm |dl/dtheta| over the joint range, rounded up
+    to 10 N m; the roll joint gets the hip value.
+    """
     from scalf_opt.actuators import cylinder_length_rate
 
     cylinders = load_actuators(actuator_file)
@@ -104,12 +107,15 @@ def _box_inertia(mass: float, size: tuple[float, float, float]) -> tuple[float, 
     return (mass * (y * y + z * z) / 12, mass * (x * x + z * z) / 12, mass * (x * x + y * y) / 12)
 
 
-def _inertial(mass: float, com: tuple[float, float, float], moments: tuple[float, float, float]) -> str:
+def _inertial(
+    mass: float, com: tuple[float, float, float], moments: tuple[float, float, float]
+) -> str:
     ixx, iyy, izz = moments
     return (
         f'    <inertial>\n      <origin xyz="{_vec(*com)}" rpy="0 0 0"/>\n'
         f'      <mass value="{_f(mass)}"/>\n'
-        f'      <inertia ixx="{_f(ixx)}" ixy="0" ixz="0" iyy="{_f(iyy)}" iyz="0" izz="{_f(izz)}"/>\n'
+        f'      <inertia ixx="{_f(ixx)}" ixy="0" ixz="0" iyy="{_f(iyy)}" iyz="0" '
+        f'izz="{_f(izz)}"/>\n'
         "    </inertial>\n"
     )
 
@@ -178,12 +184,18 @@ def scalf_urdf_xml(actuator_file: Path | None = None) -> str:
     for leg in LEGS:
         side = SIDES[leg]
         sx, sy = side.sx, side.sy
-        hip_lim = HIP_PITCH_LIMITS_RAD if sx > 0 else (-HIP_PITCH_LIMITS_RAD[1], -HIP_PITCH_LIMITS_RAD[0])
+        hip_lim = (
+            HIP_PITCH_LIMITS_RAD if sx > 0 else (-HIP_PITCH_LIMITS_RAD[1], -HIP_PITCH_LIMITS_RAD[0])
+        )
         knee_lim = KNEE_LIMITS_RAD if sx > 0 else (-KNEE_LIMITS_RAD[1], -KNEE_LIMITS_RAD[0])
         parts.append(
             _joint(
-                f"{leg}_hip_roll", "revolute", "trunk", f"{leg}_hip",
-                (sx * HIP_X_M, sy * HIP_Y_M, HIP_Z_M), "1 0 0",
+                f"{leg}_hip_roll",
+                "revolute",
+                "trunk",
+                f"{leg}_hip",
+                (sx * HIP_X_M, sy * HIP_Y_M, HIP_Z_M),
+                "1 0 0",
                 (*ROLL_LIMITS_RAD, effort["hip_pitch"], VELOCITY_LIMIT_RAD_S),
             )
         )
@@ -198,16 +210,38 @@ def scalf_urdf_xml(actuator_file: Path | None = None) -> str:
         )
         parts.append(
             _joint(
-                f"{leg}_hip_pitch", "revolute", f"{leg}_hip", f"{leg}_thigh",
-                (0.0, sy * HIP_OUTBOARD_M, -HIP_DROP_M), "0 1 0",
+                f"{leg}_hip_pitch",
+                "revolute",
+                f"{leg}_hip",
+                f"{leg}_thigh",
+                (0.0, sy * HIP_OUTBOARD_M, -HIP_DROP_M),
+                "0 1 0",
                 (*hip_lim, effort["hip_pitch"], VELOCITY_LIMIT_RAD_S),
             )
         )
         for link, mass, length, dist, angle, iyy, izz, radius, child_joint in (
-            ("thigh", THIGH_MASS_KG, THIGH_LENGTH_M, THIGH_COM_DISTANCE_M, THIGH_COM_ANGLE_RAD,
-             THIGH_INERTIA_KG_M2, THIGH_AXIAL_INERTIA_KG_M2, 0.03, "knee"),
-            ("shank", SHANK_MASS_KG, SHANK_LENGTH_M, SHANK_COM_DISTANCE_M, SHANK_COM_ANGLE_RAD,
-             SHANK_INERTIA_KG_M2, SHANK_AXIAL_INERTIA_KG_M2, 0.025, "foot_fixed"),
+            (
+                "thigh",
+                THIGH_MASS_KG,
+                THIGH_LENGTH_M,
+                THIGH_COM_DISTANCE_M,
+                THIGH_COM_ANGLE_RAD,
+                THIGH_INERTIA_KG_M2,
+                THIGH_AXIAL_INERTIA_KG_M2,
+                0.03,
+                "knee",
+            ),
+            (
+                "shank",
+                SHANK_MASS_KG,
+                SHANK_LENGTH_M,
+                SHANK_COM_DISTANCE_M,
+                SHANK_COM_ANGLE_RAD,
+                SHANK_INERTIA_KG_M2,
+                SHANK_AXIAL_INERTIA_KG_M2,
+                0.025,
+                "foot_fixed",
+            ),
         ):
             cyl = f'<cylinder radius="{_f(radius)}" length="{_f(length)}"/>'
             middle = (0.0, 0.0, -length / 2)
@@ -222,15 +256,24 @@ def scalf_urdf_xml(actuator_file: Path | None = None) -> str:
             if child_joint == "knee":
                 parts.append(
                     _joint(
-                        f"{leg}_knee", "revolute", f"{leg}_thigh", f"{leg}_shank",
-                        (0.0, 0.0, -length), "0 1 0",
+                        f"{leg}_knee",
+                        "revolute",
+                        f"{leg}_thigh",
+                        f"{leg}_shank",
+                        (0.0, 0.0, -length),
+                        "0 1 0",
                         (*knee_lim, effort["knee"], VELOCITY_LIMIT_RAD_S),
                     )
                 )
             else:
                 parts.append(
-                    _joint(f"{leg}_foot_fixed", "fixed", f"{leg}_shank", f"{leg}_foot",
-                           (0.0, 0.0, -length))
+                    _joint(
+                        f"{leg}_foot_fixed",
+                        "fixed",
+                        f"{leg}_shank",
+                        f"{leg}_foot",
+                        (0.0, 0.0, -length),
+                    )
                 )
         sphere = '<sphere radius="0.03"/>'
         parts.append(

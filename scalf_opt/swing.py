@@ -199,7 +199,7 @@ class SwingFamily:
         raise NotImplementedError
 
     def embed(self, theta: np.ndarray, poorer: SwingFamily) -> np.ndarray:
-        """Map parameters of a poorer nested family to this family's parameters (zeros elsewhere)."""
+        """Map a poorer nested family's parameters to this family's (zeros elsewhere)."""
         if poorer.space != self.space or not set(poorer.free_terms) <= set(self.free_terms):
             raise ConfigError(f"family {poorer.name} is not nested in {self.name}")
         out = np.zeros(self.n_params)

@@ -31,10 +31,15 @@ import numpy as np
 import pinocchio as pin
 
 from scalf_opt.errors import ModelError
+from scalf_opt.typing import Expr
 
-_AXES = {"X": np.array([1.0, 0.0, 0.0]), "Y": np.array([0.0, 1.0, 0.0]), "Z": np.array([0.0, 0.0, 1.0])}
+_AXES = {
+    "X": np.array([1.0, 0.0, 0.0]),
+    "Y": np.array([0.0, 1.0, 0.0]),
+    "Z": np.array([0.0, 0.0, 1.0]),
+}
 
-Placement = tuple[ca.SX, ca.SX]
+Placement = tuple[Expr, Expr]
 """A rigid transform (R 3x3, p 3x1)."""
 
 
@@ -55,18 +60,18 @@ def _joint_kind(joint: Any, name: str) -> tuple[str, np.ndarray]:
     )
 
 
-def _skew(u: ca.SX) -> ca.SX:
+def _skew(u: Expr) -> Expr:
     return ca.vertcat(
         ca.horzcat(0, -u[2], u[1]), ca.horzcat(u[2], 0, -u[0]), ca.horzcat(-u[1], u[0], 0)
     )
 
 
-def _act_inv_motion(rot: ca.SX, pos: ca.SX, lin: ca.SX, ang: ca.SX) -> tuple[ca.SX, ca.SX]:
+def _act_inv_motion(rot: Expr, pos: Expr, lin: Expr, ang: Expr) -> tuple[Expr, Expr]:
     """Express a motion given in the parent frame in the child frame of placement (rot, pos)."""
     return ca.mtimes(rot.T, lin - ca.cross(pos, ang)), ca.mtimes(rot.T, ang)
 
 
-def _act_force(rot: ca.SX, pos: ca.SX, lin: ca.SX, ang: ca.SX) -> tuple[ca.SX, ca.SX]:
+def _act_force(rot: Expr, pos: Expr, lin: Expr, ang: Expr) -> tuple[Expr, Expr]:
     """Express a force given in the child frame in the parent frame of placement (rot, pos)."""
     f = ca.mtimes(rot, lin)
     return f, ca.mtimes(rot, ang) + ca.cross(pos, f)
@@ -90,7 +95,7 @@ class SymbolicChain:
         self.nv = int(model.nv)
 
     # --- building blocks on SX ---------------------------------------------------------------
-    def _joint_motion(self, i: int, q: ca.SX) -> Placement:
+    def _joint_motion(self, i: int, q: Expr) -> Placement:
         kind, axis, iq = self._joints[i]
         if kind == "revolute":
             k = _skew(ca.DM(axis))
@@ -98,7 +103,7 @@ class SymbolicChain:
             return rot, ca.DM.zeros(3, 1)
         return ca.DM.eye(3), ca.DM(axis) * q[iq]
 
-    def _local_placements(self, q: ca.SX) -> list[Placement]:
+    def _local_placements(self, q: Expr) -> list[Placement]:
         out: list[Placement] = [(ca.DM.eye(3), ca.DM.zeros(3, 1))]
         for i in range(1, self.model.njoints):
             placement = self.model.jointPlacements[i]
@@ -107,7 +112,7 @@ class SymbolicChain:
             out.append((ca.mtimes(r0, rj), p0 + ca.mtimes(r0, pj)))
         return out
 
-    def _world_placements(self, q: ca.SX) -> list[Placement]:
+    def _world_placements(self, q: Expr) -> list[Placement]:
         local = self._local_placements(q)
         world: list[Placement] = [local[0]]
         for i in range(1, self.model.njoints):
@@ -128,13 +133,13 @@ class SymbolicChain:
             return int(self.model.getFrameId(frame))
         return int(frame)
 
-    def _rnea_sx(self, q: ca.SX, v: ca.SX, a: ca.SX, gravity: bool) -> ca.SX:
+    def _rnea_sx(self, q: Expr, v: Expr, a: Expr, gravity: bool) -> Expr:
         model = self.model
         local = self._local_placements(q)
         g = np.array(model.gravity.linear) if gravity else np.zeros(3)
-        vel: list[tuple[ca.SX, ca.SX]] = [(ca.DM.zeros(3, 1), ca.DM.zeros(3, 1))]
-        acc: list[tuple[ca.SX, ca.SX]] = [(ca.DM(-g), ca.DM.zeros(3, 1))]
-        forces: list[list[ca.SX]] = [[ca.DM.zeros(3, 1), ca.DM.zeros(3, 1)]]
+        vel: list[tuple[Expr, Expr]] = [(ca.DM.zeros(3, 1), ca.DM.zeros(3, 1))]
+        acc: list[tuple[Expr, Expr]] = [(ca.DM(-g), ca.DM.zeros(3, 1))]
+        forces: list[list[Expr]] = [[ca.DM.zeros(3, 1), ca.DM.zeros(3, 1)]]
         for i in range(1, model.njoints):
             rot, pos = local[i]
             parent = model.parents[i]
@@ -152,7 +157,9 @@ class SymbolicChain:
             inertia = model.inertias[i]
             m, c, ic = inertia.mass, ca.DM(inertia.lever), ca.DM(inertia.inertia)
 
-            def momentum(lin: ca.SX, ang: ca.SX) -> tuple[ca.SX, ca.SX]:
+            def momentum(
+                lin: Expr, ang: Expr, m: float = m, c: Expr = c, ic: Expr = ic
+            ) -> tuple[Expr, Expr]:
                 h = m * (lin - ca.cross(c, ang))
                 return h, ca.mtimes(ic, ang) + ca.cross(c, h)
 
@@ -160,7 +167,7 @@ class SymbolicChain:
             hl, ha = momentum(vl, va)
             # v x* h = (w x h_lin, w x h_ang + v x h_lin)
             forces.append([fl + ca.cross(va, hl), fa + ca.cross(va, ha) + ca.cross(vl, hl)])
-        tau = [ca.SX(0)] * self.nv
+        tau: list[Expr] = [ca.SX(0)] * self.nv
         for i in range(model.njoints - 1, 0, -1):
             s_lin, s_ang = self._subspace(i)
             fl, fa = forces[i]
@@ -174,17 +181,19 @@ class SymbolicChain:
 
     # --- compiled functions (SX, built once) ---------------------------------------------------
     @cached_property
-    def _sym(self) -> tuple[ca.SX, ca.SX, ca.SX]:
+    def _sym(self) -> tuple[Expr, Expr, Expr]:
         return ca.SX.sym("q", self.nq), ca.SX.sym("v", self.nv), ca.SX.sym("a", self.nv)
 
     @cached_property
     def _rnea_fn(self) -> ca.Function:
         q, v, a = self._sym
-        return ca.Function("rnea", [q, v, a], [self._rnea_sx(q, v, a, True)], ["q", "v", "a"], ["tau"])
+        return ca.Function(
+            "rnea", [q, v, a], [self._rnea_sx(q, v, a, True)], ["q", "v", "a"], ["tau"]
+        )
 
     @cached_property
     def _crba_fn(self) -> ca.Function:
-        q, v, a = self._sym
+        q, _, a = self._sym
         tau = self._rnea_sx(q, ca.DM.zeros(self.nv, 1), a, False)
         return ca.Function("crba", [q], [ca.jacobian(tau, a)], ["q"], ["M"])
 
@@ -242,7 +251,9 @@ class SymbolicChain:
         """World position of a frame's origin (3x1) [m]."""
         return self._frame_fn(frame)(q)[1]
 
-    def frame_jacobian(self, q: Any, frame: str | int, reference: str = "LOCAL_WORLD_ALIGNED") -> Any:
+    def frame_jacobian(
+        self, q: Any, frame: str | int, reference: str = "LOCAL_WORLD_ALIGNED"
+    ) -> Any:
         """Frame Jacobian (6 x nv), linear rows first, like ``pin.computeFrameJacobian``.
 
         Args:

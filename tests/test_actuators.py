@@ -55,7 +55,9 @@ def test_rf_hip_mapping_by_hand(cylinders):
     phi = math.radians(90 - 5.36 - 54.90) - theta
     a, b = 0.28926, 0.05687
     expected = math.sqrt(a * a + b * b - 2 * a * b * math.cos(phi))
-    assert float(cylinder_length(cylinders["RF_hip_pitch"], theta)) == pytest.approx(expected, rel=1e-12)
+    assert float(cylinder_length(cylinders["RF_hip_pitch"], theta)) == pytest.approx(
+        expected, rel=1e-12
+    )
 
 
 @pytest.mark.parametrize("joint", ["RF_hip_pitch", "RF_knee", "LH_hip_pitch", "LH_knee"])
@@ -63,7 +65,9 @@ def test_moment_arm_is_the_derivative_of_length(cylinders, joint):
     cyl = cylinders[joint]
     h = 1e-6  # central difference: truncation ~h^2 |l'''| ~ 1e-13, round-off ~eps l / h ~ 1e-10
     for theta in np.linspace(-1.5, 1.5, 13):
-        fd = (float(cylinder_length(cyl, theta + h)) - float(cylinder_length(cyl, theta - h))) / (2 * h)
+        fd = (float(cylinder_length(cyl, theta + h)) - float(cylinder_length(cyl, theta - h))) / (
+            2 * h
+        )
         assert float(cylinder_length_rate(cyl, theta)) == pytest.approx(fd, abs=1e-9)
 
 
@@ -118,8 +122,16 @@ stroke_mm = 98.0
         ("a_mm = 289.26", "", "missing key cylinders.RF_knee.a_mm"),
         ("a_mm = 289.26", "a_mm = -3", "cylinders.RF_knee.a_mm must be a positive number"),
         ("angle_sign = 1", "angle_sign = 2", "angle_sign must be \\+1 or -1"),
-        ("static_n = 50.0\ncoulomb_n = 30.0", "static_n = 'x'\ncoulomb_n = 30.0", "friction.extend.static_n"),
-        ("stroke_mm = 98.0", "stroke_mm = 98.0\ncolour = 1", "unknown key cylinders.RF_knee.colour"),
+        (
+            "static_n = 50.0\ncoulomb_n = 30.0",
+            "static_n = 'x'\ncoulomb_n = 30.0",
+            "friction.extend.static_n",
+        ),
+        (
+            "stroke_mm = 98.0",
+            "stroke_mm = 98.0\ncolour = 1",
+            "unknown key cylinders.RF_knee.colour",
+        ),
         ("[friction.extend]", "[friction.extend", "not valid TOML"),
     ],
 )
@@ -132,5 +144,5 @@ def test_bad_actuator_files_name_file_and_key(tmp_path, old, new, match):
 
 
 def test_missing_actuator_file(tmp_path):
-    with pytest.raises(ConfigError, match="none.toml"):
+    with pytest.raises(ConfigError, match=r"none\.toml"):
         load_actuators(tmp_path / "none.toml")

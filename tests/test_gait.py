@@ -84,7 +84,7 @@ def test_bad_gait_files_name_file_and_field(tmp_path, text, error, match):
 
 
 def test_missing_gait_file(tmp_path):
-    with pytest.raises(ConfigError, match="nope.toml"):
+    with pytest.raises(ConfigError, match=r"nope\.toml"):
         GaitSpec.from_toml(tmp_path / "nope.toml")
 
 

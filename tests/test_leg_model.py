@@ -1,4 +1,4 @@
-"""The sagittal leg: Pinocchio against the paper's closed-form Lagrangian, kinematics round trips."""
+"""The sagittal leg: Pinocchio against the closed-form Lagrangian; kinematics round trips."""
 
 import math
 
@@ -146,7 +146,9 @@ def test_joint_motion_matches_pinocchio_classical_acceleration(scalf):
 
 def test_unreachable_target_names_point_and_reach(scalf):
     kin = LegKinematics(scalf.leg("RF"))
-    with pytest.raises(InfeasibleError, match=r"x=0\.0000 m, z=-0\.9000 m.*reach \[0\.0461, 0\.8559\]"):
+    with pytest.raises(
+        InfeasibleError, match=r"x=0\.0000 m, z=-0\.9000 m.*reach \[0\.0461, 0\.8559\]"
+    ):
         kin.inverse(np.array([[0.0], [-0.9]]))
 
 
@@ -155,7 +157,7 @@ def test_bad_urdf_and_leg_names(tmp_path, scalf):
         Robot.from_urdf(tmp_path / "missing.urdf")
     bad = tmp_path / "bad.urdf"
     bad.write_text("<robot name='x'><link name='a'/></robot>")
-    with pytest.raises(ModelError, match="bad.urdf"):
+    with pytest.raises(ModelError, match=r"bad\.urdf"):
         Robot.from_urdf(bad)
     with pytest.raises(ModelError, match="unknown leg 'XX'"):
         scalf.leg("XX")

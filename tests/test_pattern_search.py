@@ -1,5 +1,6 @@
 """Hooke-Jeeves pattern search on functions with known minima."""
 
+import itertools
 import math
 
 import numpy as np
@@ -30,7 +31,7 @@ def test_paper_settings_stop_at_precision_and_record_history():
     assert res.value < f0
     values = [row[-1] for row in res.history]
     assert values[0] == f0
-    assert all(b < a for a, b in zip(values, values[1:], strict=False))  # strictly improving
+    assert all(b < a for a, b in itertools.pairwise(values))  # strictly improving
 
 
 def test_rosenbrock_with_pattern_moves():

@@ -1,11 +1,11 @@
-"""Swing families in foot space: basis derivatives, boundary conditions, nesting (no URDF needed)."""
+"""Swing families in foot space: basis derivatives, boundary conditions, nesting."""
 
 import numpy as np
 import pytest
 
 from scalf_opt.errors import ConfigError
 from scalf_opt.gait import GaitSpec
-from scalf_opt.swing import fourier_term, foot_boundary, make_family
+from scalf_opt.swing import foot_boundary, fourier_term, make_family
 
 GAIT = GaitSpec()
 
@@ -28,8 +28,13 @@ def boundary_residuals(family, theta):
     b = foot_boundary(GAIT)
     mid = np.argmin(np.abs(path.tau_s - GAIT.swing_duration_s / 2))
     return np.concatenate(
-        [y[0][:, 0] - b.start, y[0][:, -1] - b.end, y[1][:, 0] - b.start_rate,
-         y[1][:, -1] - b.end_rate, y[0][:, mid] - b.mid]
+        [
+            y[0][:, 0] - b.start,
+            y[0][:, -1] - b.end,
+            y[1][:, 0] - b.start_rate,
+            y[1][:, -1] - b.end_rate,
+            y[0][:, mid] - b.mid,
+        ]
     )
 
 

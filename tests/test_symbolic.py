@@ -50,16 +50,20 @@ def check_against_pinocchio(model, frame):
     for q, v, a in states(model, seed=5):
         pin.forwardKinematics(model, data, q)
         pin.updateFramePlacements(model, data)
-        rot, pos = placement(q)
+        rot, _ = placement(q)
         close(rot, data.oMf[fid].rotation)
         close(np.array(fns["fk"](q)).ravel(), data.oMf[fid].translation)
         for ref, fn in frames.items():
-            expected = pin.computeFrameJacobian(model, data, q, fid, getattr(pin.ReferenceFrame, ref))
+            expected = pin.computeFrameJacobian(
+                model, data, q, fid, getattr(pin.ReferenceFrame, ref)
+            )
             close(fn(q), expected)
         close(np.array(fns["rnea"](q, v, a)).ravel(), pin.rnea(model, data, q, v, a))
         m = pin.crba(model, data, q)
         close(fns["crba"](q), np.triu(m) + np.triu(m, 1).T)
-        close(np.array(twin.nonlinear_effects(q, v)).ravel(), pin.nonLinearEffects(model, data, q, v))
+        close(
+            np.array(twin.nonlinear_effects(q, v)).ravel(), pin.nonLinearEffects(model, data, q, v)
+        )
         close(np.array(twin.gravity(q)).ravel(), pin.computeGeneralizedGravity(model, data, q))
 
 
@@ -69,7 +73,9 @@ def test_leg_twin_equals_pinocchio(robot, leg):
     check_against_pinocchio(leg_model.model, leg_model.foot_frame)
 
 
-@pytest.mark.parametrize(("robot", "frame"), [("hyq", "lh_foot"), ("solo12", "FR_FOOT"), ("scalf", "LF_foot")])
+@pytest.mark.parametrize(
+    ("robot", "frame"), [("hyq", "lh_foot"), ("solo12", "FR_FOOT"), ("scalf", "LF_foot")]
+)
 def test_whole_robot_tree_twin_equals_pinocchio(robot, frame):
     check_against_pinocchio(Robot.from_preset(robot).model, frame)
 
@@ -80,7 +86,9 @@ def test_casadi_derivatives(robot, leg):
     model, twin = leg_model.model, leg_model.symbolic
     q, v, a = (ca.SX.sym(n, 2) for n in "qva")
     pos = twin.frame_position(q, leg_model.foot_frame)
-    jac = ca.Function("j", [q], [ca.jacobian(pos, q), twin.frame_jacobian(q, leg_model.foot_frame)[:3, :]])
+    jac = ca.Function(
+        "j", [q], [ca.jacobian(pos, q), twin.frame_jacobian(q, leg_model.foot_frame)[:3, :]]
+    )
     tau = twin.rnea(q, v, a)
     dtau = ca.Function("dtau", [q, v, a], [ca.jacobian(tau, q), ca.jacobian(tau, a)])
     data = model.createData()
@@ -95,7 +103,10 @@ def test_casadi_derivatives(robot, leg):
         # round-off ~eps |tau| / h ~ 1e-10 |tau|: tolerance 1e-5 relative to the largest entry
         fd = np.column_stack(
             [
-                (pin.rnea(model, data, qn + h * e, vn, an) - pin.rnea(model, data, qn - h * e, vn, an))
+                (
+                    pin.rnea(model, data, qn + h * e, vn, an)
+                    - pin.rnea(model, data, qn - h * e, vn, an)
+                )
                 / (2 * h)
                 for e in np.eye(2)
             ]

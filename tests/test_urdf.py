@@ -1,4 +1,4 @@
-"""The SCalf URDF: loads in Pinocchio and yourdfpy, physical inertias, Table 1 and Table 4 values."""
+"""The SCalf URDF: loads in Pinocchio and yourdfpy, physical inertias, Tables 1 and 4."""
 
 import math
 from pathlib import Path
@@ -52,7 +52,7 @@ def joint(model, name):
 @pytest.mark.parametrize("leg", LEGS)
 def test_table_1_values(model, leg):
     hind = leg.endswith("H")
-    for link, joint_name, mass, dist, eps, iyy in (
+    for _link, joint_name, mass, dist, eps, iyy in (
         ("thigh", "hip_pitch", 4.10, 0.21043, 0.037, 0.178),
         ("shank", "knee", 2.24, 0.22720, -0.083, 0.057),
     ):

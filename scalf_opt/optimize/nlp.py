@@ -24,8 +24,9 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from scalf_opt.optimize.problem import HEAT_SMOOTHING_EPS_M_S, SwingProblem
 from scalf_opt.energy import mechanical_power, trapezoid_weights
+from scalf_opt.optimize.problem import HEAT_SMOOTHING_EPS_M_S, SwingProblem
+from scalf_opt.typing import Expr
 
 IPOPT_DEFAULTS: dict[str, Any] = {
     "tol": 1e-10,
@@ -63,15 +64,14 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
     p_mech = ca.reshape(g["p_mech"].T, 2 * n, 1)  # column-major: all hip samples, then knee
     heat = ca.reshape(g["p_heat"].T, 2 * n, 1)
     accounting = problem.model.accounting
-    if accounting == "paper":
-        mech_cost = s_pos + s_neg
-    else:  # the other accountings are smooth enough without slacks except at tau qd = 0
-        mech_cost = mechanical_power(p_mech, accounting)
+    # the slack pair is the paper's |tau qd|; the other accountings need no slacks
+    paper = accounting == "paper"
+    mech_cost = s_pos + s_neg if paper else mechanical_power(p_mech, accounting)
     objective = ca.dot(w, mech_cost + heat)
 
     constraints, lower, upper = [], [], []
 
-    def add(expr: ca.SX, lo: np.ndarray | float, hi: np.ndarray | float) -> None:
+    def add(expr: Expr, lo: np.ndarray | float, hi: np.ndarray | float) -> None:
         size = expr.numel()
         constraints.append(ca.reshape(expr, size, 1))
         lower.append(np.broadcast_to(np.asarray(lo, dtype=float), (size,)).ravel())
@@ -80,7 +80,11 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
     if accounting == "paper":
         add(s_pos - s_neg - p_mech, 0.0, 0.0)
     q_lo, q_hi = problem.bounds["q"]
-    add(g["q"], np.repeat(q_lo, n, axis=1).ravel(order="F"), np.repeat(q_hi, n, axis=1).ravel(order="F"))
+    add(
+        g["q"],
+        np.repeat(q_lo, n, axis=1).ravel(order="F"),
+        np.repeat(q_hi, n, axis=1).ravel(order="F"),
+    )
     l_lo, l_hi = problem.bounds["cyl_len"]
     for i in range(2):
         if np.isfinite(l_lo[i, 0]):
@@ -93,7 +97,10 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
     add(g["foot"][1, mid], problem.ground_z_m + gait.clearance_m - 1e-9, np.inf)
 
     x = ca.vertcat(theta, s_pos, s_neg) if accounting == "paper" else theta
-    options = {"ipopt": {**IPOPT_DEFAULTS, **(ipopt_options or {})}, "print_time": False}
+    options: dict[str, Any] = {
+        "ipopt": {**IPOPT_DEFAULTS, **(ipopt_options or {})},
+        "print_time": False,
+    }
     solver = ca.nlpsol(
         f"{problem.leg}_{problem.family.name}_nlp",
         "ipopt",

@@ -23,6 +23,7 @@ from scalf_opt.actuators import stroke_limits_m
 from scalf_opt.cycle import RobotEnergyModel
 from scalf_opt.energy import SAMPLE_OUTPUTS, trapezoid_weights
 from scalf_opt.swing import AffinePath, SwingFamily
+from scalf_opt.typing import Expr
 
 FEASIBILITY_TOLERANCE = 1e-9
 """Round-off allowed on every constraint when judging a point feasible [rad, m]."""
@@ -95,8 +96,8 @@ class SwingProblem:
         """Ground height in the leg frame [m]."""
         return -self.model.gait.stance_height_m
 
-    def graph(self, theta: ca.SX, heat_eps: float | None) -> dict[str, ca.SX]:
-        """Per-sample outputs (each 2 x n) and the reach cosines (1 x n) as functions of ``theta``."""
+    def graph(self, theta: Expr, heat_eps: float | None) -> dict[str, Expr]:
+        """Per-sample outputs (each 2 x n) and reach cosines (1 x n) as functions of ``theta``."""
         path = self.path
         n = path.tau_s.size
         ys = []
