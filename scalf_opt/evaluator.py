@@ -2,9 +2,10 @@
 
 Input: one flat vector holding, for each leg and phase, the path samples (value, velocity,
 acceleration; foot or joint space) and the ground reaction forces. Output: the energy of each
-leg, phase and joint. The function is the per-sample physics of :class:`~scalf_opt.energy.LegPhysics`
-mapped over the samples and integrated with the trapezoidal weights, expanded into one SX graph,
-reduced by common-subexpression elimination, compiled to native code
+leg, phase and joint. The function is the per-sample physics of
+:class:`~scalf_opt.energy.LegPhysics` mapped over the samples and integrated with the
+trapezoidal weights, expanded into one SX graph, reduced by common-subexpression elimination,
+compiled to native code
 (:func:`~scalf_opt.codegen.compile_function`) and called through CasADi's zero-copy buffers.
 """
 
@@ -69,8 +70,10 @@ class CycleEvaluator:
         self._input = np.zeros(flat.numel())
         self._output = np.zeros(2 * len(energies))
         self._buffer, self._eval = self.function.buffer()
-        self._buffer.set_arg(0, memoryview(self._input))
-        self._buffer.set_res(0, memoryview(self._output))
+        # zero-copy: CasADi reads and writes these arrays' memory directly (the Python binding
+        # takes the size from the buffer, unlike the type stubs' signature)
+        self._buffer.set_arg(0, memoryview(self._input))  # type: ignore[call-arg, arg-type]
+        self._buffer.set_res(0, memoryview(self._output))  # type: ignore[call-arg, arg-type]
 
     @property
     def input_size(self) -> int:

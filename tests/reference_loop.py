@@ -1,4 +1,4 @@
-"""An independent, plain per-sample evaluation of a phase: NumPy plus Pinocchio, one sample at a time.
+"""An independent, plain per-sample evaluation of a phase: NumPy and Pinocchio, sample by sample.
 
 This is deliberately *not* scalf-opt's code path: closed-form IK, cylinder geometry and friction are
 written here again from the paper's numbers, and the dynamics come straight from ``pin.rnea`` and
