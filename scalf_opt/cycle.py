@@ -11,8 +11,9 @@ from functools import cached_property
 
 import numpy as np
 
-from scalf_opt.energy import LegPhysics, PhaseResult, evaluate_phase
-from scalf_opt.errors import GaitError, InfeasibleError
+from scalf_opt.actuators import HydraulicCylinder, load_actuators_for
+from scalf_opt.energy import ACCOUNTINGS, LegPhysics, PhaseResult, evaluate_phase
+from scalf_opt.errors import ConfigError, GaitError, InfeasibleError
 from scalf_opt.forces import GRAVITY_M_S2, min_norm_foot_forces
 from scalf_opt.gait import DIAGONAL_PARTNER, GaitSpec
 from scalf_opt.robot import LEG_NAMES, Robot
@@ -98,19 +99,28 @@ class RobotEnergyModel:
         robot: The robot.
         gait: The gait.
         accounting: Power accounting (``paper``, ``positive`` or ``regenerative``).
+        actuators: Cylinders keyed by joint name; ``None`` reads the actuator file beside the
+            URDF, ``{}`` gives every joint an ideal actuator (no cylinder, no friction).
     """
 
     robot: Robot
     gait: GaitSpec
     accounting: str = "paper"
+    actuators: dict[str, HydraulicCylinder] | None = None
     _physics: dict[str, LegPhysics] = field(default_factory=dict, repr=False)
+
+    def __post_init__(self) -> None:
+        if self.accounting not in ACCOUNTINGS:
+            raise ConfigError(
+                f"unknown power accounting {self.accounting!r}: use {', '.join(ACCOUNTINGS)}"
+            )
+        if self.actuators is None:
+            self.actuators = load_actuators_for(self.robot)
 
     def physics(self, leg: str) -> LegPhysics:
         """The leg's :class:`LegPhysics` (built once)."""
         if leg not in self._physics:
-            from scalf_opt.actuators import load_actuators_for
-
-            self._physics[leg] = LegPhysics(self.robot.leg(leg, load_actuators_for(self.robot)))
+            self._physics[leg] = LegPhysics(self.robot.leg(leg, self.actuators))
         return self._physics[leg]
 
     def foot_in_trunk_xz(self, leg: str, p_leg: np.ndarray) -> np.ndarray:
