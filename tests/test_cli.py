@@ -1,0 +1,92 @@
+"""The command line: outputs, file formats, one-line errors with exit code 2."""
+
+import csv
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from scalf_opt.cli import main
+from scalf_opt.energy import trapezoid_weights
+from scalf_opt.results import CSV_COLUMNS
+
+
+def run(argv, capsys):
+    code = main(argv)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+def test_model_prints_the_leg(capsys):
+    code, out, _ = run(["model"], capsys)
+    assert code == 0
+    assert "thigh" in out and "0.45099" in out and "sweep 98.0 mm" in out
+    assert "nominal standing posture" in out
+
+
+def test_model_of_other_robots(capsys):
+    code, out, _ = run(["model", "--robot", "hyq", "--leg", "LH"], capsys)
+    assert code == 0 and "lh_kfe_joint" in out and "ideal actuator" in out
+
+
+def test_evaluate_writes_summary_and_samples(tmp_path, capsys):
+    code, out, _ = run(["evaluate", "--out", str(tmp_path)], capsys)
+    assert code == 0
+    assert "671.52 W" in out  # the paper's value is printed beside ours
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    with (tmp_path / "samples.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert tuple(rows[0].keys()) == CSV_COLUMNS
+    assert len(rows) == 4 * (51 + 51)
+    assert {r["leg"] for r in rows} == {"RF", "LF", "RH", "LH"}
+    assert {r["phase"] for r in rows} == {"stance", "swing"}
+    for leg in ("RF", "LH"):
+        for phase in ("stance", "swing"):
+            sel = [r for r in rows if r["leg"] == leg and r["phase"] == phase]
+            t = np.array([float(r["t_s"]) for r in sel])
+            power = np.array([[float(r["power_hip_w"]), float(r["power_knee_w"])] for r in sel])
+            tau = t - t[0]
+            energy = (power.T @ trapezoid_weights(tau)).sum()
+            key = f"{phase}_energy_j"
+            assert energy == pytest.approx(summary["legs"][leg][key], rel=1e-12)
+    swing = [r for r in rows if r["phase"] == "swing"]
+    assert all(float(r["grf_x_n"]) == 0.0 and float(r["grf_z_n"]) == 0.0 for r in swing)
+    assert summary["average_total_power_w"] == pytest.approx(
+        summary["total_energy_per_cycle_j"] / 0.5
+    )
+
+
+def test_bad_gait_file_is_one_line_and_keeps_previous_output(tmp_path, capsys):
+    (tmp_path / "summary.json").write_text("previous")
+    gait = tmp_path / "gait.toml"
+    gait.write_text("[gait]\nduty_cycle = 1.5\n")
+    code, out, err = run(["evaluate", "--gait", str(gait), "--out", str(tmp_path)], capsys)
+    assert code == 2
+    assert err.count("\n") == 1 and "duty_cycle" in err and "gait.toml" in err
+    assert (tmp_path / "summary.json").read_text() == "previous"
+    assert not (tmp_path / "samples.csv").exists()
+
+
+def test_unreachable_gait_is_refused(tmp_path, capsys):
+    gait = tmp_path / "tall.toml"
+    gait.write_text("[gait]\nstance_height_m = 0.95\n")
+    code, _, err = run(["evaluate", "--gait", str(gait)], capsys)
+    assert code == 2 and "reach" in err and err.count("\n") == 1
+
+
+def test_missing_urdf(tmp_path, capsys):
+    code, _, err = run(["model", "--urdf", str(tmp_path / "none.urdf")], capsys)
+    assert code == 2 and "none.urdf" in err and "Traceback" not in err
+
+
+def test_console_script_has_no_traceback(tmp_path):
+    proc = subprocess.run(
+        [sys.executable, "-m", "scalf_opt.cli", "evaluate", "--gait", str(tmp_path / "x.toml")],
+        capture_output=True,
+        text=True,
+        check=False,
+    )
+    assert proc.returncode == 2
+    assert proc.stderr.startswith("scalf-opt: error:") and "Traceback" not in proc.stderr
