@@ -62,7 +62,7 @@ def test_bad_gait_file_is_one_line_and_keeps_previous_output(tmp_path, capsys):
     (tmp_path / "summary.json").write_text("previous")
     gait = tmp_path / "gait.toml"
     gait.write_text("[gait]\nduty_cycle = 1.5\n")
-    code, out, err = run(["evaluate", "--gait", str(gait), "--out", str(tmp_path)], capsys)
+    code, _, err = run(["evaluate", "--gait", str(gait), "--out", str(tmp_path)], capsys)
     assert code == 2
     assert err.count("\n") == 1 and "duty_cycle" in err and "gait.toml" in err
     assert (tmp_path / "summary.json").read_text() == "previous"
