@@ -142,13 +142,15 @@ class GaitSpec:
     def phase_times_s(self, phase: str) -> np.ndarray:
         """Sample times inside a phase, both ends included, shape (n,) [s].
 
-        The grid is uniform with ``round(duration * sample_rate_hz)`` intervals, so at the
+        The grid is uniform with ``round(duration * sample_rate_hz)`` intervals, rounded up to an
+        even number so that mid-phase is a sample (the clearance is checked there); at the
         paper's 200 Hz a 0.25 s phase has 51 samples 5 ms apart.
         """
         duration = self.stance_duration_s if phase == "stance" else self.swing_duration_s
         if phase not in ("stance", "swing"):
             raise ValueError(f"phase must be 'stance' or 'swing', got {phase!r}")
         intervals = max(4, round(duration * self.sample_rate_hz))
+        intervals += intervals % 2
         return np.linspace(0.0, duration, intervals + 1)
 
     def stance_offset_s(self, leg: str) -> float:

@@ -8,28 +8,36 @@ its samples as an *affine* function of its free parameters ``theta``::
 for the value and the first two time derivatives of two coordinates: the foot ``(x, z)`` in the
 leg frame (``space == "foot"``) or the joint angles ``(hip pitch, knee)`` (``space == "joint"``).
 
-Boundary conditions (every family, decisions 12 and 13): at lift-off (s = 0) and touch-down
-(s = 1) position and velocity equal the stance path's (Table 3), so the foot neither slips nor
-stamps; at mid-swing (s = 1/2) the foot is at the reference's apex ``(0, -z0 + H)``, H above the
-ground. In joint space the same conditions are mapped through closed-form IK and the Jacobian.
+Boundary conditions (decisions 12-14). At lift-off (s = 0) and touch-down (s = 1) position and
+velocity equal the stance path's (Table 3), so the foot neither slips nor stamps: every family
+meets these by construction. The mid-swing clearance, the foot at least H above the ground at
+s = 1/2 (decision 14), is a constraint of the optimization problem; the reference spline meets it
+with equality (its apex knot). In joint space the end conditions are mapped through closed-form
+IK and the Jacobian.
 
 Fourier family (the analogue of the paper's lost Appendix A). Each coordinate is a half-range
-Fourier series of order N with fundamental period ``2 T_sw``::
+Fourier series of order N, fundamental period ``2 T_sw`` (the gait period for a 50 % duty)::
 
     y(s) = a_0 + sum_{k=1..N} (a_k cos(k pi s) + b_k sin(k pi s)).
 
-The five boundary conditions ``y(0), y(1), y'(0), y'(1), y(1/2)`` are linear in the coefficients.
-The terms of orders 0 to 2 (``a_0, a_1, b_1, a_2, b_2``) are *eliminated*: their 5 x 5 system
-``B_c c_c = d - B_f c_f`` is regular (``b_1 = (y'(0) - y'(1)) / (2 pi)``,
-``b_2 = (y'(0) + y'(1)) / (4 pi)``, ``a_1 = (y(0) - y(1)) / 2``, ``a_0 + a_2 = (y(0) + y(1)) / 2``,
-``a_0 - a_2 = y(1/2) - b_1``), so every choice of the free higher-order coefficients ``c_f``
-gives a trajectory that meets all boundary conditions exactly. The free coefficients, scaled to
-degrees (joint space) or centimetres (foot space), are the parameters ``theta``.
+The four end conditions ``y(0), y(1), y'(0), y'(1)`` are linear in the coefficients. Four of them,
+``a_0, a_1, b_1, b_2``, are *eliminated*: their 4 x 4 system ``B_c c_c = d - B_f c_f`` is regular::
 
-Families are nested by construction: ``fourier-N`` keeps orders 3..N free, so setting the new
-coefficients of ``fourier-(N+1)`` to zero reproduces ``fourier-N`` exactly. The ``paper`` family
-has the paper's two free coefficients per leg, C1 and C2: the ``sin(3 pi s)`` amplitude of the hip
-and of the knee angle, and is the member of ``joint-3`` whose ``cos(3 pi s)`` terms vanish.
+    a_1 = (y(0) - y(1)) / 2 - (free cos terms of odd order),
+    b_1 = (y'(0) - y'(1)) / (2 pi) - ...,   b_2 = (y'(0) + y'(1)) / (4 pi) - ...,
+    a_0 = (y(0) + y(1)) / 2 - (free cos terms of even order),
+
+so every choice of the free coefficients ``c_f`` (``a_2`` and all terms of orders 3..N) gives a
+trajectory that meets the end conditions exactly. The free coefficients, scaled to degrees (joint
+space) or centimetres (foot space), are the parameters ``theta``.
+
+Families are nested by construction: ``joint-N`` keeps ``a_2`` and orders 3..N free in both
+coordinates, so setting the new coefficients of ``joint-(N+1)`` to zero reproduces ``joint-N``
+exactly. The ``paper`` family has the paper's two free coefficients per leg: C1, the
+``cos(3 pi s)`` amplitude of the hip angle, and C2, the ``cos(2 pi s)`` amplitude of the knee
+angle; it is the member of ``joint-3`` whose other free coefficients vanish. (Of the 50 pairs of
+single terms of orders 2-4 in foot and joint space, this pair gives the lowest swing energy:
+``studies/paper_family_scan.py`` reproduces the scan.)
 """
 
 from __future__ import annotations
@@ -37,7 +45,6 @@ from __future__ import annotations
 import math
 import re
 from dataclasses import dataclass
-from functools import cached_property
 
 import numpy as np
 from scipy.interpolate import CubicSpline
@@ -56,10 +63,12 @@ ELIMINATED_TERMS: tuple[tuple[str, int], ...] = (
     ("cos", 0),
     ("cos", 1),
     ("sin", 1),
-    ("cos", 2),
     ("sin", 2),
 )
-"""The five Fourier terms solved from the boundary conditions."""
+"""The four Fourier terms solved from the end conditions."""
+
+Terms = tuple[tuple[str, int], ...]
+"""Fourier terms ``(kind, order)``, kind ``cos`` or ``sin``."""
 
 
 @dataclass(frozen=True)
@@ -159,31 +168,39 @@ def fourier_term(kind: str, order: int, s: np.ndarray, derivative: int = 0) -> n
     return w**derivative * np.cos(w * s + shift + derivative * math.pi / 2)
 
 
-def _functionals(terms: tuple[tuple[str, int], ...]) -> np.ndarray:
-    """Rows y(0), y(1), y'(0), y'(1), y(1/2) of the given terms, shape (5, len(terms))."""
+def _functionals(terms: Terms) -> np.ndarray:
+    """Rows y(0), y(1), y'(0), y'(1) of the given terms, shape (4, len(terms))."""
     rows = []
-    for s, d in ((0.0, 0), (1.0, 0), (0.0, 1), (1.0, 1), (0.5, 0)):
+    for s, d in ((0.0, 0), (1.0, 0), (0.0, 1), (1.0, 1)):
         rows.append([float(fourier_term(k, o, np.array(s), d)) for k, o in terms])
     return np.array(rows)
 
 
 class SwingFamily:
-    """Interface of a swing family: a name, a space, free parameters and an affine path."""
+    """Interface of a swing family: a name, a space, free parameters and an affine path.
+
+    ``free_terms`` holds, per coordinate (hip, knee or x, z), the Fourier terms whose
+    coefficients are free; parameters are ordered coordinate by coordinate.
+    """
 
     name: str
     space: str
-    free_terms: tuple[tuple[str, int], ...] = ()
+    free_terms: tuple[Terms, Terms] = ((), ())
 
     @property
     def n_params(self) -> int:
         """Number of free parameters per leg."""
-        return 2 * len(self.free_terms)
+        return len(self.free_terms[0]) + len(self.free_terms[1])
 
     @property
     def parameter_names(self) -> list[str]:
-        """Names of the free parameters, e.g. ``hip_sin3`` (joint) or ``z_cos4`` (foot)."""
+        """Names of the free parameters, e.g. ``hip_cos3`` (joint) or ``z_sin4`` (foot)."""
         coords = ("hip", "knee") if self.space == "joint" else ("x", "z")
-        return [f"{c}_{k}{o}" for c in coords for k, o in self.free_terms]
+        return [
+            f"{c}_{k}{o}"
+            for c, terms in zip(coords, self.free_terms, strict=True)
+            for k, o in terms
+        ]
 
     @property
     def parameter_unit(self) -> str:
@@ -200,15 +217,16 @@ class SwingFamily:
 
     def embed(self, theta: np.ndarray, poorer: SwingFamily) -> np.ndarray:
         """Map a poorer nested family's parameters to this family's (zeros elsewhere)."""
-        if poorer.space != self.space or not set(poorer.free_terms) <= set(self.free_terms):
+        nested = poorer.space == self.space and all(
+            set(old) <= set(new)
+            for old, new in zip(poorer.free_terms, self.free_terms, strict=True)
+        )
+        if not nested:
             raise ConfigError(f"family {poorer.name} is not nested in {self.name}")
+        names = self.parameter_names
         out = np.zeros(self.n_params)
-        theta = np.asarray(theta, dtype=float)
-        n_old, n_new = len(poorer.free_terms), len(self.free_terms)
-        for i, term in enumerate(poorer.free_terms):
-            j = self.free_terms.index(term)
-            for c in range(2):
-                out[c * n_new + j] = theta[c * n_old + i]
+        for name, value in zip(poorer.parameter_names, np.asarray(theta, dtype=float), strict=True):
+            out[names.index(name)] = value
         return out
 
 
@@ -239,63 +257,59 @@ class ReferenceSpline(SwingFamily):
 
 
 class FourierFamily(SwingFamily):
-    """Half-range Fourier series with orders 0-2 eliminated by the boundary conditions."""
+    """Half-range Fourier series with four coefficients eliminated by the end conditions.
 
-    def __init__(self, name: str, space: str, free_terms: tuple[tuple[str, int], ...]) -> None:
+    Args:
+        name: Family name.
+        space: ``foot`` or ``joint``.
+        free_terms: Free Fourier terms of each coordinate; none may be an eliminated term.
+    """
+
+    def __init__(self, name: str, space: str, free_terms: tuple[Terms, Terms]) -> None:
         if space not in ("foot", "joint"):
             raise ConfigError(f"family space must be 'foot' or 'joint', got {space!r}")
+        for terms in free_terms:
+            if set(terms) & set(ELIMINATED_TERMS):
+                raise ConfigError(f"family {name}: {terms} overlaps the eliminated terms")
         self.name = name
         self.space = space
         self.free_terms = free_terms
-
-    @cached_property
-    def _elimination(self) -> tuple[np.ndarray, np.ndarray]:
-        """``(B_c^-1, -B_c^-1 B_f)``: eliminated coefficients from data and free coefficients."""
-        b_c = _functionals(ELIMINATED_TERMS)
-        b_f = _functionals(self.free_terms) if self.free_terms else np.zeros((5, 0))
-        inv = np.linalg.inv(b_c)
-        return inv, -inv @ b_f
 
     def path(self, gait: GaitSpec, kin: LegKinematics) -> AffinePath:  # noqa: D102
         b = self.boundary(gait, kin)
         tau = gait.phase_times_s("swing")
         s = tau / b.duration_s
-        inv, free_map = self._elimination
+        inv = np.linalg.inv(_functionals(ELIMINATED_TERMS))
         scale = PARAMETER_SCALE[self.space]
-        n_free = len(self.free_terms)
         base = np.zeros((3, 2, tau.size))
-        basis = np.zeros((3, 2, tau.size, 2 * n_free))
-        for d in range(3):
-            time_scale = b.duration_s**-d  # d/dtau = (1/T_sw) d/ds
-            phi_c = np.column_stack([fourier_term(k, o, s, d) for k, o in ELIMINATED_TERMS])
-            phi_f = (
-                np.column_stack([fourier_term(k, o, s, d) for k, o in self.free_terms])
-                if n_free
-                else np.zeros((s.size, 0))
+        basis = np.zeros((3, 2, tau.size, self.n_params))
+        column = 0
+        for c, terms in enumerate(self.free_terms):
+            data = np.array(
+                [b.start[c], b.end[c], b.start_rate[c] * b.duration_s, b.end_rate[c] * b.duration_s]
             )
-            for c in range(2):
-                data = np.array(
-                    [
-                        b.start[c],
-                        b.end[c],
-                        b.start_rate[c] * b.duration_s,
-                        b.end_rate[c] * b.duration_s,
-                        b.mid[c],
-                    ]
-                )
-                base[d, c] = time_scale * (phi_c @ (inv @ data))
-                basis[d, c, :, c * n_free : (c + 1) * n_free] = (
-                    time_scale * scale * (phi_f + phi_c @ free_map)
-                )
+            coefficients = inv @ data
+            free_map = -inv @ _functionals(terms) if terms else np.zeros((4, 0))
+            for d in range(3):
+                time_scale = b.duration_s**-d  # d/dtau = (1/T_sw) d/ds
+                phi_c = np.column_stack([fourier_term(k, o, s, d) for k, o in ELIMINATED_TERMS])
+                base[d, c] = time_scale * (phi_c @ coefficients)
+                if terms:
+                    phi_f = np.column_stack([fourier_term(k, o, s, d) for k, o in terms])
+                    basis[d, c, :, column : column + len(terms)] = (
+                        time_scale * scale * (phi_f + phi_c @ free_map)
+                    )
+            column += len(terms)
         return AffinePath(self.space, tau, base, basis)
 
 
-PAPER_FREE_TERMS: tuple[tuple[str, int], ...] = (("sin", 3),)
+PAPER_FREE_TERMS: tuple[Terms, Terms] = ((("cos", 3),), (("cos", 2),))
+"""The paper family's C1 (hip) and C2 (knee) terms."""
 
 
-def higher_terms(order: int) -> tuple[tuple[str, int], ...]:
-    """Free terms of a family of order N: cos and sin of orders 3..N."""
-    return tuple((kind, k) for k in range(3, order + 1) for kind in ("cos", "sin"))
+def order_terms(order: int) -> Terms:
+    """Free terms of a family of order N: ``cos(2 pi s)`` and cos and sin of orders 3..N."""
+    return (("cos", 2),) + tuple((kind, k) for k in range(3, order + 1) for kind in ("cos", "sin"))
 
 
 _FAMILY_PATTERN = re.compile(r"^(fourier|joint)-(\d+)$")
@@ -306,7 +320,7 @@ def make_family(name: str) -> SwingFamily:
     """Build a family from its name: ``reference``, ``paper``, ``fourier-N`` or ``joint-N``.
 
     Raises:
-        ConfigError: Unknown name or an order outside 3..12.
+        ConfigError: Unknown name or an order outside 2..12.
     """
     if name == "reference":
         return ReferenceSpline()
@@ -316,10 +330,11 @@ def make_family(name: str) -> SwingFamily:
     if not match:
         raise ConfigError(
             f"unknown family {name!r}: use reference, paper, fourier-N (foot space) or "
-            "joint-N (joint space) with N in 3..12"
+            f"joint-N (joint space) with N in 2..{MAX_ORDER}"
         )
     order = int(match.group(2))
-    if not 3 <= order <= MAX_ORDER:
-        raise ConfigError(f"family {name!r}: order N must be in 3..{MAX_ORDER}, got {order}")
+    if not 2 <= order <= MAX_ORDER:
+        raise ConfigError(f"family {name!r}: order N must be in 2..{MAX_ORDER}, got {order}")
     space = "foot" if match.group(1) == "fourier" else "joint"
-    return FourierFamily(name, space, higher_terms(order))
+    terms = order_terms(order)
+    return FourierFamily(name, space, (terms, terms))

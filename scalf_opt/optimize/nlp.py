@@ -35,6 +35,10 @@ IPOPT_DEFAULTS: dict[str, Any] = {
     "print_level": 0,
     "sb": "yes",
     "mu_strategy": "adaptive",
+    # keep every bound exact: Ipopt relaxes bounds by 1e-8 by default, and the exact evaluator
+    # judges feasibility at 1e-9
+    "bound_relax_factor": 0.0,
+    "constr_viol_tol": 1e-10,
 }
 
 
@@ -92,9 +96,7 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
     add(g["foot"][1, 1:-1], problem.ground_z_m, np.inf)
     if "reach" in g:
         add(g["reach"], -1.0, 1.0)
-    gait = problem.model.gait
-    mid = int(np.argmin(np.abs(problem.path.tau_s - 0.5 * gait.swing_duration_s)))
-    add(g["foot"][1, mid], problem.ground_z_m + gait.clearance_m - 1e-9, np.inf)
+    add(g["foot"][1, problem.mid_index], problem.clearance_z_m, np.inf)
 
     x = ca.vertcat(theta, s_pos, s_neg) if accounting == "paper" else theta
     options: dict[str, Any] = {
@@ -102,7 +104,7 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
         "print_time": False,
     }
     solver = ca.nlpsol(
-        f"{problem.leg}_{problem.family.name}_nlp",
+        f"{problem.leg}_{problem.family.name.replace('-', '')}_nlp",
         "ipopt",
         {"x": x, "f": objective, "g": ca.vertcat(*constraints)},
         options,

@@ -36,6 +36,7 @@ class PatternSearchOptions:
         acceleration: Pattern-move coefficient alpha (> 0).
         shrinkage: Step reduction factor beta in (0, 1).
         max_evaluations: Safety limit on objective evaluations.
+        target: Stop as soon as a value at or below this is found (None: run to precision).
     """
 
     initial_step: float | tuple[float, ...] = 0.5
@@ -43,6 +44,7 @@ class PatternSearchOptions:
     acceleration: float = 1.0
     shrinkage: float = 0.5
     max_evaluations: int = 100_000
+    target: float | None = None
 
     def __post_init__(self) -> None:
         steps = np.atleast_1d(np.asarray(self.initial_step, dtype=float))
@@ -115,7 +117,11 @@ def pattern_search(
     base, f_base = x0.copy(), f(x0)
     iterations = 0
     history: list[tuple[float, ...]] = [(0, *base, f_base)]
-    while np.any(step >= opts.precision):
+
+    def reached() -> bool:
+        return opts.target is not None and f_base <= opts.target
+
+    while np.any(step >= opts.precision) and not reached():
         if n_eval >= opts.max_evaluations:
             return PatternSearchResult(base, f_base, iterations, n_eval, history, counts, False)
         iterations += 1
@@ -125,6 +131,8 @@ def pattern_search(
                 pattern = x_new + opts.acceleration * (x_new - base)
                 base, f_base = x_new, f_new
                 history.append((iterations, *base, f_base))
+                if reached():
+                    break
                 x_try, f_try = explore(pattern, f(pattern))
                 if f_try < f_base:
                     x_new, f_new = x_try, f_try

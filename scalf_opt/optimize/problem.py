@@ -4,7 +4,7 @@ Decision variables: the swing family's free parameters ``theta`` (degrees or cen
 :mod:`scalf_opt.swing`). Objective: the leg's swing energy [J] (stance energy does not depend on
 the swing). Constraints at every swing sample (decision 14): joint angles inside their limits,
 foot at or above the ground, cylinder inside its stroke, the target inside the leg's reach (foot
-space), and the clearance H at mid-swing (met by construction by every family).
+space), and the foot at least H above the ground at mid-swing.
 
 The CasADi graph ``theta -> path samples -> per-sample physics`` is built once here. The exact
 (non-smooth) energy is a compiled function of ``theta``; the NLP reuses the very same graph with
@@ -42,12 +42,15 @@ class Evaluation:
     """Exact evaluation of one parameter vector.
 
     Attributes:
-        energy_j: Swing energy of both joints [J] (exact, non-smooth).
+        energy_j: Swing energy of both joints [J] (exact, non-smooth); inf if infeasible.
         reason: ``None`` if feasible, else which constraint fails first.
+        violation: Sum of every constraint's excess over its bound (metres and radians); zero
+            exactly when the point is feasible.
     """
 
     energy_j: float
     reason: str | None
+    violation: float = 0.0
 
 
 @dataclass
@@ -91,6 +94,16 @@ class SwingProblem:
                 l_lo[i], l_hi[i] = stroke_limits_m(cyl, lo[i], hi[i])
         return {"q": (lo[:, None], hi[:, None]), "cyl_len": (l_lo[:, None], l_hi[:, None])}
 
+    @cached_property
+    def mid_index(self) -> int:
+        """Index of the mid-swing sample (the swing grid has an even number of intervals)."""
+        return (self.path.tau_s.size - 1) // 2
+
+    @property
+    def clearance_z_m(self) -> float:
+        """Lowest foot height allowed at mid-swing, in the leg frame [m]: ground + H."""
+        return self.ground_z_m + self.model.gait.clearance_m
+
     @property
     def ground_z_m(self) -> float:
         """Ground height in the leg frame [m]."""
@@ -123,7 +136,7 @@ class SwingProblem:
         energy = ca.sum1(ca.mtimes(g["power"], ca.DM(self.weights)))
         reach = g.get("reach", ca.DM.zeros(1, self.path.tau_s.size))
         return ca.Function(
-            f"{self.leg}_{self.family.name}_swing_energy",
+            f"{self.leg}_{self.family.name.replace('-', '')}_swing_energy",
             [theta],
             [energy, g["q"], g["foot"], g["cyl_len"], reach],
             ["theta"],
@@ -135,15 +148,25 @@ class SwingProblem:
         energy, q, foot, cyl_len, reach = (
             np.array(v) for v in self.exact_function(np.asarray(theta, dtype=float))
         )
-        tol = FEASIBILITY_TOLERANCE
-        if np.any(~(np.abs(reach) <= 1.0 + tol)) or not np.all(np.isfinite(q)):
-            return Evaluation(float("inf"), "foot target out of reach")
+        if not np.all(np.isfinite(q)):
+            excess = np.abs(reach) - 1.0
+            return Evaluation(
+                float("inf"), "foot target out of reach", float(np.sum(excess[excess > 0]))
+            )
         lo, hi = self.bounds["q"]
-        if np.any(q < lo - tol) or np.any(q > hi + tol):
-            return Evaluation(float("inf"), "joint limit")
-        if np.any(foot[1] < self.ground_z_m - tol):
-            return Evaluation(float("inf"), "foot below ground")
         l_lo, l_hi = self.bounds["cyl_len"]
-        if np.any(cyl_len < l_lo - tol) or np.any(cyl_len > l_hi + tol):
-            return Evaluation(float("inf"), "cylinder stroke")
-        return Evaluation(float(energy), None)
+        with np.errstate(invalid="ignore"):  # ideal actuators: NaN lengths, infinite bounds
+            excesses = {
+                "joint limit": np.concatenate([(lo - q).ravel(), (q - hi).ravel()]),
+                "foot below ground": self.ground_z_m - foot[1],
+                "mid-swing clearance": np.array([self.clearance_z_m - foot[1, self.mid_index]]),
+                "cylinder stroke": np.nan_to_num(
+                    np.concatenate([(l_lo - cyl_len).ravel(), (cyl_len - l_hi).ravel()]),
+                    nan=-1.0,
+                ),
+            }
+        violation = float(sum(np.sum(e[e > 0]) for e in excesses.values()))
+        for reason, excess in excesses.items():
+            if np.any(excess > FEASIBILITY_TOLERANCE):
+                return Evaluation(float("inf"), reason, violation)
+        return Evaluation(float(energy.item()), None, violation)

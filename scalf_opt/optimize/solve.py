@@ -1,0 +1,208 @@
+"""Run either optimizer on a :class:`SwingProblem` and return one result type.
+
+Both answers are evaluated with the exact, non-smooth swing energy of
+:meth:`SwingProblem.evaluate`, whatever the optimizer minimised internally.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from scalf_opt.optimize.nlp import build_nlp, solve_nlp
+from scalf_opt.optimize.pattern_search import (
+    PatternSearchOptions,
+    PatternSearchResult,
+    pattern_search,
+)
+from scalf_opt.optimize.problem import SwingProblem
+
+METHODS = ("pattern", "ipopt")
+
+
+@dataclass
+class SwingOptimum:
+    """The answer of one optimizer for one leg and family.
+
+    Attributes:
+        leg: Leg name.
+        family: Swing family name.
+        method: ``pattern`` or ``ipopt``.
+        theta: Parameters found (family units, see ``unit``).
+        parameter_names: Names of the parameters.
+        unit: Unit of the parameters (``deg`` or ``cm``).
+        swing_energy_j: Exact swing energy at ``theta`` [J] (inf if infeasible).
+        success: The optimizer converged to a feasible point.
+        status: The optimizer's own status text.
+        iterations: Iterations (pattern search: exploratory moves of both phases; Ipopt: its
+            iteration count).
+        evaluations: Objective evaluations (pattern search) or 0 (Ipopt).
+        wall_time_s: Time spent [s].
+        history: Pattern search: rows (iteration, *theta, energy) of accepted points.
+        infeasible: Pattern search: count of infeasible evaluations per reason.
+        stats: Solver statistics (Ipopt's, as returned by CasADi).
+    """
+
+    leg: str
+    family: str
+    method: str
+    theta: np.ndarray
+    parameter_names: list[str]
+    unit: str
+    swing_energy_j: float
+    success: bool
+    status: str
+    iterations: int
+    evaluations: int
+    wall_time_s: float
+    history: list[tuple[float, ...]] = field(default_factory=list)
+    infeasible: dict[str, int] = field(default_factory=dict)
+    stats: dict[str, Any] = field(default_factory=dict)
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain-data form for JSON."""
+        return {
+            "leg": self.leg,
+            "family": self.family,
+            "method": self.method,
+            "parameters": dict(zip(self.parameter_names, map(float, self.theta), strict=True)),
+            "unit": self.unit,
+            "swing_energy_j": self.swing_energy_j,
+            "success": self.success,
+            "status": self.status,
+            "iterations": self.iterations,
+            "evaluations": self.evaluations,
+            "wall_time_s": self.wall_time_s,
+            "infeasible_evaluations": dict(self.infeasible),
+            "solver_stats": self.stats,
+        }
+
+
+def run_pattern_search(
+    problem: SwingProblem,
+    x0: np.ndarray | None = None,
+    options: PatternSearchOptions | None = None,
+) -> SwingOptimum:
+    """The paper's pattern search, in two phases when the start is infeasible.
+
+    Phase 1 (only if ``x0`` is infeasible) minimises the total constraint violation with the same
+    settings until it reaches zero; phase 2 minimises the exact swing energy from there.
+    """
+    opts = options or PatternSearchOptions()
+    x0 = np.zeros(problem.n_params) if x0 is None else np.asarray(x0, dtype=float)
+    start = time.perf_counter()
+
+    def energy(theta: np.ndarray) -> tuple[float, str | None]:
+        e = problem.evaluate(theta)
+        return e.energy_j, e.reason
+
+    def violation(theta: np.ndarray) -> tuple[float, str | None]:
+        return problem.evaluate(theta).violation, None
+
+    phase1: PatternSearchResult | None = None
+    if problem.evaluate(x0).reason is not None:
+        phase1 = pattern_search(violation, x0, _with_target(opts, 0.0))
+        if phase1.value > 0.0:
+            return _pattern_optimum(
+                problem, phase1, phase1, time.perf_counter() - start, "no feasible point found"
+            )
+        x0 = phase1.x
+    result = pattern_search(energy, x0, opts)
+    if phase1 is not None:
+        result.iterations += phase1.iterations
+        result.evaluations += phase1.evaluations
+        result.infeasible.update(phase1.infeasible)
+        result.history = [(row[0] + phase1.iterations, *row[1:]) for row in result.history]
+    status = "converged: step below precision" if result.converged else "evaluation limit"
+    return _pattern_optimum(problem, result, phase1, time.perf_counter() - start, status)
+
+
+def _with_target(opts: PatternSearchOptions, target: float) -> PatternSearchOptions:
+    return PatternSearchOptions(
+        opts.initial_step,
+        opts.precision,
+        opts.acceleration,
+        opts.shrinkage,
+        opts.max_evaluations,
+        target,
+    )
+
+
+def _pattern_optimum(
+    problem: SwingProblem,
+    result: PatternSearchResult,
+    phase1: PatternSearchResult | None,
+    elapsed: float,
+    status: str,
+) -> SwingOptimum:
+    final = problem.evaluate(result.x)
+    feasible = final.reason is None
+    return SwingOptimum(
+        leg=problem.leg,
+        family=problem.family.name,
+        method="pattern",
+        theta=result.x,
+        parameter_names=problem.family.parameter_names,
+        unit=problem.family.parameter_unit,
+        swing_energy_j=final.energy_j,
+        success=feasible and result.converged,
+        status=status,
+        iterations=result.iterations,
+        evaluations=result.evaluations,
+        wall_time_s=elapsed,
+        history=list(result.history),
+        infeasible=dict(result.infeasible),
+        stats={"feasibility_phase_iterations": phase1.iterations if phase1 else 0},
+    )
+
+
+def run_ipopt(
+    problem: SwingProblem,
+    theta0: np.ndarray | None = None,
+    ipopt_options: dict[str, Any] | None = None,
+) -> SwingOptimum:
+    """Solve the smooth NLP with Ipopt and evaluate its answer exactly.
+
+    ``success`` is True only if Ipopt reports a solved problem *and* the exact evaluation finds
+    the answer feasible.
+    """
+    theta0 = np.zeros(problem.n_params) if theta0 is None else np.asarray(theta0, dtype=float)
+    start = time.perf_counter()
+    solution = solve_nlp(build_nlp(problem, ipopt_options), theta0)
+    elapsed = time.perf_counter() - start
+    final = problem.evaluate(solution.theta)
+    stats = dict(solution.stats)
+    stats["smooth_objective_j"] = solution.objective_j
+    stats["solver_time_s"] = solution.wall_time_s
+    return SwingOptimum(
+        leg=problem.leg,
+        family=problem.family.name,
+        method="ipopt",
+        theta=solution.theta,
+        parameter_names=problem.family.parameter_names,
+        unit=problem.family.parameter_unit,
+        swing_energy_j=final.energy_j,
+        success=solution.success and final.reason is None,
+        status=solution.status if final.reason is None else f"{solution.status}; {final.reason}",
+        iterations=solution.iterations,
+        evaluations=0,
+        wall_time_s=elapsed,
+        stats=stats,
+    )
+
+
+def optimize(
+    problem: SwingProblem,
+    method: str,
+    theta0: np.ndarray | None = None,
+    pattern_options: PatternSearchOptions | None = None,
+) -> SwingOptimum:
+    """Run ``method`` (``pattern`` or ``ipopt``) on ``problem``."""
+    if method == "pattern":
+        return run_pattern_search(problem, theta0, pattern_options)
+    if method == "ipopt":
+        return run_ipopt(problem, theta0)
+    raise ValueError(f"unknown method {method!r}: use {', '.join(METHODS)}")
