@@ -13,7 +13,7 @@ $(STAMP): pyproject.toml
 	touch $(STAMP)
 
 run: $(STAMP)
-	$(BIN)/scalf-opt model
+	$(BIN)/scalf-opt paper
 
 test: $(STAMP)
 	$(BIN)/ruff check .

@@ -11,9 +11,10 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
-from scalf_opt.errors import ScalfError
+from scalf_opt.errors import ConfigError, ScalfError
 from scalf_opt.gait import GaitSpec
-from scalf_opt.robot import Robot
+from scalf_opt.reproduction import DEFAULT_RICH_FAMILY
+from scalf_opt.robot import LEG_NAMES, Robot
 
 
 def _add_urdf(parser: argparse.ArgumentParser) -> None:
@@ -51,6 +52,36 @@ def build_parser() -> argparse.ArgumentParser:
     _add_urdf(p)
     _add_gait(p)
     p.add_argument("--out", type=Path, help="write summary.json and samples.csv here")
+
+    p = sub.add_parser("optimize", help="optimize the swing of one or more legs")
+    _add_urdf(p)
+    _add_gait(p)
+    p.add_argument(
+        "--leg",
+        default="pair",
+        help="RF, LF, RH, LH; 'pair' (default: RF and LH, LF and RH by symmetry) or 'all'",
+    )
+    p.add_argument(
+        "--family",
+        default=DEFAULT_RICH_FAMILY,
+        help=f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 "
+        f"(default {DEFAULT_RICH_FAMILY})",
+    )
+    p.add_argument("--method", choices=("pattern", "ipopt"), default="ipopt")
+    p.add_argument(
+        "--precision", type=float, default=0.1, help="pattern-search precision (default 0.1)"
+    )
+    p.add_argument("--out", type=Path, help="write summary.json and samples.csv here")
+
+    p = sub.add_parser("paper", help="reproduce the paper's Tables 5 and 6 (the main job)")
+    _add_urdf(p)
+    p.add_argument("--gait", type=Path, help="gait file (TOML); default: the paper's trot")
+    p.add_argument(
+        "--out",
+        type=Path,
+        default=Path("results/paper"),
+        help="output directory (default results/paper)",
+    )
     return parser
 
 
@@ -98,11 +129,97 @@ def cmd_evaluate(args: argparse.Namespace) -> int:
     return 0
 
 
+def _legs_to_optimize(choice: str) -> tuple[str, ...]:
+    if choice == "pair":
+        return ("RF", "LH")
+    if choice == "all":
+        return LEG_NAMES
+    if choice in LEG_NAMES:
+        return (choice,)
+    raise ConfigError(f"--leg {choice!r}: use RF, LF, RH, LH, pair or all")
+
+
+def cmd_optimize(args: argparse.Namespace) -> int:
+    """``scalf-opt optimize``: exit 0 when every leg is solved, 3 when an optimizer fails."""
+    from scalf_opt.cycle import RobotEnergyModel
+    from scalf_opt.optimize.pattern_search import PatternSearchOptions
+    from scalf_opt.optimize.problem import SwingProblem
+    from scalf_opt.optimize.solve import optimize
+    from scalf_opt.report import evaluate_report, optimum_report
+    from scalf_opt.results import cycle_summary, samples_csv_text, to_json, write_atomic
+    from scalf_opt.swing import make_family
+
+    legs = _legs_to_optimize(args.leg)
+    family = make_family(args.family)
+    if family.n_params == 0:
+        raise ConfigError(f"--family {args.family}: has no free parameter to optimize")
+    if not args.precision > 0:
+        raise ConfigError(f"--precision must be > 0, got {args.precision}")
+    robot = load_robot(args)
+    model = RobotEnergyModel(robot, load_gait(args, robot), args.accounting)
+    reference = model.robot_cycle(make_family("reference"))
+    options = PatternSearchOptions(precision=args.precision)
+    optima = {
+        leg: optimize(SwingProblem(model, leg, family), args.method, pattern_options=options)
+        for leg in legs
+    }
+    print(optimum_report(optima, reference))
+    failed = [o for o in optima.values() if not o.success]
+    if failed:
+        names = ", ".join(f"{o.leg} ({o.status})" for o in failed)
+        print(f"scalf-opt: error: not solved: {names}; no optimum is reported", file=sys.stderr)
+        return 3
+    thetas = {leg: o.theta for leg, o in optima.items()}
+    cycle = model.robot_cycle(family, thetas)
+    # legs that were neither optimized nor a symmetric twin of an optimized leg keep the reference
+    for leg in LEG_NAMES:
+        twin = {"LF": "RF", "RH": "LH", "RF": "LF", "LH": "RH"}[leg]
+        if leg not in thetas and twin not in thetas:
+            cycle.legs[leg] = reference.legs[leg]
+    print()
+    print(evaluate_report(cycle, robot, title=f"optimized ({family.name}, {args.method})"))
+    if args.out is not None:
+        data = cycle_summary(cycle)
+        data["optimization"] = {leg: o.as_dict() for leg, o in optima.items()}
+        data["reference_total_energy_per_cycle_j"] = reference.energy_j
+        write_atomic(args.out / "summary.json", to_json(data))
+        write_atomic(args.out / "samples.csv", samples_csv_text(cycle))
+        print(f"wrote {args.out / 'summary.json'} and {args.out / 'samples.csv'}")
+    return 0
+
+
+def cmd_paper(args: argparse.Namespace) -> int:
+    """``scalf-opt paper``: Tables 5 and 6 beside the paper's numbers."""
+    from scalf_opt.report import paper_markdown
+    from scalf_opt.reproduction import reproduce, summary, table5_rows, table6_rows
+    from scalf_opt.results import rows_csv_text, to_json, write_atomic
+
+    robot = load_robot(args)
+    rep = reproduce(robot, load_gait(args, robot))
+    report = paper_markdown(rep, robot)
+    print(report)
+    out = args.out
+    write_atomic(out / "report.md", report)
+    write_atomic(out / "paper.json", to_json(summary(rep)))
+    write_atomic(out / "table5.csv", rows_csv_text(table5_rows(rep)))
+    write_atomic(out / "table6.csv", rows_csv_text(table6_rows(rep)))
+    print(f"wrote {out}/report.md, paper.json, table5.csv and table6.csv")
+    if not rep.all_solved:
+        print("scalf-opt: error: an optimizer did not converge (see the report)", file=sys.stderr)
+        return 3
+    return 0
+
+
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``scalf-opt`` console script."""
     parser = build_parser()
     args = parser.parse_args(argv)
-    handlers = {"model": cmd_model, "evaluate": cmd_evaluate}
+    handlers = {
+        "model": cmd_model,
+        "evaluate": cmd_evaluate,
+        "optimize": cmd_optimize,
+        "paper": cmd_paper,
+    }
     try:
         return handlers[args.command](args)
     except ScalfError as exc:

@@ -12,17 +12,17 @@ REFERENCE_AVERAGE_POWER_W = 671.52
 OPTIMIZED_AVERAGE_POWER_W = 617.68
 """Table 6: average total leg power of the energy-efficient trajectory (simulation) [W]."""
 
-TABLE6_CHANGE_PERCENT = {
+TABLE6_CHANGE_PERCENT: dict[str, dict[str, float]] = {
     "RF": {"swing": -26.26, "cycle": -8.56},
     "LH": {"swing": -22.98, "cycle": -7.46},
-    "total": -8.02,
+    "total": {"total": -8.02},
 }
 """Table 6: change of swing and whole-cycle energy per leg, and of the total energy [%]."""
 
-TABLE7_CHANGE_PERCENT = {
+TABLE7_CHANGE_PERCENT: dict[str, dict[str, float]] = {
     "RF": {"swing": -8.82, "cycle": -7.82},
     "LH": {"swing": -12.80, "cycle": -7.27},
-    "total": -7.55,
+    "total": {"total": -7.55},
 }
 """Table 7 (experiment): the same changes measured on the robot [%]."""
 

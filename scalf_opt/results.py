@@ -165,3 +165,16 @@ def to_json(data: Any) -> str:
         return obj
 
     return json.dumps(convert(data), indent=2, sort_keys=False) + "\n"
+
+
+def rows_csv_text(rows: list[dict[str, Any]]) -> str:
+    """CSV text of a list of flat records (columns: the first record's keys, in order)."""
+    buffer = io.StringIO()
+    if rows:
+        columns = list(rows[0])
+        for row in rows[1:]:
+            columns += [k for k in row if k not in columns]
+        writer = csv.DictWriter(buffer, fieldnames=columns, lineterminator="\n")
+        writer.writeheader()
+        writer.writerows(rows)
+    return buffer.getvalue()

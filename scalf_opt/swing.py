@@ -309,7 +309,7 @@ PAPER_FREE_TERMS: tuple[Terms, Terms] = ((("cos", 3),), (("cos", 2),))
 
 def order_terms(order: int) -> Terms:
     """Free terms of a family of order N: ``cos(2 pi s)`` and cos and sin of orders 3..N."""
-    return (("cos", 2),) + tuple((kind, k) for k in range(3, order + 1) for kind in ("cos", "sin"))
+    return (("cos", 2), *((kind, k) for k in range(3, order + 1) for kind in ("cos", "sin")))
 
 
 _FAMILY_PATTERN = re.compile(r"^(fourier|joint)-(\d+)$")
