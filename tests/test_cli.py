@@ -90,3 +90,34 @@ def test_console_script_has_no_traceback(tmp_path):
     )
     assert proc.returncode == 2
     assert proc.stderr.startswith("scalf-opt: error:") and "Traceback" not in proc.stderr
+
+
+def test_optimize_writes_the_optimized_cycle(tmp_path, capsys):
+    code, out, _ = run(
+        ["optimize", "--family", "paper", "--method", "pattern", "--out", str(tmp_path)], capsys
+    )
+    assert code == 0 and "RF: paper by pattern: solved" in out
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert set(summary["optimization"]) == {"RF", "LH"}
+    assert summary["total_energy_per_cycle_j"] < summary["reference_total_energy_per_cycle_j"]
+    with (tmp_path / "samples.csv").open() as handle:
+        assert len(list(csv.DictReader(handle))) == 4 * (51 + 51)
+
+
+def test_optimize_bad_arguments(capsys):
+    code, _, err = run(["optimize", "--family", "reference"], capsys)
+    assert code == 2 and "no free parameter" in err
+    code, _, err = run(["optimize", "--leg", "XX"], capsys)
+    assert code == 2 and "--leg 'XX'" in err
+
+
+def test_paper_writes_report_json_and_csv(tmp_path, capsys):
+    code, out, _ = run(["paper", "--out", str(tmp_path)], capsys)
+    assert code == 0
+    assert "Table 5" in out and "-33.76" in out and "671.52 -> 617.68" in out
+    for name in ("report.md", "paper.json", "table5.csv", "table6.csv"):
+        assert (tmp_path / name).stat().st_size > 0
+    data = json.loads((tmp_path / "paper.json").read_text())
+    assert data["all_solved"]
+    for leg in ("RF", "LH"):
+        assert abs(data["validation"][leg]["gap_at_fine_precision_pct"]) < 0.1
