@@ -1,5 +1,7 @@
 """Swing optimization: pattern search against Ipopt, nesting, constraints, failures, goals."""
 
+import itertools
+
 import numpy as np
 import pytest
 
@@ -61,7 +63,7 @@ def test_pattern_search_records_its_history(paper_optima):
     run = paper_optima["RF"]["coarse"]
     energies = [row[-1] for row in run.history]
     assert len(run.history[0]) == 2 + 2  # iteration, C1, C2, energy
-    assert all(b < a for a, b in zip(energies, energies[1:], strict=False))
+    assert all(b < a for a, b in itertools.pairwise(energies))
     assert run.history[-1][-1] == pytest.approx(run.swing_energy_j)
     # (0, 0) misses the mid-swing clearance: the feasibility phase ran and counted it
     assert run.stats["feasibility_phase_iterations"] > 0
@@ -72,7 +74,7 @@ def test_richer_nested_families_never_do_worse(model):
     for leg in ("RF", "LH"):
         previous = None
         chain = ("paper", "joint-3", "joint-4", "joint-5")
-        for poor_name, rich_name in zip(chain, chain[1:], strict=False):
+        for poor_name, rich_name in itertools.pairwise(chain):
             poor, rich = make_family(poor_name), make_family(rich_name)
             if previous is None:
                 previous = run_ipopt(SwingProblem(model, leg, poor))
