@@ -25,7 +25,7 @@ import casadi as ca
 import numpy as np
 
 from scalf_opt.energy import mechanical_power, trapezoid_weights
-from scalf_opt.optimize.problem import HEAT_SMOOTHING_EPS_M_S, SwingProblem
+from scalf_opt.optimize.problem import HEAT_SMOOTHING_EPS_M_S, SwingProblem, casadi_name
 from scalf_opt.typing import Expr
 
 IPOPT_DEFAULTS: dict[str, Any] = {
@@ -104,7 +104,7 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
         "print_time": False,
     }
     solver = ca.nlpsol(
-        f"{problem.leg}_{problem.family.name.replace('-', '')}_nlp",
+        casadi_name(problem.leg, problem.family.name, "nlp"),
         "ipopt",
         {"x": x, "f": objective, "g": ca.vertcat(*constraints)},
         options,

@@ -13,6 +13,7 @@ the smooth friction-heat variant.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from functools import cached_property
 
@@ -35,6 +36,12 @@ It is 70x below the smaller Stribeck velocity (0.007 m/s); the smooth max overes
 ``max(v, 0)`` by at most eps/2, so the heat rate changes by at most ``F_s eps / 2 = 2.5 mW`` per
 cylinder: far below the energies compared (the exact energy is what every report prints).
 """
+
+
+def casadi_name(*parts: str) -> str:
+    """A valid CasADi function name from arbitrary parts (letters, digits, single underscores)."""
+    name = re.sub(r"[^A-Za-z0-9]+", "_", "_".join(parts)).strip("_")
+    return name if name[:1].isalpha() else f"f_{name}"
 
 
 @dataclass(frozen=True)
@@ -136,7 +143,7 @@ class SwingProblem:
         energy = ca.sum1(ca.mtimes(g["power"], ca.DM(self.weights)))
         reach = g.get("reach", ca.DM.zeros(1, self.path.tau_s.size))
         return ca.Function(
-            f"{self.leg}_{self.family.name.replace('-', '')}_swing_energy",
+            casadi_name(self.leg, self.family.name, "swing_energy"),
             [theta],
             [energy, g["q"], g["foot"], g["cyl_len"], reach],
             ["theta"],
