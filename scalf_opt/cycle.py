@@ -172,23 +172,27 @@ class RobotEnergyModel:
             InfeasibleError: In swing.
         """
         physics = self.physics(leg)
-        err = GaitError if phase == "stance" else InfeasibleError
         try:
             q = physics.kin.inverse(samples[0]) if space == "foot" else samples[0]
+            lo = physics.leg.lower_limits_rad[:, None] - JOINT_LIMIT_TOLERANCE_RAD
+            hi = physics.leg.upper_limits_rad[:, None] + JOINT_LIMIT_TOLERANCE_RAD
+            bad = np.argwhere((q < lo) | (q > hi))
+            if bad.size:
+                i, j = bad[0]
+                raise InfeasibleError(
+                    f"leg {leg}: the {phase} path takes joint {physics.leg.joint_names[i]} to "
+                    f"{q[i, j]:.4f} rad, outside its limits "
+                    f"[{physics.leg.lower_limits_rad[i]:.4f}, "
+                    f"{physics.leg.upper_limits_rad[i]:.4f}] rad"
+                )
         except InfeasibleError as exc:
-            raise err(f"{phase} path: {exc}") from exc
-        lo = physics.leg.lower_limits_rad[:, None] - JOINT_LIMIT_TOLERANCE_RAD
-        hi = physics.leg.upper_limits_rad[:, None] + JOINT_LIMIT_TOLERANCE_RAD
-        bad = np.argwhere((q < lo) | (q > hi))
-        if bad.size:
-            i, j = bad[0]
-            joint = physics.leg.joint_names[i]
-            hint = " (check stance_height_m and step_length_m)" if phase == "stance" else ""
-            raise err(
-                f"leg {leg}: the {phase} path takes joint {joint} to {q[i, j]:.4f} rad, outside "
-                f"its limits [{physics.leg.lower_limits_rad[i]:.4f}, "
-                f"{physics.leg.upper_limits_rad[i]:.4f}] rad{hint}"
-            )
+            if phase == "swing":
+                raise
+            g = self.gait
+            raise GaitError(
+                f"gait fields stance_height_m = {g.stance_height_m:g} and step_length_m = "
+                f"{g.step_length_m:g} are impossible for this robot: {exc}"
+            ) from exc
 
     def stance(self, leg: str) -> PhaseResult:
         """Evaluate ``leg``'s stance phase."""

@@ -10,6 +10,7 @@ import pinocchio as pin
 
 from scalf_opt import paper_data
 from scalf_opt.cycle import RobotCycle
+from scalf_opt.gait import GaitSpec
 from scalf_opt.kinematics import LegKinematics
 from scalf_opt.robot import Leg, Robot
 
@@ -134,7 +135,8 @@ def evaluate_report(cycle: RobotCycle, robot: Robot, title: str = "reference") -
         f"total energy per cycle       {cycle.energy_j:10.3f} J "
         f"(mean of {g.cycles} identical periodic cycles)",
     ]
-    if title == "reference" and cycle.accounting == "paper" and len(cycle.legs) == 4:
+    is_paper_setup = robot.preset.name == "scalf" and cycle.gait == GaitSpec()
+    if title == "reference" and cycle.accounting == "paper" and is_paper_setup:
         ref = paper_data.REFERENCE_AVERAGE_POWER_W
         diff = cycle.average_power_w - ref
         lines.append(

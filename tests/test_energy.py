@@ -255,3 +255,23 @@ def test_results_are_deterministic(scalf):
             a, b = getattr(first.legs[leg], phase), getattr(second.legs[leg], phase)
             for key in a.values:
                 np.testing.assert_array_equal(a.values[key], b.values[key])
+
+
+@pytest.mark.parametrize("family", ["reference", "paper", "joint-4", "fourier-3"])
+def test_joint_motion_is_continuous_across_phase_changes(model, family):
+    swing_family = make_family(family)
+    theta = np.random.default_rng(2).normal(0, 2, swing_family.n_params)
+    for leg in ("RF", "LH"):
+        stance = model.stance(leg).values
+        swing = model.swing_path(leg, swing_family)
+        samples = swing.values(theta)
+        kin = model.physics(leg).kin
+        if swing.space == "foot":
+            q, qd, _ = kin.joint_motion(samples[0], samples[1], samples[2])
+        else:
+            q, qd = samples[0], samples[1]
+        # lift-off: end of stance = start of swing; touch-down: end of swing = start of stance
+        np.testing.assert_allclose(q[:, 0], stance["q"][:, -1], atol=1e-12)
+        np.testing.assert_allclose(qd[:, 0], stance["qd"][:, -1], atol=1e-11)
+        np.testing.assert_allclose(q[:, -1], stance["q"][:, 0], atol=1e-12)
+        np.testing.assert_allclose(qd[:, -1], stance["qd"][:, 0], atol=1e-11)
