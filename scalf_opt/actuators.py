@@ -27,7 +27,6 @@ and MX alike.
 from __future__ import annotations
 
 import math
-import tomllib
 from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
@@ -36,6 +35,7 @@ from typing import TYPE_CHECKING, Any
 import casadi as ca
 
 from scalf_opt.errors import ConfigError
+from scalf_opt.tomlfile import read_toml
 
 if TYPE_CHECKING:
     from scalf_opt.robot import Robot
@@ -193,12 +193,7 @@ def load_actuators(path: str | Path) -> dict[str, HydraulicCylinder]:
             message names the file and the key).
     """
     path = Path(path)
-    try:
-        data = tomllib.loads(path.read_text(encoding="utf-8"))
-    except OSError as exc:
-        raise ConfigError(f"{path}: cannot read actuator file ({exc.strerror})") from exc
-    except tomllib.TOMLDecodeError as exc:
-        raise ConfigError(f"{path}: not valid TOML ({exc})") from exc
+    data = read_toml(path, "actuator")
     friction_table = _table(path, data, "friction")
     friction = StribeckFriction(
         extend=_branch(path, {"friction.extend": friction_table.get("extend")}, "friction.extend"),

@@ -16,13 +16,13 @@ velocities -v at both ends). The trunk's acceleration is ``-x''(tau) = 0``.
 from __future__ import annotations
 
 import math
-import tomllib
 from dataclasses import dataclass, fields, replace
 from pathlib import Path
 
 import numpy as np
 
 from scalf_opt.errors import ConfigError, GaitError
+from scalf_opt.tomlfile import read_toml
 
 TROT_PHASE_OFFSET: dict[str, float] = {"RF": 0.0, "LH": 0.0, "LF": 0.5, "RH": 0.5}
 """Start of each leg's stance as a fraction of the period (trot: diagonal pairs)."""
@@ -87,12 +87,7 @@ class GaitSpec:
             GaitError: A value is out of its allowed range.
         """
         path = Path(path)
-        try:
-            data = tomllib.loads(path.read_text(encoding="utf-8"))
-        except OSError as exc:
-            raise ConfigError(f"{path}: cannot read gait file ({exc.strerror})") from exc
-        except tomllib.TOMLDecodeError as exc:
-            raise ConfigError(f"{path}: not valid TOML ({exc})") from exc
+        data = read_toml(path, "gait")
         table = data.get("gait", data)
         if not isinstance(table, dict):
             raise ConfigError(f"{path}: [gait] must be a table")
