@@ -65,7 +65,7 @@ def test_pattern_search_records_its_history(paper_optima):
     assert len(run.history[0]) == 2 + 2  # iteration, C1, C2, energy
     assert all(b < a for a, b in itertools.pairwise(energies))
     assert run.history[-1][-1] == pytest.approx(run.swing_energy_j)
-    # (0, 0) misses the mid-swing clearance: the feasibility phase ran and counted it
+    # (0, 0) is infeasible: the feasibility phase ran, and infeasible points were counted
     assert run.stats["feasibility_phase_iterations"] > 0
     assert run.infeasible.get("mid-swing clearance", 0) > 0
 
@@ -155,3 +155,29 @@ def test_build_nlp_has_the_constraints(model):
     # slack equalities 2n, joint limits 2n, stroke 2n, ground n-2, clearance 1
     assert build.lbg.size == 2 * n + 2 * n + 2 * n + (n - 2) + 1
     assert build.lbx.size == 2 + 4 * n
+
+
+def test_feasible_points_have_zero_violation(paper_optima, model):
+    problem = SwingProblem(model, "RF", make_family("paper"))
+    optimum = paper_optima["RF"]["ipopt"]
+    assert problem.evaluate(optimum.theta).violation == 0.0
+    start = problem.evaluate(np.zeros(2))
+    assert start.reason is not None and start.violation > 0  # (0, 0) is infeasible
+
+
+def test_pattern_search_on_another_robot(hyq):
+    gait = GaitSpec(stance_height_m=hyq.preset.stance_height_m)
+    hyq_model = RobotEnergyModel(hyq, gait)
+    reference = hyq_model.robot_cycle(make_family("reference"), legs=("RF", "LH"))
+    for leg in ("RF", "LH"):
+        optimum = run_pattern_search(SwingProblem(hyq_model, leg, make_family("paper")))
+        assert optimum.success, optimum.status
+        assert optimum.swing_energy_j < reference.legs[leg].swing_energy_j
+
+
+def test_pattern_search_reports_when_nothing_is_feasible(scalf):
+    # 0.7 m of clearance under a hip 0.75 m high would fold the knee beyond its limit
+    impossible = RobotEnergyModel(scalf, GaitSpec(clearance_m=0.7))
+    result = run_pattern_search(SwingProblem(impossible, "RF", make_family("paper")))
+    assert not result.success
+    assert result.status == "no feasible point found"

@@ -139,7 +139,7 @@ def _pattern_optimum(
     status: str,
 ) -> SwingOptimum:
     final = problem.evaluate(result.x)
-    feasible = final.reason is None
+    feasible = final.reason is None and (phase1 is None or phase1.value == 0.0)
     return SwingOptimum(
         leg=problem.leg,
         family=problem.family.name,
