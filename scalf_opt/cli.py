@@ -190,6 +190,7 @@ def cmd_optimize(args: argparse.Namespace) -> int:
 
 def cmd_paper(args: argparse.Namespace) -> int:
     """``scalf-opt paper``: Tables 5 and 6 beside the paper's numbers."""
+    from scalf_opt.plots import write_paper_figures
     from scalf_opt.report import paper_markdown
     from scalf_opt.reproduction import reproduce, summary, table5_rows, table6_rows
     from scalf_opt.results import rows_csv_text, to_json, write_atomic
@@ -203,7 +204,11 @@ def cmd_paper(args: argparse.Namespace) -> int:
     write_atomic(out / "paper.json", to_json(summary(rep)))
     write_atomic(out / "table5.csv", rows_csv_text(table5_rows(rep)))
     write_atomic(out / "table6.csv", rows_csv_text(table6_rows(rep)))
-    print(f"wrote {out}/report.md, paper.json, table5.csv and table6.csv")
+    figures = write_paper_figures(rep, out)
+    print(
+        f"wrote {out}/report.md, paper.json, table5.csv, table6.csv, "
+        + " and ".join(f.name for f in figures)
+    )
     if not rep.all_solved:
         print("scalf-opt: error: an optimizer did not converge (see the report)", file=sys.stderr)
         return 3

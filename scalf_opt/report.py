@@ -260,6 +260,12 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         "- Constraints are the paper's implicit ones made explicit (joint limits, ground, "
         "cylinder stroke, at least H of clearance at mid-swing); the foot's mid-swing x is free.",
         "",
+        "## Figures",
+        "",
+        "![Pattern search (the paper's Figure 8)](pattern_search.png)",
+        "",
+        "![RF swing foot paths and power](swing_paths.png)",
+        "",
         f"Run time of the whole reproduction: {rep.wall_time_s:.1f} s.",
     ]
     return "\n".join(lines) + "\n"

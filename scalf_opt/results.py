@@ -65,14 +65,30 @@ _PAIRED = (
 )
 
 
-def write_atomic(path: str | Path, text: str) -> Path:
-    """Write ``text`` to ``path`` atomically (temp file in the same directory, then rename)."""
-    path = Path(path)
+def temporary_sibling(path: Path) -> tuple[int, str]:
+    """Open a temporary file beside ``path`` with the permissions a new file would get.
+
+    ``mkstemp`` creates files readable by their owner only; outputs should be as readable as any
+    file the user creates, so the mode follows the umask.
+
+    Raises:
+        ConfigError: The directory cannot be created or written.
+    """
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{path.name}.", suffix=".tmp", dir=path.parent)
     except OSError as exc:
         raise ConfigError(f"{path.parent}: cannot write output directory ({exc.strerror})") from exc
+    umask = os.umask(0)
+    os.umask(umask)
+    os.fchmod(fd, 0o666 & ~umask)
+    return fd, tmp
+
+
+def write_atomic(path: str | Path, text: str) -> Path:
+    """Write ``text`` to ``path`` atomically (temp file in the same directory, then rename)."""
+    path = Path(path)
+    fd, tmp = temporary_sibling(path)
     try:
         with os.fdopen(fd, "w", encoding="utf-8", newline="") as handle:
             handle.write(text)

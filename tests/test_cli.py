@@ -2,6 +2,7 @@
 
 import csv
 import json
+import os
 import subprocess
 import sys
 
@@ -117,6 +118,13 @@ def test_paper_writes_report_json_and_csv(tmp_path, capsys):
     assert "Table 5" in out and "-33.76" in out and "671.52 -> 617.68" in out
     for name in ("report.md", "paper.json", "table5.csv", "table6.csv"):
         assert (tmp_path / name).stat().st_size > 0
+    for name in ("pattern_search.png", "swing_paths.png"):
+        assert (tmp_path / name).read_bytes().startswith(b"\x89PNG\r\n\x1a\n")
+        assert f"]({name})" in (tmp_path / "report.md").read_text()
+    # outputs are as readable as any new file (mkstemp alone would make them owner-only)
+    umask = os.umask(0)
+    os.umask(umask)
+    assert (tmp_path / "report.md").stat().st_mode & 0o777 == 0o666 & ~umask
     data = json.loads((tmp_path / "paper.json").read_text())
     assert data["all_solved"]
     for leg in ("RF", "LH"):
