@@ -1,7 +1,8 @@
-"""One exception hierarchy for every user-facing mistake and solver failure.
+"""One exception hierarchy for every user-facing mistake.
 
 The CLI turns any :class:`ScalfError` into one line on stderr and exit code 2; everything else is
-a bug and keeps its traceback.
+a bug and keeps its traceback. An optimizer that does not converge is not an exception: its result
+says so (``SwingOptimum.success``, with the solver's status and statistics) and the CLI exits 3.
 """
 
 from __future__ import annotations
@@ -25,11 +26,3 @@ class GaitError(ScalfError):
 
 class InfeasibleError(ScalfError):
     """A motion cannot be realised: unreachable foot target, joint limit, foot below ground."""
-
-
-class SolverError(ScalfError):
-    """An optimizer did not converge; carries the solver's status and statistics."""
-
-    def __init__(self, message: str, stats: dict[str, object] | None = None) -> None:
-        super().__init__(message)
-        self.stats = dict(stats or {})

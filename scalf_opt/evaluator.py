@@ -75,11 +75,6 @@ class CycleEvaluator:
         self._buffer.set_arg(0, memoryview(self._input))  # type: ignore[call-arg, arg-type]
         self._buffer.set_res(0, memoryview(self._output))  # type: ignore[call-arg, arg-type]
 
-    @property
-    def input_size(self) -> int:
-        """Length of the flat input vector."""
-        return int(self._input.size)
-
     def pack(self, phases: dict[tuple[str, str], tuple[np.ndarray, np.ndarray]]) -> np.ndarray:
         """Flat input from ``{(leg, phase): (samples (3, 2, n), grf (2, n))}``."""
         parts = []

@@ -14,7 +14,7 @@ hip-pitch and knee joints is locked at zero. Both joint axes must be parallel to
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
 from typing import TYPE_CHECKING
@@ -254,7 +254,6 @@ class Leg:
     joint_names: tuple[str, str]
     foot_frame: str
     cylinders: tuple[HydraulicCylinder | None, HydraulicCylinder | None]
-    _cache: dict[str, object] = field(default_factory=dict, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         for axis_sign, joint in zip(self.axis_signs, self.joint_names, strict=True):

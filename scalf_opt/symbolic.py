@@ -234,14 +234,6 @@ class SymbolicChain:
         return self._placement_fns[index]
 
     # --- public API ----------------------------------------------------------------------------
-    def joint_placements(self, q: Any) -> list[tuple[Any, Any]]:
-        """World placements ``oMi`` (R, p) of every joint, universe first."""
-        qs = self._sym[0]
-        world = self._world_placements(qs)
-        flat = ca.Function("oMi", [qs], [x for rp in world for x in rp])
-        out = flat(q)
-        return [(out[2 * i], out[2 * i + 1]) for i in range(len(world))]
-
     def frame_placement(self, q: Any, frame: str | int) -> tuple[Any, Any]:
         """World placement ``oMf`` (R 3x3, p 3x1) of a frame."""
         rot, pos, _ = self._frame_fn(frame)(q)

@@ -14,7 +14,7 @@ the smooth friction-heat variant.
 from __future__ import annotations
 
 import re
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from functools import cached_property
 
 import casadi as ca
@@ -73,7 +73,6 @@ class SwingProblem:
     model: RobotEnergyModel
     leg: str
     family: SwingFamily
-    _cache: dict[str, object] = field(default_factory=dict, repr=False)
 
     @cached_property
     def path(self) -> AffinePath:
