@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import hashlib
 import os
+import platform
 import shutil
 import subprocess
 import tempfile
@@ -38,6 +39,23 @@ def _compiler() -> str | None:
     return None
 
 
+def _sha256(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+def _is_intact(library: Path) -> bool:
+    """The library exists and matches the checksum written beside it when it was compiled.
+
+    A truncated or overwritten library must never reach ``dlopen``: loading one can crash the
+    process instead of raising.
+    """
+    checksum = library.with_suffix(".sha256")
+    try:
+        return library.is_file() and checksum.read_text().strip() == _sha256(library)
+    except OSError:
+        return False
+
+
 def compile_function(fn: ca.Function) -> ca.Function:
     """Return a natively compiled copy of ``fn`` (cached), or ``fn`` itself if that fails."""
     compiler = _compiler()
@@ -48,31 +66,29 @@ def compile_function(fn: ca.Function) -> ca.Function:
         gen = ca.CodeGenerator(f"{name}.c", {"with_header": False})
         gen.add(fn)
         gen.generate(tmp + os.sep)
-        source = Path(tmp, f"{name}.c").read_bytes()
-        digest = hashlib.sha256(source + OPTIMIZATION_FLAG.encode()).hexdigest()[:20]
+        source_path = Path(tmp, f"{name}.c")
+        # the library depends on the source, the flags, the compiler, the machine and CasADi
+        key = f"{OPTIMIZATION_FLAG}|{compiler}|{platform.machine()}|{ca.CasadiMeta.version()}"
+        digest = hashlib.sha256(source_path.read_bytes() + key.encode()).hexdigest()[:20]
         target = cache_dir() / f"{name}_{digest}.so"
-        if not target.is_file():
+        if not _is_intact(target):
             try:
                 target.parent.mkdir(parents=True, exist_ok=True)
                 partial = Path(tmp, target.name)
-                subprocess.run(
-                    [
-                        compiler,
-                        OPTIMIZATION_FLAG,
-                        "-shared",
-                        "-fPIC",
-                        "-o",
-                        str(partial),
-                        str(Path(tmp, f"{name}.c")),
-                        "-lm",
-                    ],
-                    check=True,
-                    capture_output=True,
-                )
-                # atomic publish: another process may be compiling the same function
-                staged = target.with_name(f".{target.name}.{os.getpid()}")
-                shutil.copyfile(partial, staged)
-                os.replace(staged, target)
+                command = [compiler, OPTIMIZATION_FLAG, "-shared", "-fPIC", "-o", str(partial)]
+                subprocess.run([*command, str(source_path), "-lm"], check=True, capture_output=True)
+                # atomic publish (another process may compile the same function): the library
+                # first, then its checksum, so a reader never trusts a partial file
+                for src, dst, text in (
+                    (partial, target, None),
+                    (None, target.with_suffix(".sha256"), _sha256(partial)),
+                ):
+                    staged = dst.with_name(f".{dst.name}.{os.getpid()}")
+                    if src is not None:
+                        shutil.copyfile(src, staged)
+                    else:
+                        staged.write_text(str(text))
+                    os.replace(staged, dst)
             except (OSError, subprocess.CalledProcessError):
                 return fn
     return ca.external(name, str(target))

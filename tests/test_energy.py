@@ -275,3 +275,30 @@ def test_joint_motion_is_continuous_across_phase_changes(model, family):
         np.testing.assert_allclose(qd[:, 0], stance["qd"][:, -1], atol=1e-11)
         np.testing.assert_allclose(q[:, -1], stance["q"][:, 0], atol=1e-12)
         np.testing.assert_allclose(qd[:, -1], stance["qd"][:, 0], atol=1e-11)
+
+
+TOY = "import casadi as ca; x = ca.SX.sym('x'); toy = ca.Function('toy', [x], [2 * ca.sin(x)])"
+
+
+def test_compiled_cache_survives_a_damaged_library(tmp_path, monkeypatch):
+    import shutil
+    import subprocess
+    import sys
+
+    from scalf_opt import codegen
+
+    if codegen._compiler() is None:
+        pytest.skip("no C compiler: the virtual-machine fallback is covered by the other tests")
+    monkeypatch.setenv("SCALF_OPT_CACHE", str(tmp_path))
+    # compile in another process, so that this one never maps the library we then damage
+    script = f"{TOY}; from scalf_opt.codegen import compile_function; compile_function(toy)"
+    subprocess.run([sys.executable, "-c", script], check=True)
+    (library,) = tmp_path.glob("toy_*.so")
+    damaged = tmp_path / "damaged"
+    damaged.write_bytes(b"not a shared library")
+    shutil.move(damaged, library)  # a new file, as a broken copy or disk would leave it
+    namespace: dict = {}
+    exec(TOY, namespace)
+    compiled = codegen.compile_function(namespace["toy"])  # checksum mismatch: recompiled
+    assert float(compiled(0.5)) == pytest.approx(2 * np.sin(0.5), rel=1e-15)
+    assert library.read_bytes().startswith(b"\x7fELF")
