@@ -169,13 +169,8 @@ def cmd_optimize(args: argparse.Namespace) -> int:
         names = ", ".join(f"{o.leg} ({o.status})" for o in failed)
         print(f"scalf-opt: error: not solved: {names}; no optimum is reported", file=sys.stderr)
         return 3
-    thetas = {leg: o.theta for leg, o in optima.items()}
-    cycle = model.robot_cycle(family, thetas)
-    # legs that were neither optimized nor a symmetric twin of an optimized leg keep the reference
-    for leg in LEG_NAMES:
-        twin = {"LF": "RF", "RH": "LH", "RF": "LF", "LH": "RH"}[leg]
-        if leg not in thetas and twin not in thetas:
-            cycle.legs[leg] = reference.legs[leg]
+    # legs neither optimized nor twin of an optimized leg keep the reference swing
+    cycle = model.robot_cycle(family, {leg: o.theta for leg, o in optima.items()})
     print()
     print(evaluate_report(cycle, robot, title=f"optimized ({family.name}, {args.method})"))
     if args.out is not None:

@@ -15,9 +15,9 @@ from scalf_opt.actuators import HydraulicCylinder, load_actuators_for
 from scalf_opt.energy import ACCOUNTINGS, LegPhysics, PhaseResult, evaluate_phase
 from scalf_opt.errors import ConfigError, GaitError, InfeasibleError
 from scalf_opt.forces import GRAVITY_M_S2, min_norm_foot_forces
-from scalf_opt.gait import DIAGONAL_PARTNER, GaitSpec
+from scalf_opt.gait import DIAGONAL_PARTNER, SYMMETRIC_TWIN, GaitSpec
 from scalf_opt.robot import LEG_NAMES, Robot
-from scalf_opt.swing import AffinePath, SwingFamily
+from scalf_opt.swing import AffinePath, SwingFamily, make_family
 
 JOINT_LIMIT_TOLERANCE_RAD = 1e-9
 """Round-off allowed beyond a joint limit before a motion counts as violating it."""
@@ -246,10 +246,19 @@ class RobotEnergyModel:
     ) -> RobotCycle:
         """Evaluate every leg in ``legs`` with the same swing family and per-leg parameters.
 
-        The paper's symmetry: LF uses RF's parameters and RH uses LH's unless given.
+        The paper's symmetry: a leg without parameters of its own takes its symmetric twin's (LF
+        repeats RF, RH repeats LH). When ``thetas`` names some legs, a leg with neither its own
+        nor its twin's parameters keeps the reference swing; without ``thetas`` every leg uses
+        the family at zero parameters.
         """
-        thetas = dict(thetas or {})
-        thetas.setdefault("LF", thetas.get("RF"))  # type: ignore[arg-type]
-        thetas.setdefault("RH", thetas.get("LH"))  # type: ignore[arg-type]
-        cycles = {leg: self.leg_cycle(leg, family, thetas.get(leg)) for leg in legs}
+        reference = make_family("reference")
+        cycles = {}
+        for leg in legs:
+            if thetas is None:
+                cycles[leg] = self.leg_cycle(leg, family)
+            elif leg in thetas or SYMMETRIC_TWIN[leg] in thetas:
+                theta = thetas[leg] if leg in thetas else thetas[SYMMETRIC_TWIN[leg]]
+                cycles[leg] = self.leg_cycle(leg, family, theta)
+            else:
+                cycles[leg] = self.leg_cycle(leg, reference)
         return RobotCycle(self.gait, self.accounting, cycles, self.robot.total_mass_kg)

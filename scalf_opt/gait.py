@@ -30,6 +30,9 @@ TROT_PHASE_OFFSET: dict[str, float] = {"RF": 0.0, "LH": 0.0, "LF": 0.5, "RH": 0.
 DIAGONAL_PARTNER: dict[str, str] = {"RF": "LH", "LH": "RF", "LF": "RH", "RH": "LF"}
 """The leg that shares each leg's stance in a trot."""
 
+SYMMETRIC_TWIN: dict[str, str] = {"RF": "LF", "LF": "RF", "RH": "LH", "LH": "RH"}
+"""The leg that repeats each leg's motion half a cycle later (the paper's symmetry)."""
+
 
 @dataclass(frozen=True)
 class GaitSpec:

@@ -1,6 +1,6 @@
 """The numbers the SCalf paper reports, for side-by-side comparison in reports.
 
-Only results live here (Tables 5-7, Section 6.1); the model's inputs come from the URDF and the
+Only results live here (Tables 5 and 6, Section 1); the model's inputs come from the URDF and the
 actuator file. Percentages are signed changes of the optimized trajectory against the reference.
 """
 
@@ -19,21 +19,8 @@ TABLE6_CHANGE_PERCENT: dict[str, dict[str, float]] = {
 }
 """Table 6: change of swing and whole-cycle energy per leg, and of the total energy [%]."""
 
-TABLE7_CHANGE_PERCENT: dict[str, dict[str, float]] = {
-    "RF": {"swing": -8.82, "cycle": -7.82},
-    "LH": {"swing": -12.80, "cycle": -7.27},
-    "total": {"total": -7.55},
-}
-"""Table 7 (experiment): the same changes measured on the robot [%]."""
-
-TABLE7_AVERAGE_POWER_W = (559.96, 517.68)
-"""Table 7: measured average power, reference then optimized [W]."""
-
 TABLE5_RF = {"C1": -33.76, "C2": 15.30, "iterations": 108}
 """Table 5: the RF leg's pattern-search optimum (the LH values were lost in extraction)."""
-
-PATTERN_SEARCH = {"initial_point": (0.0, 0.0), "initial_step": (0.5, 0.5), "precision": 0.1}
-"""Section 6.1: the pattern search's settings."""
 
 MIT_CHEETAH_COT = 0.51
 """Section 1: cost of transport of the MIT Cheetah, for comparison."""

@@ -12,6 +12,7 @@ from scalf_opt import paper_data
 from scalf_opt.cycle import RobotCycle
 from scalf_opt.gait import GaitSpec
 from scalf_opt.kinematics import LegKinematics
+from scalf_opt.reproduction import change_percent
 from scalf_opt.robot import Leg, Robot
 
 if TYPE_CHECKING:
@@ -107,10 +108,6 @@ def model_report(robot: Robot, leg_name: str, stance_height_m: float | None = No
     return "\n".join(lines)
 
 
-def _pct(new: float, ref: float) -> float:
-    return 100.0 * (new - ref) / ref
-
-
 def evaluate_report(cycle: RobotCycle, robot: Robot, title: str = "reference") -> str:
     """Text of ``scalf-opt evaluate``: the paper's Table 6 layout for one trajectory."""
     g = cycle.gait
@@ -139,9 +136,10 @@ def evaluate_report(cycle: RobotCycle, robot: Robot, title: str = "reference") -
     if title == "reference" and cycle.accounting == "paper" and is_paper_setup:
         ref = paper_data.REFERENCE_AVERAGE_POWER_W
         diff = cycle.average_power_w - ref
+        change = change_percent(cycle.average_power_w, ref)
         lines.append(
             f"average total power          {cycle.average_power_w:10.2f} W   paper (Table 6): "
-            f"{ref:.2f} W   difference {diff:+.2f} W ({_pct(cycle.average_power_w, ref):+.1f} %)"
+            f"{ref:.2f} W   difference {diff:+.2f} W ({change:+.1f} %)"
         )
     else:
         lines.append(f"average total power          {cycle.average_power_w:10.2f} W")
@@ -286,7 +284,7 @@ def optimum_report(optima: dict[str, SwingOptimum], reference: RobotCycle) -> st
         if o.success:
             lines.append(
                 f"  swing energy {o.swing_energy_j:.4f} J vs reference {ref:.4f} J "
-                f"({_pct(o.swing_energy_j, ref):+.2f} %)"
+                f"({change_percent(o.swing_energy_j, ref):+.2f} %)"
             )
             lines.append(f"  parameters [{o.unit}]: {params}")
         else:

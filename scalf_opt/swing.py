@@ -81,7 +81,6 @@ class SwingBoundary:
         end: Value at touch-down, shape (2,).
         start_rate: Time derivative at lift-off, shape (2,) [per s].
         end_rate: Time derivative at touch-down, shape (2,) [per s].
-        mid: Value at mid-swing, shape (2,).
         duration_s: Swing duration T_sw [s].
     """
 
@@ -90,7 +89,6 @@ class SwingBoundary:
     end: np.ndarray
     start_rate: np.ndarray
     end_rate: np.ndarray
-    mid: np.ndarray
     duration_s: float
 
 
@@ -103,7 +101,6 @@ def foot_boundary(gait: GaitSpec) -> SwingBoundary:
         end=p_stance[:, 0],  # touch-down = start of stance
         start_rate=pd_stance[:, 1],
         end_rate=pd_stance[:, 0],
-        mid=np.array([0.0, -gait.stance_height_m + gait.clearance_m]),
         duration_s=gait.swing_duration_s,
     )
 
@@ -111,7 +108,7 @@ def foot_boundary(gait: GaitSpec) -> SwingBoundary:
 def joint_boundary(gait: GaitSpec, kin: LegKinematics) -> SwingBoundary:
     """Swing boundary conditions mapped to joint space through IK and the foot Jacobian."""
     foot = foot_boundary(gait)
-    points = np.column_stack([foot.start, foot.end, foot.mid])
+    points = np.column_stack([foot.start, foot.end])
     q = kin.inverse(points)
     rates = [
         np.linalg.solve(kin.jacobian(q[:, i]), v)
@@ -123,7 +120,6 @@ def joint_boundary(gait: GaitSpec, kin: LegKinematics) -> SwingBoundary:
         end=q[:, 1],
         start_rate=rates[0],
         end_rate=rates[1],
-        mid=q[:, 2],
         duration_s=foot.duration_s,
     )
 
@@ -242,13 +238,14 @@ class ReferenceSpline(SwingFamily):
 
     def path(self, gait: GaitSpec, kin: LegKinematics) -> AffinePath:  # noqa: D102
         b = foot_boundary(gait)
+        apex = np.array([0.0, -gait.stance_height_m + gait.clearance_m])  # decision 12
         tau = gait.phase_times_s("swing")
         knots = np.array([0.0, 0.5 * b.duration_s, b.duration_s])
         base = np.zeros((3, 2, tau.size))
         for c in range(2):
             spline = CubicSpline(
                 knots,
-                [b.start[c], b.mid[c], b.end[c]],
+                [b.start[c], apex[c], b.end[c]],
                 bc_type=((1, b.start_rate[c]), (1, b.end_rate[c])),
             )
             for d in range(3):

@@ -302,3 +302,15 @@ def test_compiled_cache_survives_a_damaged_library(tmp_path, monkeypatch):
     compiled = codegen.compile_function(namespace["toy"])  # checksum mismatch: recompiled
     assert float(compiled(0.5)) == pytest.approx(2 * np.sin(0.5), rel=1e-15)
     assert library.read_bytes().startswith(b"\x7fELF")
+
+
+def test_legs_without_parameters_keep_the_reference_swing(model, cycle):
+    paper = make_family("paper")
+    theta = np.array([1.9, -11.7])
+    partial = model.robot_cycle(paper, {"RF": theta})
+    # RF and its twin LF use the optimized member; LH and RH were not optimized: reference
+    np.testing.assert_array_equal(partial.legs["LF"].swing_theta, theta)
+    assert partial.legs["LF"].swing_energy_j == pytest.approx(partial.legs["RF"].swing_energy_j)
+    for leg in ("LH", "RH"):
+        assert partial.legs[leg].swing_family == "reference"
+        assert partial.legs[leg].energy_j == cycle.legs[leg].energy_j
