@@ -19,11 +19,11 @@ import numpy as np
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
 
-from scalf_opt.cycle import RobotEnergyModel  # noqa: E402
-from scalf_opt.evaluator import CycleEvaluator  # noqa: E402
-from scalf_opt.gait import GaitSpec  # noqa: E402
-from scalf_opt.robot import Robot  # noqa: E402
-from scalf_opt.swing import make_family  # noqa: E402
+from scalf_opt.energy.evaluator import CycleEvaluator  # noqa: E402
+from scalf_opt.energy.pipeline import EnergyPipeline  # noqa: E402
+from scalf_opt.locomotion.gait import Gait  # noqa: E402
+from scalf_opt.locomotion.swing.registry import make_family  # noqa: E402
+from scalf_opt.robots.loading import load_robot  # noqa: E402
 from tests.reference_loop import phase_energy  # noqa: E402
 
 
@@ -39,10 +39,10 @@ def best_time(fn, repeats: int, number: int) -> float:
 
 
 def main() -> None:
-    model = RobotEnergyModel(Robot.from_preset("scalf"), GaitSpec())
+    model = EnergyPipeline(load_robot("scalf"), Gait())
     family = make_family("reference")
     legs = ("RF", "LH")
-    stance, tau_stance = model.stance_motion
+    stance, tau_stance = model.stance_path, model.stance_times_s
     swing = {leg: model.swing_path(leg, family) for leg in legs}
     leg_models = {leg: model.physics(leg).leg for leg in legs}
 
@@ -51,11 +51,11 @@ def main() -> None:
         for leg in legs:
             s = stance
             e_st, _ = phase_energy(
-                leg_models[leg], s[0], s[1], s[2], model.stance_forces(leg), tau_stance
+                leg_models[leg], s[0], s[1], s[2], model.stance_forces[leg], tau_stance
             )
             w = swing[leg].values()
             e_sw, _ = phase_energy(
-                leg_models[leg], w[0], w[1], w[2], np.zeros_like(w[0]), swing[leg].tau_s
+                leg_models[leg], w[0], w[1], w[2], np.zeros_like(w[0]), swing[leg].t_s
             )
             out.append([e_st, e_sw])
         return np.array(out)
@@ -74,7 +74,7 @@ def main() -> None:
     t_loop = best_time(loop, repeats=5, number=5)
     t_vm = best_time(lambda: vm(x), repeats=5, number=500)
     t_compiled = best_time(lambda: compiled(x), repeats=5, number=2000)
-    samples = 2 * (tau_stance.size + swing["RF"].tau_s.size)
+    samples = 2 * (tau_stance.size + swing["RF"].t_s.size)
     print(f"one cycle of RF + LH at 200 Hz ({samples} samples), best of 5:")
     print(f"  plain NumPy + Pinocchio loop : {t_loop * 1e6:10.1f} us   (baseline)")
     print(f"  CycleEvaluator, CasADi VM    : {t_vm * 1e6:10.1f} us   {t_loop / t_vm:6.1f}x faster")

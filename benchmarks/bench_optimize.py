@@ -22,31 +22,29 @@ from scipy.optimize import minimize
 
 sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 
-from scalf_opt.cycle import RobotEnergyModel
-from scalf_opt.gait import GaitSpec
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import run_ipopt
-from scalf_opt.robot import Robot
-from scalf_opt.swing import make_family
+from scalf_opt.robots.loading import load_robot
 
 PENALTY_J_PER_UNIT = 1e4  # Nelder-Mead penalty per metre or radian of constraint violation
 
 
 def margins(problem: SwingProblem, theta: np.ndarray) -> np.ndarray:
     """Every constraint as ``g(theta) >= 0``, from the exact evaluator's samples."""
-    _, q, foot, cyl_len, _ = (np.array(v) for v in problem.exact_function(theta))
-    lo, hi = problem.bounds["q"]
-    l_lo, l_hi = problem.bounds["cyl_len"]
-    return np.concatenate(
-        [
-            (q - lo).ravel(),
-            (hi - q).ravel(),
-            foot[1, 1:-1] - problem.ground_z_m,
-            [foot[1, problem.mid_index] - problem.clearance_z_m],
-            (cyl_len - l_lo).ravel(),
-            (l_hi - cyl_len).ravel(),
-        ]
-    )
+    _, q, foot, _, *outputs = (np.array(v) for v in problem.exact_function(theta))
+    lo, hi = problem.joint_bounds
+    parts = [
+        (q - lo).ravel(),
+        (hi - q).ravel(),
+        foot[1, 1:-1] - problem.ground_z_m,
+        [foot[1, problem.mid_index] - problem.clearance_z_m],
+    ]
+    for (b_lo, b_hi), value in zip(problem.output_bounds.values(), outputs, strict=True):
+        parts += [(value - b_lo).ravel(), (b_hi - value).ravel()]
+    return np.concatenate(parts)
 
 
 def exact_energy(problem: SwingProblem, theta: np.ndarray) -> float:
@@ -61,9 +59,9 @@ def timed(fn):
 
 def main() -> None:
     families = sys.argv[1:] or ["paper", "joint-4", "joint-6"]
-    model = RobotEnergyModel(Robot.from_preset("scalf"), GaitSpec())
+    pipeline = EnergyPipeline(load_robot("scalf"), Gait())
     for name in families:
-        compare(SwingProblem(model, "RF", make_family(name)))
+        compare(SwingProblem(pipeline, "RF", make_family(name)))
         print()
 
 

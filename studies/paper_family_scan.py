@@ -4,7 +4,8 @@ The paper optimizes two coefficients per leg (C1, C2) of a Fourier series whose 
 This study tries every pair of one free term per coordinate, each term one of cos/sin of orders
 2-4 (the four end-condition terms a0, a1, b1, b2 are always eliminated), in foot space (x, z) and
 joint space (hip, knee), solves each family's NLP for the RF and LH legs, and ranks the pairs by
-swing energy against the reference. `scalf_opt.swing.PAPER_FREE_TERMS` is the winner.
+swing energy against the reference. `scalf_opt.locomotion.swing.fourier.PAPER_FREE_TERMS` is the
+winner.
 
     python studies/paper_family_scan.py [--quick] [--out FILE.csv]
 
@@ -19,18 +20,21 @@ import itertools
 import sys
 from pathlib import Path
 
-from scalf_opt.cycle import RobotEnergyModel
-from scalf_opt.gait import GaitSpec
+from scalf_opt.energy.cycle import change_percent
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.files import write_atomic
+from scalf_opt.io.results import rows_csv_text
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.fourier import FourierFamily
+from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import run_ipopt
-from scalf_opt.results import rows_csv_text, write_atomic
-from scalf_opt.robot import Robot
-from scalf_opt.swing import FourierFamily, make_family
+from scalf_opt.robots.loading import load_robot
 
 
 def scan(quick: bool) -> list[dict[str, object]]:
-    model = RobotEnergyModel(Robot.from_preset("scalf"), GaitSpec())
-    reference = model.robot_cycle(make_family("reference"), legs=("RF", "LH"))
+    pipeline = EnergyPipeline(load_robot("scalf"), Gait())
+    reference = pipeline.robot_cycle(make_family("reference"), legs=("RF", "LH"))
     orders = (2, 3) if quick else (2, 3, 4)
     terms = [(kind, k) for k in orders for kind in ("cos", "sin") if (kind, k) != ("sin", 2)]
     rows: list[dict[str, object]] = []
@@ -45,10 +49,10 @@ def scan(quick: bool) -> list[dict[str, object]]:
             for leg in ("RF", "LH"):
                 # an infeasible pair is recognised long before Ipopt's default 3000 iterations
                 optimum = run_ipopt(
-                    SwingProblem(model, leg, family), ipopt_options={"max_iter": 300}
+                    SwingProblem(pipeline, leg, family), ipopt_options={"max_iter": 300}
                 )
                 ref = reference.legs[leg].swing_energy_j
-                change = 100 * (optimum.swing_energy_j - ref) / ref if optimum.success else None
+                change = change_percent(optimum.swing_energy_j, ref) if optimum.success else None
                 row[f"{leg}_swing_change_pct"] = change
                 row[f"{leg}_status"] = optimum.status
             rows.append(row)

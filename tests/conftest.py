@@ -3,7 +3,7 @@
 import pytest
 from hypothesis import settings
 
-from scalf_opt.robot import Robot
+from scalf_opt.robots.loading import load_robot
 
 # the same examples on every run and machine: a failure reproduces, CI never flickers
 settings.register_profile("deterministic", derandomize=True, deadline=None)
@@ -12,14 +12,14 @@ settings.load_profile("deterministic")
 
 @pytest.fixture(scope="session")
 def scalf():
-    return Robot.from_preset("scalf")
+    return load_robot("scalf")
 
 
 @pytest.fixture(scope="session")
 def hyq():
-    return Robot.from_preset("hyq")
+    return load_robot("hyq")
 
 
 @pytest.fixture(scope="session")
 def solo12():
-    return Robot.from_preset("solo12")
+    return load_robot("solo12")

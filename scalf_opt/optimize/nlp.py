@@ -6,10 +6,12 @@ reformulations of the non-smooth energy:
 * ``|tau_i qd_i|`` at every sample becomes a slack pair: ``s+ - s- = tau qd``, ``s+, s- >= 0``,
   and the objective charges ``s+ + s-``; at an optimum one of the two is zero, so the objective
   equals the exact mechanical energy;
-* the friction heat's ``max(v, 0)`` becomes ``(v + sqrt(v^2 + eps^2)) / 2`` with
+* the drives' losses (SCalf: the friction heat) take ``max(v, 0)`` as
+  ``(v + sqrt(v^2 + eps^2)) / 2`` with
   ``eps = HEAT_SMOOTHING_EPS_M_S``.
 
-Constraints at every swing sample: joint limits, cylinder stroke, foot at or above the ground
+Constraints at every swing sample: joint limits, bounded drive outputs (SCalf: the cylinder
+stroke), foot at or above the ground
 (interior samples; lift-off and touch-down are on the ground by construction), the IK reach in
 foot space, and the mid-swing clearance. Derivatives (gradient, constraint Jacobian, Lagrangian
 Hessian) are exact, from CasADi's automatic differentiation.
@@ -24,9 +26,9 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from scalf_opt.energy import mechanical_power, trapezoid_weights
+from scalf_opt.energy.physics import mechanical_power, trapezoid_weights
 from scalf_opt.optimize.problem import HEAT_SMOOTHING_EPS_M_S, SwingProblem, casadi_name
-from scalf_opt.typing import Expr
+from scalf_opt.types import Expr
 
 IPOPT_DEFAULTS: dict[str, Any] = {
     "tol": 1e-10,
@@ -59,19 +61,21 @@ class NlpBuild:
 def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None) -> NlpBuild:
     """Build the NLP of ``problem`` (no solving)."""
     n_theta = problem.n_params
-    n = problem.path.tau_s.size
+    n = problem.path.t_s.size
     theta = ca.SX.sym("theta", n_theta)
     s_pos = ca.SX.sym("s_pos", 2 * n)
     s_neg = ca.SX.sym("s_neg", 2 * n)
     g = problem.graph(theta, HEAT_SMOOTHING_EPS_M_S)
-    w = ca.DM(np.tile(trapezoid_weights(problem.path.tau_s), 2))
+    w = ca.DM(np.tile(trapezoid_weights(problem.path.t_s), 2))
     p_mech = ca.reshape(g["p_mech"].T, 2 * n, 1)  # column-major: all hip samples, then knee
-    heat = ca.reshape(g["p_heat"].T, 2 * n, 1)
-    accounting = problem.model.accounting
+    loss = ca.reshape(g["p_loss"].T, 2 * n, 1)
+    # 1 where the joint's drive charges its mechanical power, 0 where it does not
+    charged = ca.DM(np.repeat([float(d.charges_joint_power) for d in problem.physics.drives], n))
+    accounting = problem.pipeline.accounting
     # the slack pair is the paper's |tau qd|; the other accountings need no slacks
     paper = accounting == "paper"
     mech_cost = s_pos + s_neg if paper else mechanical_power(p_mech, accounting)
-    objective = ca.dot(w, mech_cost + heat)
+    objective = ca.dot(w, charged * mech_cost + loss)
 
     constraints, lower, upper = [], [], []
 
@@ -83,16 +87,14 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
 
     if accounting == "paper":
         add(s_pos - s_neg - p_mech, 0.0, 0.0)
-    q_lo, q_hi = problem.bounds["q"]
+    q_lo, q_hi = problem.joint_bounds
     add(
         g["q"],
         np.repeat(q_lo, n, axis=1).ravel(order="F"),
         np.repeat(q_hi, n, axis=1).ravel(order="F"),
     )
-    l_lo, l_hi = problem.bounds["cyl_len"]
-    for i in range(2):
-        if np.isfinite(l_lo[i, 0]):
-            add(g["cyl_len"][i, :], l_lo[i, 0], l_hi[i, 0])
+    for name, (lo, hi) in problem.output_bounds.items():
+        add(g[name], lo, hi)
     add(g["foot"][1, 1:-1], problem.ground_z_m, np.inf)
     if "reach" in g:
         add(g["reach"], -1.0, 1.0)

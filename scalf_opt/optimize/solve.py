@@ -19,8 +19,7 @@ from scalf_opt.optimize.pattern_search import (
     pattern_search,
 )
 from scalf_opt.optimize.problem import SwingProblem
-
-METHODS = ("pattern", "ipopt")
+from scalf_opt.types import Method, check_choice
 
 
 @dataclass
@@ -48,7 +47,7 @@ class SwingOptimum:
 
     leg: str
     family: str
-    method: str
+    method: Method
     theta: np.ndarray
     parameter_names: list[str]
     unit: str
@@ -196,13 +195,12 @@ def run_ipopt(
 
 def optimize(
     problem: SwingProblem,
-    method: str,
+    method: Method,
     theta0: np.ndarray | None = None,
     pattern_options: PatternSearchOptions | None = None,
 ) -> SwingOptimum:
     """Run ``method`` (``pattern`` or ``ipopt``) on ``problem``."""
+    check_choice(method, Method, "method")
     if method == "pattern":
         return run_pattern_search(problem, theta0, pattern_options)
-    if method == "ipopt":
-        return run_ipopt(problem, theta0)
-    raise ValueError(f"unknown method {method!r}: use {', '.join(METHODS)}")
+    return run_ipopt(problem, theta0)

@@ -1,0 +1,115 @@
+"""SCalf's hydraulic cylinder: mounting geometry (Table 2, decision 7) and Stribeck friction.
+
+A cylinder spans the triangle formed by its two mounting arms ``a`` and ``b``, which meet at the
+joint axis with angle ``phi``; by the law of cosines (Eq. 52)::
+
+    l(theta)      = sqrt(a^2 + b^2 - 2 a b cos(phi)),     phi = phi_offset + sign * theta
+    dl/dtheta     = sign * a b sin(phi) / l                  [m/rad]
+    v             = (dl/dtheta) theta_dot                     cylinder velocity [m/s]
+    F_cylinder    = tau / (dl/dtheta)                         virtual work [N]
+
+For the RF leg, hip ``phi = (90 deg - e1 - e2) - theta`` and knee ``phi = theta - (e3 - e4)``;
+hind legs use the negated angle (the ``sign`` flips). The friction heat ``|F_f(v) v|``
+(:mod:`scalf_opt.actuators.stribeck`) is the drive's loss; the joint's mechanical power is charged
+through the accounting (decision 9).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import ClassVar
+
+import casadi as ca
+
+from scalf_opt.actuators.drive import Channel, Drive, MaxFn
+from scalf_opt.actuators.stribeck import StribeckFriction
+from scalf_opt.errors import ModelError
+from scalf_opt.types import Expr
+
+
+@dataclass(frozen=True)
+class HydraulicCylinder(Drive):
+    """A joint's hydraulic cylinder.
+
+    Attributes:
+        joint_name: URDF joint it drives.
+        a_m: Mounting arm a [m].
+        b_m: Mounting arm b [m].
+        phi_offset_rad: Arm angle at theta = 0 [rad].
+        angle_sign: +1 or -1: ``phi = phi_offset + angle_sign * theta``.
+        stroke_m: Piston stroke [m].
+        friction: Friction law of the cylinder.
+    """
+
+    a_m: float
+    b_m: float
+    phi_offset_rad: float
+    angle_sign: int
+    stroke_m: float
+    friction: StribeckFriction
+
+    kind: ClassVar[str] = "cylinder"
+    channels: ClassVar[tuple[Channel, ...]] = (
+        Channel("cyl_len", "m", "cylinder length l(q)"),
+        Channel("cyl_vel", "m_s", "cylinder velocity (dl/dq) qd"),
+        Channel("cyl_force", "n", "cylinder force tau / (dl/dq)"),
+        Channel("friction", "n", "Stribeck friction force F_f(v) of the cylinder"),
+    )
+
+    def angle_rad(self, theta: Expr) -> Expr:
+        """Angle between the mounting arms, ``phi = phi_offset + angle_sign * theta`` [rad]."""
+        return self.phi_offset_rad + self.angle_sign * theta
+
+    def length_m(self, theta: Expr) -> Expr:
+        """Cylinder length ``l = sqrt(a^2 + b^2 - 2 a b cos(phi))`` [m] (Eq. 52, decision 7)."""
+        phi = self.angle_rad(theta)
+        return ca.sqrt(self.a_m**2 + self.b_m**2 - 2 * self.a_m * self.b_m * ca.cos(phi))
+
+    def moment_arm_m(self, theta: Expr) -> Expr:
+        """Signed moment arm ``dl/dtheta = angle_sign * a b sin(phi) / l`` [m/rad]."""
+        phi = self.angle_rad(theta)
+        return self.angle_sign * self.a_m * self.b_m * ca.sin(phi) / self.length_m(theta)
+
+    def velocity_m_s(self, theta: Expr, theta_dot: Expr) -> Expr:
+        """Cylinder velocity ``(dl/dtheta) theta_dot`` [m/s]."""
+        return self.moment_arm_m(theta) * theta_dot
+
+    def outputs(self, q: Expr, qd: Expr, tau: Expr) -> dict[str, Expr]:  # noqa: D102
+        arm = self.moment_arm_m(q)
+        vel = arm * qd
+        return {
+            "cyl_len": self.length_m(q),
+            "cyl_vel": vel,
+            "cyl_force": tau / arm,
+            "friction": self.friction.force_n(vel),
+        }
+
+    def loss_rate(self, q: Expr, qd: Expr, tau: Expr, max_fn: MaxFn = ca.fmax) -> Expr:
+        """Friction heat ``|F_f(v) v|`` [W] (decisions 8, 9)."""
+        return self.friction.heat_rate_w(self.velocity_m_s(q, qd), max_fn)
+
+    def output_bounds(self, q_lower: float, q_upper: float) -> dict[str, tuple[float, float]]:
+        """The cylinder length stays inside its stroke (decision 14)."""
+        return {"cyl_len": self.stroke_limits_m(q_lower, q_upper)}
+
+    def stroke_limits_m(self, theta_lower: float, theta_upper: float) -> tuple[float, float]:
+        """Cylinder length range allowed by the stroke [m] (decision 14).
+
+        ``l_min`` is the shorter of the lengths at the two joint limits and
+        ``l_max = l_min + stroke``. ``l`` is monotonic in ``theta`` over the range because
+        ``dl/dphi = a b sin(phi) / l`` keeps its sign while ``phi`` stays inside ``(0, pi)``;
+        this is verified.
+
+        Raises:
+            ModelError: The mounting angle leaves ``(0, pi)`` over the range (not monotonic).
+        """
+        phis = [float(self.angle_rad(t)) for t in (theta_lower, theta_upper)]
+        if not all(0.0 < p < math.pi for p in phis):
+            raise ModelError(
+                f"cylinder {self.joint_name}: mounting angle phi goes from {phis[0]:.4f} to "
+                f"{phis[1]:.4f} rad over the joint range [{theta_lower}, {theta_upper}] rad, "
+                "outside (0, pi): the cylinder length is not monotonic"
+            )
+        shortest = min(float(self.length_m(t)) for t in (theta_lower, theta_upper))
+        return shortest, shortest + self.stroke_m

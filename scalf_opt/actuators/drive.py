@@ -1,0 +1,80 @@
+"""The drive interface: outputs, power and bounds of one joint's actuator from ``(q, qd, tau)``.
+
+Per sample, the energy pipeline gives a drive the joint angle ``q`` [rad], rate ``qd`` [rad/s]
+and torque ``tau`` [N m] (CasADi expressions or numbers) and asks it for
+
+* its *outputs*: named scalar channels such as a cylinder's length or force (:attr:`channels`
+  declares their names and units; they become columns of ``samples.csv``);
+* its *power*: the joint's signed mechanical power ``tau qd`` is charged through the chosen
+  accounting when :attr:`charges_joint_power` is true, and :meth:`loss_rate` [W] (never
+  negative) is added on top, e.g. friction heat;
+* its *bounds*: allowed ranges of outputs over the joint's range (a cylinder's stroke).
+
+Every method is written with CasADi operations, so one formula serves floats, numeric arrays and
+the symbolic NLP.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+from dataclasses import dataclass
+from typing import ClassVar
+
+import casadi as ca
+
+from scalf_opt.types import Expr
+
+MaxFn = Callable[[Expr, Expr], Expr]
+"""``max_fn(x, 0)`` returns ``max(x, 0)``, exactly (:func:`casadi.fmax`) or smoothed."""
+
+
+@dataclass(frozen=True)
+class Channel:
+    """One output of a drive.
+
+    Attributes:
+        name: Column stem, e.g. ``cyl_len``; the CSV column is ``<name>_<joint>_<unit>``.
+        unit: SI unit as it appears in column names (``m``, ``m_s``, ``n``, ``w``).
+        description: What it is, for the README and reports.
+    """
+
+    name: str
+    unit: str
+    description: str
+
+
+@dataclass(frozen=True)
+class Drive:
+    """The actuator of one joint; the base class behaves as a lossless torque source.
+
+    Attributes:
+        joint_name: URDF name of the joint the drive moves.
+        kind: Short name of the drive model (``ideal``, ``cylinder``, ...).
+        channels: The outputs :meth:`outputs` returns, in order.
+        charges_joint_power: The joint's mechanical power ``tau qd`` is drawn (through the
+            accounting) in addition to :meth:`loss_rate`.
+    """
+
+    joint_name: str
+    kind: ClassVar[str] = "drive"
+    channels: ClassVar[tuple[Channel, ...]] = ()
+    charges_joint_power: ClassVar[bool] = True
+
+    def outputs(self, q: Expr, qd: Expr, tau: Expr) -> dict[str, Expr]:
+        """The drive's per-sample outputs, one scalar per channel (SI units)."""
+        return {}
+
+    def loss_rate(self, q: Expr, qd: Expr, tau: Expr, max_fn: MaxFn = ca.fmax) -> Expr:
+        """Power the drive draws beyond the charged joint power [W], never negative."""
+        return 0.0 * q
+
+    def output_bounds(self, q_lower: float, q_upper: float) -> dict[str, tuple[float, float]]:
+        """Allowed range of some outputs while the joint stays in ``[q_lower, q_upper]`` [rad]."""
+        return {}
+
+
+@dataclass(frozen=True)
+class IdealDrive(Drive):
+    """A lossless torque source: the joint draws its mechanical power and nothing else."""
+
+    kind: ClassVar[str] = "ideal"

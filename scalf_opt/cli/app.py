@@ -1,0 +1,43 @@
+"""Parse the command line, dispatch to a command, and turn errors into one line and an exit code.
+
+Exit codes: 0 success; 2 bad input (:class:`~scalf_opt.errors.ScalfError`: one line on stderr,
+no traceback); 3 an optimizer did not converge (the command says which); 130 interrupted.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from collections.abc import Sequence
+
+from scalf_opt import __version__
+from scalf_opt.cli.commands import COMMANDS
+from scalf_opt.errors import ScalfError
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The argument parser of every command."""
+    parser = argparse.ArgumentParser(
+        prog="scalf-opt",
+        description="Energy-efficient swing-foot trajectories for legged robots (SCalf paper).",
+    )
+    parser.add_argument("--version", action="version", version=f"scalf-opt {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    for command in COMMANDS:
+        p = sub.add_parser(command.NAME, help=command.HELP, description=command.HELP)
+        command.add_arguments(p)
+        p.set_defaults(run=command.run)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Entry point of the ``scalf-opt`` console script."""
+    args = build_parser().parse_args(argv)
+    try:
+        return int(args.run(args))
+    except ScalfError as exc:
+        print(f"scalf-opt: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("scalf-opt: interrupted", file=sys.stderr)
+        return 130

@@ -1,0 +1,40 @@
+"""``scalf-opt paper``: the paper's Tables 5 and 6 beside the paper's numbers."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from scalf_opt.cli.options import add_gait, add_robot, load_gait, load_robot
+
+NAME = "paper"
+HELP = "reproduce the paper's Tables 5 and 6 (the main job)"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
+    add_robot(parser)
+    add_gait(parser, accounting=False)
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path("results/paper"),
+        help="output directory (default results/paper)",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Exit 0 when every optimizer converged, 3 otherwise."""
+    from scalf_opt.energy.pipeline import EnergyPipeline
+    from scalf_opt.studies.paper import reproduce
+    from scalf_opt.studies.paper_report import paper_markdown, write_paper_outputs
+
+    robot = load_robot(args)
+    rep = reproduce(EnergyPipeline(robot, load_gait(args, robot)))
+    print(paper_markdown(rep, robot))
+    written = write_paper_outputs(rep, robot, args.out)
+    print(f"wrote {args.out}/" + ", ".join(p.name for p in written))
+    if not rep.all_solved:
+        print("scalf-opt: error: an optimizer did not converge (see the report)", file=sys.stderr)
+        return 3
+    return 0

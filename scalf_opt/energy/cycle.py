@@ -1,0 +1,98 @@
+"""Results of one gait cycle: per leg (stance and swing) and for the whole robot."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from scalf_opt.energy.phase import PhaseResult
+from scalf_opt.locomotion.forces import GRAVITY_M_S2
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.types import Accounting
+
+
+def change_percent(new: float, reference: float) -> float:
+    """Signed change of ``new`` against ``reference`` [%]."""
+    return 100.0 * (new - reference) / reference
+
+
+@dataclass(frozen=True)
+class LegCycle:
+    """One leg over one cycle: stance then swing, and the swing that was evaluated.
+
+    Attributes:
+        leg: Leg name.
+        stance: The stance phase.
+        swing: The swing phase.
+        swing_family: Name of the swing family.
+        swing_theta: The family's parameters (family units; empty for the reference).
+    """
+
+    leg: str
+    stance: PhaseResult
+    swing: PhaseResult
+    swing_family: str
+    swing_theta: np.ndarray
+
+    @property
+    def energy_j(self) -> float:
+        """Energy of the leg over one cycle [J]."""
+        return float(self.stance.energy_j.sum() + self.swing.energy_j.sum())
+
+    @property
+    def stance_energy_j(self) -> float:
+        """Energy of both joints during stance [J]."""
+        return float(self.stance.energy_j.sum())
+
+    @property
+    def swing_energy_j(self) -> float:
+        """Energy of both joints during swing [J]."""
+        return float(self.swing.energy_j.sum())
+
+    @property
+    def loss_j(self) -> float:
+        """The drives' losses over the cycle (SCalf: friction heat) [J]."""
+        return float(self.stance.loss_j.sum() + self.swing.loss_j.sum())
+
+
+@dataclass(frozen=True)
+class RobotCycle:
+    """All legs over one gait cycle, and the robot-level figures.
+
+    Attributes:
+        gait: The gait.
+        accounting: Power accounting used for ``power``.
+        legs: LegCycle per leg name, in :data:`~scalf_opt.types.LEG_NAMES` order.
+        total_mass_kg: Mass of the whole robot (for the cost of transport) [kg].
+    """
+
+    gait: Gait
+    accounting: Accounting
+    legs: dict[str, LegCycle]
+    total_mass_kg: float
+
+    @property
+    def energy_j(self) -> float:
+        """Energy of all legs over one cycle [J] (mean of ``gait.cycles`` identical cycles)."""
+        return float(sum(leg.energy_j for leg in self.legs.values()))
+
+    @property
+    def average_power_w(self) -> float:
+        """Average total leg power [W]: energy per cycle / period."""
+        return self.energy_j / self.gait.period_s
+
+    @property
+    def cost_of_transport(self) -> float:
+        """Dimensionless cost of transport: E / (m g d) over one cycle."""
+        return self.energy_j / (self.total_mass_kg * GRAVITY_M_S2 * self.gait.distance_per_cycle_m)
+
+    @property
+    def symmetry_error(self) -> float:
+        """Largest relative difference of LF vs RF and RH vs LH cycle energy (paper: 0)."""
+        errs = [
+            abs(self.legs[a].energy_j - self.legs[b].energy_j) / abs(self.legs[b].energy_j)
+            for a, b in (("LF", "RF"), ("RH", "LH"))
+            if a in self.legs and b in self.legs
+        ]
+        return max(errs, default=0.0)

@@ -1,0 +1,164 @@
+"""The energy pipeline of one robot and gait: every leg's physics, stance and swing, the cycle.
+
+Each leg is computed directly with its own Pinocchio model and its own stance forces; the paper's
+symmetry argument (LF repeats RF, RH repeats LH half a cycle later) is then a check, not an input.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from scalf_opt.actuators.drive import Drive
+from scalf_opt.actuators.sidecar import drives_for, leg_drives
+from scalf_opt.energy.cycle import LegCycle, RobotCycle
+from scalf_opt.energy.phase import PhaseResult, PhaseSamples, evaluate_phase
+from scalf_opt.energy.physics import LegPhysics
+from scalf_opt.energy.workspace import check_workspace
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.stance import stance_forces, stance_path
+from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.locomotion.trot import SYMMETRIC_TWIN, stance_start_s, swing_start_s
+from scalf_opt.model.kinematics import LegKinematics
+from scalf_opt.model.robot import Robot
+from scalf_opt.types import LEG_NAMES, Accounting, check_choice
+
+
+@dataclass(frozen=True)
+class EnergyPipeline:
+    """Evaluates cycles of one robot for one gait and accounting.
+
+    Attributes:
+        robot: The robot.
+        gait: The gait.
+        accounting: Power accounting (``paper``, ``positive`` or ``regenerative``).
+        drives: Drives keyed by joint name; ``None`` reads the sidecar beside the URDF, ``{}``
+            gives every joint an ideal drive.
+    """
+
+    robot: Robot
+    gait: Gait
+    accounting: Accounting = "paper"
+    drives: Mapping[str, Drive] | None = None
+
+    def __post_init__(self) -> None:
+        check_choice(self.accounting, Accounting, "accounting")
+        if self.drives is None:
+            object.__setattr__(self, "drives", drives_for(self.robot))
+
+    def physics(self, leg: str) -> LegPhysics:
+        """The leg's :class:`LegPhysics` (built once)."""
+        if leg not in self._physics:
+            model_leg = self.robot.leg(leg)
+            drives = leg_drives(dict(self.drives or {}), model_leg.joint_names)
+            self._physics[leg] = LegPhysics(LegKinematics(model_leg), drives)
+        return self._physics[leg]
+
+    @cached_property
+    def _physics(self) -> dict[str, LegPhysics]:
+        return {}
+
+    def kinematics(self, leg: str) -> LegKinematics:
+        """The leg's kinematics."""
+        return self.physics(leg).kin
+
+    # --- stance -------------------------------------------------------------------------------
+    @cached_property
+    def stance_times_s(self) -> np.ndarray:
+        """The stance grid: time since touch-down of each sample, shape (n,) [s]."""
+        return self.gait.phase_times_s("stance")
+
+    @cached_property
+    def stance_path(self) -> np.ndarray:
+        """Stance foot samples (3, 2, n) in the leg frame (the same for every leg)."""
+        return stance_path(self.gait, self.stance_times_s)
+
+    @cached_property
+    def stance_forces(self) -> dict[str, np.ndarray]:
+        """Ground reaction force on each leg's foot over its stance samples, (2, n) [N]."""
+        com = self.robot.trunk_com_m
+        hips = {}
+        for leg in LEG_NAMES:
+            hip = self.robot.leg(leg).hip_origin_m - com
+            hips[leg] = np.array([hip[0], hip[2]])
+        return stance_forces(self.gait, hips, self.robot.trunk_mass_kg)
+
+    def stance(self, leg: str) -> PhaseResult:
+        """Evaluate ``leg``'s stance phase.
+
+        Raises:
+            GaitError: The stance path leaves the leg's reach or joint limits.
+        """
+        check_workspace(self.kinematics(leg), self.gait, "foot", self.stance_path, "stance")
+        samples = PhaseSamples(
+            phase="stance",
+            space="foot",
+            path=self.stance_path,
+            grf_n=self.stance_forces[leg],
+            t_phase_s=self.stance_times_s,
+            start_s=stance_start_s(self.gait, leg),
+            period_s=self.gait.period_s,
+        )
+        return evaluate_phase(self.physics(leg), samples, self.accounting)
+
+    # --- swing --------------------------------------------------------------------------------
+    def swing_path(self, leg: str, family: SwingFamily) -> AffinePath:
+        """The family's affine swing path for ``leg``."""
+        return family.path(self.gait, self.kinematics(leg))
+
+    def swing(self, leg: str, family: SwingFamily, theta: np.ndarray | None = None) -> PhaseResult:
+        """Evaluate ``leg``'s swing for a family member (``theta`` in the family's units).
+
+        Raises:
+            InfeasibleError: The swing leaves the leg's reach or joint limits.
+        """
+        path = self.swing_path(leg, family)
+        values = path.values(theta)
+        check_workspace(self.kinematics(leg), self.gait, path.space, values, "swing")
+        samples = PhaseSamples(
+            phase="swing",
+            space=path.space,
+            path=values,
+            grf_n=np.zeros((2, path.t_s.size)),
+            t_phase_s=path.t_s,
+            start_s=swing_start_s(self.gait, leg),
+            period_s=self.gait.period_s,
+        )
+        return evaluate_phase(self.physics(leg), samples, self.accounting)
+
+    # --- cycles -------------------------------------------------------------------------------
+    def leg_cycle(self, leg: str, family: SwingFamily, theta: np.ndarray | None = None) -> LegCycle:
+        """One leg's stance and swing."""
+        theta_arr = np.zeros(family.n_params) if theta is None else np.asarray(theta, float)
+        return LegCycle(
+            leg, self.stance(leg), self.swing(leg, family, theta_arr), family.name, theta_arr
+        )
+
+    def robot_cycle(
+        self,
+        family: SwingFamily,
+        thetas: Mapping[str, np.ndarray] | None = None,
+        legs: tuple[str, ...] = LEG_NAMES,
+    ) -> RobotCycle:
+        """Evaluate every leg in ``legs`` with the same swing family and per-leg parameters.
+
+        The paper's symmetry: a leg without parameters of its own takes its symmetric twin's (LF
+        repeats RF, RH repeats LH). When ``thetas`` names some legs, a leg with neither its own
+        nor its twin's parameters keeps the reference swing; without ``thetas`` every leg uses
+        the family at zero parameters.
+        """
+        reference = make_family("reference")
+        cycles = {}
+        for leg in (name for name in LEG_NAMES if name in legs):
+            if thetas is None:
+                cycles[leg] = self.leg_cycle(leg, family)
+            elif leg in thetas or SYMMETRIC_TWIN[leg] in thetas:
+                theta = thetas[leg] if leg in thetas else thetas[SYMMETRIC_TWIN[leg]]
+                cycles[leg] = self.leg_cycle(leg, family, theta)
+            else:
+                cycles[leg] = self.leg_cycle(leg, reference)
+        return RobotCycle(self.gait, self.accounting, cycles, self.robot.total_mass_kg)

@@ -1,0 +1,1 @@
+"""Result files: ``summary.json``, ``samples.csv`` and CSV tables, written atomically."""

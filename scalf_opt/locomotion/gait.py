@@ -1,0 +1,120 @@
+"""The trot gait: its fields, their validation and the phase timing.
+
+A gait is periodic with period ``T``. Each leg spends ``duty * T`` in stance, then the rest of the
+cycle in swing. Time inside a phase, ``t_phase``, starts at 0 at the phase's beginning; the
+diagonal pairing of the trot is in :mod:`scalf_opt.locomotion.trot`.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, fields
+
+import numpy as np
+
+from scalf_opt.errors import GaitError
+from scalf_opt.types import Phase, check_choice
+
+MIN_SAMPLES_PER_PHASE = 4
+"""The coarsest grid a phase may have (intervals)."""
+
+
+@dataclass(frozen=True)
+class Gait:
+    """A trot gait (defaults: the paper's Section 6.1).
+
+    Attributes:
+        period_s: Gait cycle T [s].
+        duty_cycle: Fraction of the period a foot is on the ground, in [0.5, 1).
+        step_length_m: Step length S: foot travel relative to the hip during stance [m].
+        clearance_m: Mid-swing clearance H above the ground [m].
+        stance_height_m: Height z0 of the pitching hip above the ground [m].
+        sample_rate_hz: Sampling rate of the time grid [Hz].
+        cycles: Number of cycles the reported energies are averaged over (the paper: 10).
+    """
+
+    period_s: float = 0.5
+    duty_cycle: float = 0.5
+    step_length_m: float = 0.25
+    clearance_m: float = 0.08
+    stance_height_m: float = 0.75
+    sample_rate_hz: float = 200.0
+    cycles: int = 10
+
+    def __post_init__(self) -> None:
+        for name in ("period_s", "step_length_m", "clearance_m", "stance_height_m"):
+            _positive(name, getattr(self, name))
+        _positive("sample_rate_hz", self.sample_rate_hz)
+        if not (isinstance(self.duty_cycle, int | float) and 0.5 <= self.duty_cycle < 1.0):
+            raise GaitError(
+                f"gait field duty_cycle = {self.duty_cycle!r} must be in [0.5, 1): below 0.5 a "
+                "trot has a flight phase, which the constant-height trunk model cannot carry"
+            )
+        if isinstance(self.cycles, bool) or not isinstance(self.cycles, int) or self.cycles < 1:
+            raise GaitError(f"gait field cycles = {self.cycles!r} must be an integer >= 1")
+        for name, duration in (
+            ("stance", self.stance_duration_s),
+            ("swing", self.swing_duration_s),
+        ):
+            if duration * self.sample_rate_hz < MIN_SAMPLES_PER_PHASE:
+                raise GaitError(
+                    f"gait field sample_rate_hz = {self.sample_rate_hz!r} is too low: the {name} "
+                    f"phase ({duration:g} s) needs at least {MIN_SAMPLES_PER_PHASE} samples"
+                )
+
+    @classmethod
+    def field_names(cls) -> tuple[str, ...]:
+        """The gait's field names, in order."""
+        return tuple(f.name for f in fields(cls))
+
+    def to_dict(self) -> dict[str, float | int]:
+        """The fields as plain data."""
+        return {name: getattr(self, name) for name in self.field_names()}
+
+    @property
+    def stance_duration_s(self) -> float:
+        """Duration of the stance phase [s]."""
+        return self.duty_cycle * self.period_s
+
+    @property
+    def swing_duration_s(self) -> float:
+        """Duration of the swing phase [s]."""
+        return (1.0 - self.duty_cycle) * self.period_s
+
+    @property
+    def speed_m_s(self) -> float:
+        """Forward speed of the trunk [m/s]: S / T_stance (the paper: 1.0 m/s)."""
+        return self.step_length_m / self.stance_duration_s
+
+    @property
+    def distance_per_cycle_m(self) -> float:
+        """Distance the trunk travels in one cycle [m]."""
+        return self.speed_m_s * self.period_s
+
+    def phase_duration_s(self, phase: Phase) -> float:
+        """Duration of ``phase`` [s]."""
+        check_choice(phase, Phase, "phase")
+        return self.stance_duration_s if phase == "stance" else self.swing_duration_s
+
+    def phase_times_s(self, phase: Phase) -> np.ndarray:
+        """Sample times inside a phase since its start, both ends included, shape (n,) [s].
+
+        The grid is uniform with ``round(duration * sample_rate_hz)`` intervals, rounded up to an
+        even number so that mid-phase is a sample (the clearance is checked there); at the
+        paper's 200 Hz a 0.25 s phase has 51 samples 5 ms apart.
+        """
+        duration = self.phase_duration_s(phase)
+        intervals = max(MIN_SAMPLES_PER_PHASE, round(duration * self.sample_rate_hz))
+        intervals += intervals % 2
+        return np.linspace(0.0, duration, intervals + 1)
+
+
+def _positive(name: str, value: object) -> None:
+    ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+    if not (ok and value > 0):  # type: ignore[operator]
+        raise GaitError(f"gait field {name} = {value!r} must be a finite number > 0")
+
+
+def default_gait(stance_height_m: float | None = None) -> Gait:
+    """The paper's trot, at a robot's nominal stance height when given (else the paper's z0)."""
+    return Gait() if stance_height_m is None else Gait(stance_height_m=stance_height_m)

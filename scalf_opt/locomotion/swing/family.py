@@ -1,0 +1,117 @@
+"""The interface of swing families and the affine path every family returns.
+
+Every family describes the swing over normalised time ``s = t / T_sw`` in [0, 1] and returns its
+samples as an *affine* function of its free parameters ``theta``::
+
+    y(s; theta) = y_0(s) + Y(s) theta,
+
+for the value and the first two time derivatives of two coordinates: the foot ``(x, z)`` in the
+leg frame (``space == "foot"``) or the joint angles ``(hip pitch, knee)`` (``space == "joint"``).
+"""
+
+from __future__ import annotations
+
+import math
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+
+import numpy as np
+
+from scalf_opt.errors import ConfigError
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.boundary import SwingBoundary, foot_boundary, joint_boundary
+from scalf_opt.model.kinematics import LegKinematics
+from scalf_opt.types import Space
+
+DEG = math.pi / 180.0
+PARAMETER_SCALE = {"joint": DEG, "foot": 0.01}
+"""SI value of one unit of a free parameter: 1 degree (joint space) or 1 cm (foot space)."""
+
+PARAMETER_UNIT = {"joint": "deg", "foot": "cm"}
+
+Terms = tuple[tuple[str, int], ...]
+"""Fourier terms ``(kind, order)``, kind ``cos`` or ``sin``."""
+
+
+@dataclass(frozen=True)
+class AffinePath:
+    """Samples of a swing path, affine in the free parameters.
+
+    ``values(theta)[d]`` is the d-th time derivative (d = 0, 1, 2), shape (2, n), SI units.
+
+    Attributes:
+        space: ``foot`` or ``joint``.
+        t_s: Sample times since lift-off, shape (n,) [s].
+        base: Path at theta = 0, shape (3, 2, n).
+        basis: Change per unit parameter, shape (3, 2, n, n_params).
+    """
+
+    space: Space
+    t_s: np.ndarray
+    base: np.ndarray
+    basis: np.ndarray
+
+    @property
+    def n_params(self) -> int:
+        """Number of free parameters."""
+        return int(self.basis.shape[-1])
+
+    def values(self, theta: np.ndarray | None = None) -> np.ndarray:
+        """Position, velocity, acceleration samples, shape (3, 2, n)."""
+        if theta is None or self.n_params == 0:
+            return self.base.copy()
+        return self.base + self.basis @ np.asarray(theta, dtype=float)
+
+
+class SwingFamily(ABC):
+    """Interface of a swing family: a name, a space, free parameters and an affine path.
+
+    ``free_terms`` holds, per coordinate (hip, knee or x, z), the Fourier terms whose
+    coefficients are free; parameters are ordered coordinate by coordinate.
+    """
+
+    name: str
+    space: Space
+    free_terms: tuple[Terms, Terms] = ((), ())
+
+    @property
+    def n_params(self) -> int:
+        """Number of free parameters per leg."""
+        return len(self.free_terms[0]) + len(self.free_terms[1])
+
+    @property
+    def parameter_names(self) -> list[str]:
+        """Names of the free parameters, e.g. ``hip_cos3`` (joint) or ``z_sin4`` (foot)."""
+        coords = ("hip", "knee") if self.space == "joint" else ("x", "z")
+        return [
+            f"{c}_{k}{o}"
+            for c, terms in zip(coords, self.free_terms, strict=True)
+            for k, o in terms
+        ]
+
+    @property
+    def parameter_unit(self) -> str:
+        """Unit of the free parameters (``deg`` or ``cm``)."""
+        return PARAMETER_UNIT.get(self.space, "")
+
+    def boundary(self, gait: Gait, kin: LegKinematics) -> SwingBoundary:
+        """Boundary conditions of this family's space."""
+        return joint_boundary(gait, kin) if self.space == "joint" else foot_boundary(gait)
+
+    @abstractmethod
+    def path(self, gait: Gait, kin: LegKinematics) -> AffinePath:
+        """Swing samples on the gait's swing grid as an affine function of the parameters."""
+
+    def embed(self, theta: np.ndarray, poorer: SwingFamily) -> np.ndarray:
+        """Map a poorer nested family's parameters to this family's (zeros elsewhere)."""
+        nested = poorer.space == self.space and all(
+            set(old) <= set(new)
+            for old, new in zip(poorer.free_terms, self.free_terms, strict=True)
+        )
+        if not nested:
+            raise ConfigError(f"family {poorer.name} is not nested in {self.name}")
+        names = self.parameter_names
+        out = np.zeros(self.n_params)
+        for name, value in zip(poorer.parameter_names, np.asarray(theta, dtype=float), strict=True):
+            out[names.index(name)] = value
+        return out

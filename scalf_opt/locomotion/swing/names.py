@@ -1,0 +1,37 @@
+"""Swing family names: ``reference``, ``paper``, ``fourier-N`` (foot space), ``joint-N``."""
+
+from __future__ import annotations
+
+import re
+
+from scalf_opt.errors import ConfigError
+from scalf_opt.types import Space
+
+MIN_ORDER = 2
+MAX_ORDER = 12
+"""Orders N a Fourier family may have."""
+
+DEFAULT_FAMILY = "joint-6"
+"""The family optimized by default: half-range Fourier series of order 6 in joint space."""
+
+_FAMILY_PATTERN = re.compile(r"^(fourier|joint)-(\d+)$")
+
+
+def parse_fourier_name(name: str) -> tuple[Space, int]:
+    """``(space, order)`` of a ``fourier-N`` or ``joint-N`` name.
+
+    Raises:
+        ConfigError: Not such a name, or an order outside 2..12.
+    """
+    match = _FAMILY_PATTERN.match(name)
+    if not match:
+        raise ConfigError(
+            f"unknown family {name!r}: use reference, paper, fourier-N (foot space) or "
+            f"joint-N (joint space) with N in {MIN_ORDER}..{MAX_ORDER}"
+        )
+    order = int(match.group(2))
+    if not MIN_ORDER <= order <= MAX_ORDER:
+        raise ConfigError(
+            f"family {name!r}: order N must be in {MIN_ORDER}..{MAX_ORDER}, got {order}"
+        )
+    return ("foot" if match.group(1) == "fourier" else "joint"), order

@@ -1,0 +1,23 @@
+"""Swing families by name: ``reference``, ``paper``, ``fourier-N`` and ``joint-N``."""
+
+from __future__ import annotations
+
+from scalf_opt.locomotion.swing.family import SwingFamily
+from scalf_opt.locomotion.swing.fourier import PAPER_FREE_TERMS, FourierFamily, order_terms
+from scalf_opt.locomotion.swing.names import parse_fourier_name
+from scalf_opt.locomotion.swing.reference import ReferenceSpline
+
+
+def make_family(name: str) -> SwingFamily:
+    """Build a family from its name: ``reference``, ``paper``, ``fourier-N`` or ``joint-N``.
+
+    Raises:
+        ConfigError: Unknown name or an order outside 2..12.
+    """
+    if name == "reference":
+        return ReferenceSpline()
+    if name == "paper":
+        return FourierFamily("paper", "joint", PAPER_FREE_TERMS)
+    space, order = parse_fourier_name(name)
+    terms = order_terms(order)
+    return FourierFamily(name, space, (terms, terms))

@@ -1,0 +1,52 @@
+"""The trot's pairing: which legs are on the ground together, and when each stance begins.
+
+In a trot the diagonal pair RF + LH starts its stance at cycle time 0 and LF + RH half a period
+later (the paper's precondition d).
+"""
+
+from __future__ import annotations
+
+from scalf_opt.locomotion.gait import Gait
+
+TROT_PHASE_OFFSET: dict[str, float] = {"RF": 0.0, "LH": 0.0, "LF": 0.5, "RH": 0.5}
+"""Start of each leg's stance as a fraction of the period (trot: diagonal pairs)."""
+
+DIAGONAL_PARTNER: dict[str, str] = {"RF": "LH", "LH": "RF", "LF": "RH", "RH": "LF"}
+"""The leg that shares each leg's stance in a trot."""
+
+SYMMETRIC_TWIN: dict[str, str] = {"RF": "LF", "LF": "RF", "RH": "LH", "LH": "RH"}
+"""The leg that repeats each leg's motion half a cycle later (the paper's symmetry)."""
+
+PHASE_EDGE_TOLERANCE_S = 1e-12
+"""A foot exactly at touch-down or lift-off (within this) carries nothing."""
+
+
+def stance_start_s(gait: Gait, leg: str) -> float:
+    """Cycle time at which ``leg``'s stance begins [s]."""
+    return TROT_PHASE_OFFSET[leg] * gait.period_s
+
+
+def swing_start_s(gait: Gait, leg: str) -> float:
+    """Cycle time at which ``leg``'s swing begins [s]."""
+    return stance_start_s(gait, leg) + gait.stance_duration_s
+
+
+def time_since_touchdown_s(gait: Gait, cycle_time_s: float, leg: str) -> float:
+    """Time since ``leg``'s touch-down at cycle time ``cycle_time_s`` [s], in [0, T)."""
+    return (cycle_time_s - stance_start_s(gait, leg)) % gait.period_s
+
+
+def support_legs(gait: Gait, cycle_time_s: float, leg: str) -> list[str]:
+    """Legs on the ground at ``cycle_time_s`` while ``leg`` is in stance.
+
+    ``leg`` and its diagonal partner always count; another leg counts when the time lies
+    strictly inside its stance (a foot exactly at touch-down or lift-off carries nothing).
+    """
+    support = [leg, DIAGONAL_PARTNER[leg]]
+    for other in TROT_PHASE_OFFSET:
+        if other in support:
+            continue
+        local = time_since_touchdown_s(gait, cycle_time_s, other)
+        if PHASE_EDGE_TOLERANCE_S < local < gait.stance_duration_s - PHASE_EDGE_TOLERANCE_S:
+            support.append(other)
+    return support

@@ -1,0 +1,255 @@
+"""CasADi twin of a Pinocchio model: symbolic kinematics and inverse dynamics.
+
+Pinocchio's pip wheels have no ``pinocchio.casadi`` bindings, so the NLP's exact derivatives need
+the chain as CasADi expressions. They are built here from the Pinocchio model's own data (joint
+placements, joint types and axes, parents, inertias, frames, gravity) and nothing else, and the
+tests compare them with ``pin.forwardKinematics``, ``pin.computeFrameJacobian``, ``pin.rnea`` and
+``pin.crba`` on random states.
+
+Conventions (Pinocchio's). A placement ``M = (R, p)`` maps child to parent coordinates. Spatial
+motions ``(v, w)`` and forces ``(f, n)`` are expressed in a body frame with linear part first.
+Recursive Newton-Euler, for joint ``i`` with parent ``lambda(i)`` and motion subspace ``S_i``::
+
+    liMi  = jointPlacement_i * X_J(q_i)
+    v_i   = liMi^-1 . v_lambda + S_i qd_i
+    a_i   = liMi^-1 . a_lambda + S_i qdd_i + v_i x (S_i qd_i),        a_0 = -gravity
+    f_i   = I_i a_i + v_i x* (I_i v_i)
+    tau_i = S_i^T f_i,      f_lambda += liMi . f_i                        (backward pass)
+
+with ``I (v, w) = (m (v - c x w), I_c w + c x m (v - c x w))`` for a body of mass ``m``, centre
+of mass ``c`` and rotational inertia ``I_c`` about the COM. The mass matrix is the Jacobian of
+RNEA with respect to the acceleration at zero velocity and gravity (RNEA is linear in ``qdd``).
+"""
+
+from __future__ import annotations
+
+from functools import cached_property
+from typing import Any
+
+import casadi as ca
+import numpy as np
+import pinocchio as pin
+
+from scalf_opt.errors import ModelError
+from scalf_opt.model.spatial import (
+    Placement,
+    act_force,
+    act_inv_motion,
+    joint_kind,
+    skew,
+)
+from scalf_opt.types import Expr
+
+
+class SymbolicChain:
+    """CasADi twin of a fixed-base Pinocchio model with revolute and prismatic joints.
+
+    Every method accepts ``q`` (and ``v``, ``a``) as CasADi SX, MX or numeric (DM, numpy)
+    column vectors of length ``nq`` and returns the same kind: internally each quantity is one
+    SX :class:`casadi.Function` built once and called on the arguments.
+    """
+
+    def __init__(self, model: pin.Model) -> None:
+        self._joints: list[tuple[str, np.ndarray, int]] = [("root", np.zeros(3), -1)]
+        for i in range(1, model.njoints):
+            kind, axis = joint_kind(model.joints[i], model.names[i])
+            self._joints.append((kind, axis, int(model.joints[i].idx_q)))
+        self.model = model
+        self.nq = int(model.nq)
+        self.nv = int(model.nv)
+
+    # --- building blocks on SX ---------------------------------------------------------------
+    def _joint_motion(self, i: int, q: Expr) -> Placement:
+        kind, axis, iq = self._joints[i]
+        if kind == "revolute":
+            k = skew(ca.DM(axis))
+            rot = ca.DM.eye(3) + ca.sin(q[iq]) * k + (1 - ca.cos(q[iq])) * ca.mtimes(k, k)
+            return rot, ca.DM.zeros(3, 1)
+        return ca.DM.eye(3), ca.DM(axis) * q[iq]
+
+    def _local_placements(self, q: Expr) -> list[Placement]:
+        out: list[Placement] = [(ca.DM.eye(3), ca.DM.zeros(3, 1))]
+        for i in range(1, self.model.njoints):
+            placement = self.model.jointPlacements[i]
+            r0, p0 = ca.DM(placement.rotation), ca.DM(placement.translation)
+            rj, pj = self._joint_motion(i, q)
+            out.append((ca.mtimes(r0, rj), p0 + ca.mtimes(r0, pj)))
+        return out
+
+    def _world_placements(self, q: Expr) -> list[Placement]:
+        local = self._local_placements(q)
+        world: list[Placement] = [local[0]]
+        for i in range(1, self.model.njoints):
+            r_par, p_par = world[self.model.parents[i]]
+            r, p = local[i]
+            world.append((ca.mtimes(r_par, r), p_par + ca.mtimes(r_par, p)))
+        return world
+
+    def _subspace(self, i: int) -> tuple[ca.DM, ca.DM]:
+        kind, axis, _ = self._joints[i]
+        zero = ca.DM.zeros(3, 1)
+        return (zero, ca.DM(axis)) if kind == "revolute" else (ca.DM(axis), zero)
+
+    def _frame_index(self, frame: str | int) -> int:
+        if isinstance(frame, str):
+            if not self.model.existFrame(frame):
+                raise ModelError(f"model {self.model.name!r} has no frame {frame!r}")
+            return int(self.model.getFrameId(frame))
+        return int(frame)
+
+    def _rnea_sx(self, q: Expr, v: Expr, a: Expr, gravity: bool) -> Expr:
+        model = self.model
+        local = self._local_placements(q)
+        g = np.array(model.gravity.linear) if gravity else np.zeros(3)
+        vel: list[tuple[Expr, Expr]] = [(ca.DM.zeros(3, 1), ca.DM.zeros(3, 1))]
+        acc: list[tuple[Expr, Expr]] = [(ca.DM(-g), ca.DM.zeros(3, 1))]
+        forces: list[list[Expr]] = [[ca.DM.zeros(3, 1), ca.DM.zeros(3, 1)]]
+        for i in range(1, model.njoints):
+            rot, pos = local[i]
+            parent = model.parents[i]
+            s_lin, s_ang = self._subspace(i)
+            iq = self._joints[i][2]
+            vl, va = act_inv_motion(rot, pos, *vel[parent])
+            vj_lin, vj_ang = s_lin * v[iq], s_ang * v[iq]
+            vl, va = vl + vj_lin, va + vj_ang
+            al, aa = act_inv_motion(rot, pos, *acc[parent])
+            # a += S qdd + v x (S qd);  (v, w) x (u, z) = (w x u + v x z, w x z)
+            al = al + s_lin * a[iq] + ca.cross(va, vj_lin) + ca.cross(vl, vj_ang)
+            aa = aa + s_ang * a[iq] + ca.cross(va, vj_ang)
+            vel.append((vl, va))
+            acc.append((al, aa))
+            inertia = model.inertias[i]
+            m, c, ic = inertia.mass, ca.DM(inertia.lever), ca.DM(inertia.inertia)
+
+            def momentum(
+                lin: Expr, ang: Expr, m: float = m, c: Expr = c, ic: Expr = ic
+            ) -> tuple[Expr, Expr]:
+                h = m * (lin - ca.cross(c, ang))
+                return h, ca.mtimes(ic, ang) + ca.cross(c, h)
+
+            fl, fa = momentum(al, aa)
+            hl, ha = momentum(vl, va)
+            # v x* h = (w x h_lin, w x h_ang + v x h_lin)
+            forces.append([fl + ca.cross(va, hl), fa + ca.cross(va, ha) + ca.cross(vl, hl)])
+        tau: list[Expr] = [ca.SX(0)] * self.nv
+        for i in range(model.njoints - 1, 0, -1):
+            s_lin, s_ang = self._subspace(i)
+            fl, fa = forces[i]
+            tau[self._joints[i][2]] = ca.dot(s_lin, fl) + ca.dot(s_ang, fa)
+            parent = model.parents[i]
+            if parent > 0:
+                pl, pa = act_force(*local[i], fl, fa)
+                forces[parent][0] = forces[parent][0] + pl
+                forces[parent][1] = forces[parent][1] + pa
+        return ca.vertcat(*tau)
+
+    # --- compiled functions (SX, built once) ---------------------------------------------------
+    @cached_property
+    def _sym(self) -> tuple[Expr, Expr, Expr]:
+        return ca.SX.sym("q", self.nq), ca.SX.sym("v", self.nv), ca.SX.sym("a", self.nv)
+
+    @cached_property
+    def _rnea_fn(self) -> ca.Function:
+        q, v, a = self._sym
+        return ca.Function(
+            "rnea", [q, v, a], [self._rnea_sx(q, v, a, True)], ["q", "v", "a"], ["tau"]
+        )
+
+    @cached_property
+    def _crba_fn(self) -> ca.Function:
+        q, _, a = self._sym
+        tau = self._rnea_sx(q, ca.DM.zeros(self.nv, 1), a, False)
+        return ca.Function("crba", [q], [ca.jacobian(tau, a)], ["q"], ["M"])
+
+    @cached_property
+    def _placement_fns(self) -> dict[int, ca.Function]:
+        return {}
+
+    def _frame_fn(self, frame: str | int) -> ca.Function:
+        index = self._frame_index(frame)
+        if index not in self._placement_fns:
+            q = self._sym[0]
+            world = self._world_placements(q)
+            f = self.model.frames[index]
+            r_j, p_j = world[f.parentJoint]
+            rot = ca.mtimes(r_j, ca.DM(f.placement.rotation))
+            pos = p_j + ca.mtimes(r_j, ca.DM(f.placement.translation))
+            # Jacobian in LOCAL_WORLD_ALIGNED: motion of the frame origin per unit joint rate
+            cols = []
+            support = set()
+            j = int(f.parentJoint)
+            while j > 0:
+                support.add(j)
+                j = int(self.model.parents[j])
+            for i in range(1, self.model.njoints):
+                if i not in support:
+                    cols.append(ca.DM.zeros(6, 1))
+                    continue
+                r_i, p_i = world[i]
+                s_lin, s_ang = self._subspace(i)
+                w = ca.mtimes(r_i, s_ang)
+                lin = ca.mtimes(r_i, s_lin) + ca.cross(w, pos - p_i)
+                cols.append(ca.vertcat(lin, w))
+            order = [self._joints[i][2] for i in range(1, self.model.njoints)]
+            jac = ca.horzcat(*[cols[order.index(k)] for k in range(self.nv)])
+            self._placement_fns[index] = ca.Function(
+                f"frame_{f.name}", [q], [rot, pos, jac], ["q"], ["R", "p", "J"]
+            )
+        return self._placement_fns[index]
+
+    # --- public API ----------------------------------------------------------------------------
+    def frame_placement(self, q: Any, frame: str | int) -> tuple[Any, Any]:
+        """World placement ``oMf`` (R 3x3, p 3x1) of a frame."""
+        rot, pos, _ = self._frame_fn(frame)(q)
+        return rot, pos
+
+    def frame_position(self, q: Any, frame: str | int) -> Any:
+        """World position of a frame's origin (3x1) [m]."""
+        return self._frame_fn(frame)(q)[1]
+
+    def frame_jacobian(
+        self, q: Any, frame: str | int, reference: str = "LOCAL_WORLD_ALIGNED"
+    ) -> Any:
+        """Frame Jacobian (6 x nv), linear rows first, like ``pin.computeFrameJacobian``.
+
+        Args:
+            q: Configuration.
+            frame: Frame name or index.
+            reference: ``LOCAL_WORLD_ALIGNED`` (frame origin, world axes), ``WORLD`` (world
+                origin and axes) or ``LOCAL`` (frame origin and axes).
+        """
+        rot, pos, jac = self._frame_fn(frame)(q)
+        if reference == "LOCAL_WORLD_ALIGNED":
+            return jac
+        lin, ang = jac[:3, :], jac[3:, :]
+        if reference == "WORLD":  # velocity of the world origin: v(0) = v(p) - w x p = v(p) + p x w
+            return ca.vertcat(lin + ca.mtimes(skew(pos), ang), ang)
+        if reference == "LOCAL":
+            return ca.vertcat(ca.mtimes(rot.T, lin), ca.mtimes(rot.T, ang))
+        raise ValueError(f"unknown reference frame {reference!r}")
+
+    def rnea(self, q: Any, v: Any, a: Any) -> Any:
+        """Joint forces ``M(q) a + C(q, v) v + G(q)`` (nv x 1), like ``pin.rnea``."""
+        return self._rnea_fn(q, v, a)
+
+    def crba(self, q: Any) -> Any:
+        """Joint-space mass matrix M(q) (nv x nv), like ``pin.crba`` (full, symmetric)."""
+        return self._crba_fn(q)
+
+    def nonlinear_effects(self, q: Any, v: Any) -> Any:
+        """``C(q, v) v + G(q)``, like ``pin.nonLinearEffects``."""
+        return self._rnea_fn(q, v, ca.DM.zeros(self.nv, 1))
+
+    def gravity(self, q: Any) -> Any:
+        """Generalised gravity ``G(q)``, like ``pin.computeGeneralizedGravity``."""
+        return self._rnea_fn(q, ca.DM.zeros(self.nv, 1), ca.DM.zeros(self.nv, 1))
+
+    def functions(self, frame: str | int) -> dict[str, ca.Function]:
+        """Named compiled functions ``fk`` (q)->(p), ``jacobian`` (q)->(J), ``rnea``, ``crba``."""
+        q = self._sym[0]
+        return {
+            "fk": ca.Function("fk", [q], [self.frame_position(q, frame)], ["q"], ["p"]),
+            "jacobian": ca.Function("jacobian", [q], [self.frame_jacobian(q, frame)], ["q"], ["J"]),
+            "rnea": self._rnea_fn,
+            "crba": self._crba_fn,
+        }

@@ -1,0 +1,1 @@
+"""SCalf, the paper's hydraulic quadruped: its URDF generator (``description``)."""

@@ -1,0 +1,34 @@
+"""The numbers the SCalf paper reports, for side-by-side comparison in reports.
+
+Only results live here (Tables 5 and 6, Section 1); the model's inputs come from the URDF and the
+actuator file. Percentages are signed changes of the optimized trajectory against the reference.
+"""
+
+from __future__ import annotations
+
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.model.robot import Robot
+
+REFERENCE_AVERAGE_POWER_W = 671.52
+"""Table 6: average total leg power of the reference trajectory (simulation) [W]."""
+
+OPTIMIZED_AVERAGE_POWER_W = 617.68
+"""Table 6: average total leg power of the energy-efficient trajectory (simulation) [W]."""
+
+TABLE6_CHANGE_PERCENT: dict[str, dict[str, float]] = {
+    "RF": {"swing": -26.26, "cycle": -8.56},
+    "LH": {"swing": -22.98, "cycle": -7.46},
+    "total": {"total": -8.02},
+}
+"""Table 6: change of swing and whole-cycle energy per leg, and of the total energy [%]."""
+
+TABLE5_RF = {"C1": -33.76, "C2": 15.30, "iterations": 108}
+"""Table 5: the RF leg's pattern-search optimum (the LH values were lost in extraction)."""
+
+MIT_CHEETAH_COT = 0.51
+"""Section 1: cost of transport of the MIT Cheetah, for comparison."""
+
+
+def is_paper_setup(robot: Robot, gait: Gait) -> bool:
+    """SCalf on the paper's gait: the only setup whose numbers the paper's can be set beside."""
+    return robot.name == "scalf" and gait == Gait()

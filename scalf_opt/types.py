@@ -1,0 +1,67 @@
+"""Names shared by every layer: the modes as ``Literal`` types, leg names, the CasADi alias.
+
+Every mode a user can choose (space, phase, accounting, optimizer) is a ``Literal``; its allowed
+values are read from the type with :func:`choices`, so the command line, the file readers and the
+code agree on one list. :func:`check_choice` turns a wrong value into a one-line
+:class:`~scalf_opt.errors.ConfigError` that names the field.
+"""
+
+from __future__ import annotations
+
+from typing import Any, Literal, TypeAlias, get_args
+
+from scalf_opt.errors import ConfigError
+
+Expr: TypeAlias = Any
+"""A CasADi expression or value: SX, MX or DM (or a float where a formula accepts it).
+
+CasADi's type stubs treat SX, MX and DM as unrelated classes, while every formula in scalf-opt is
+written once for all three; the alias says so instead of a union that the stubs cannot follow."""
+
+LegName = Literal["RF", "LH", "LF", "RH"]
+"""Right/left, front/hind."""
+
+LEG_NAMES: tuple[str, ...] = get_args(LegName)
+"""The one leg order of every table, file and loop: the paper's diagonal pair RF + LH first (it
+starts the cycle in stance), then LF and RH, which repeat them half a cycle later."""
+
+Space = Literal["foot", "joint"]
+"""What a path's coordinates are: the foot ``(x, z)`` in the leg frame [m], or the joint angles
+``(hip pitch, knee)`` [rad]."""
+
+Phase = Literal["stance", "swing"]
+"""A leg's phase in the gait cycle (stance first)."""
+
+PHASES: tuple[Phase, ...] = get_args(Phase)
+
+Accounting = Literal["paper", "positive", "regenerative"]
+"""How signed joint power ``tau qd`` is charged: ``paper`` ``|tau qd|`` (decision 9, default),
+``positive`` ``max(tau qd, 0)``, ``regenerative`` ``tau qd``."""
+
+Method = Literal["pattern", "ipopt"]
+"""Swing optimizer: the paper's Hooke-Jeeves pattern search, or the Ipopt NLP."""
+
+JOINT_ROLES: tuple[str, str] = ("hip", "knee")
+"""The two joints of the sagittal leg, in vector order (hip pitch first)."""
+
+
+def choices(kind: Any) -> tuple[str, ...]:
+    """The allowed values of a ``Literal`` mode, e.g. ``choices(Accounting)``."""
+    return tuple(get_args(kind))
+
+
+def check_choice(value: object, kind: Any, field: str) -> str:
+    """Return ``value`` if it is one of ``kind``'s values, else raise a one-line error.
+
+    Args:
+        value: What the user gave.
+        kind: A ``Literal`` type (``Space``, ``Accounting``, ...).
+        field: Name of the field or option, for the message.
+
+    Raises:
+        ConfigError: ``value`` is not allowed; the message names ``field`` and the choices.
+    """
+    allowed = choices(kind)
+    if value not in allowed:
+        raise ConfigError(f"{field} = {value!r} is not one of {', '.join(allowed)}")
+    return str(value)

@@ -1,0 +1,69 @@
+"""SCalf's and HyQ's energies are pinned: the numbers the code gave before the layered
+restructuring (commit 55c854c, written to ``tests/data/pinned_energies.json`` by that code) must
+come out again to 1e-12 relative. A change of the physics shows up here first."""
+
+import json
+from dataclasses import replace
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.registry import make_family
+
+PINNED = json.loads((Path(__file__).parents[1] / "data" / "pinned_energies.json").read_text())
+RTOL = 1e-12  # the same formulas in the same order; only round-off may differ
+
+
+def check_legs(cycle, expected):
+    for leg, phases in expected.items():
+        got = cycle.legs[leg]
+        for key, result in (("stance", got.stance), ("swing", got.swing)):
+            np.testing.assert_allclose(result.energy_j, phases[key], rtol=RTOL)
+            np.testing.assert_allclose(result.loss_j, phases[f"{key}_heat"], rtol=RTOL)
+
+
+@pytest.mark.parametrize("accounting", ["paper", "positive", "regenerative"])
+def test_reference_energies(scalf, accounting):
+    cycle = EnergyPipeline(scalf, Gait(), accounting).robot_cycle(make_family("reference"))
+    check_legs(cycle, PINNED[f"scalf/reference/{accounting}"])
+
+
+@pytest.mark.parametrize("key", ["scalf/joint-4/random", "scalf/fourier-3/fixed"])
+def test_family_members(scalf, key):
+    family = make_family(key.split("/")[1])
+    case = PINNED[key]
+    thetas = {leg: np.array(v) for leg, v in case["thetas"].items()}
+    check_legs(EnergyPipeline(scalf, Gait()).robot_cycle(family, thetas), case["legs"])
+
+
+def test_paper_family_member(scalf):
+    thetas = {"RF": np.array([1.889, -11.746]), "LH": np.array([1.889, 11.746])}
+    cycle = EnergyPipeline(scalf, Gait()).robot_cycle(make_family("paper"), thetas)
+    check_legs(cycle, PINNED["scalf/paper/ipopt-like"])
+
+
+def test_another_gait(scalf):
+    case = PINNED["scalf/reference/gait2"]
+    gait = Gait(**case["gait"])
+    check_legs(EnergyPipeline(scalf, gait).robot_cycle(make_family("reference")), case["legs"])
+
+
+def test_hyq(hyq):
+    gait = replace(Gait(), stance_height_m=0.55)
+    cycle = EnergyPipeline(hyq, gait).robot_cycle(make_family("reference"))
+    check_legs(cycle, PINNED["hyq/reference"])
+
+
+def test_rf_samples(scalf):
+    cycle = EnergyPipeline(scalf, Gait()).robot_cycle(make_family("reference"))
+    for phase, expected in PINNED["scalf/reference/RF_samples"].items():
+        values = getattr(cycle.legs["RF"], phase).values
+        for key, rows in expected.items():
+            if key.startswith("cyl_") or key == "friction":
+                got = np.vstack([values[f"{key}_hip"], values[f"{key}_knee"]])
+            else:
+                got = values[key]
+            np.testing.assert_allclose(got, rows, rtol=RTOL, atol=RTOL * np.abs(rows).max())

@@ -1,0 +1,99 @@
+"""Gait validation, gait files, timing and the stance path of Table 3."""
+
+import numpy as np
+import pytest
+
+from scalf_opt.errors import ConfigError, GaitError
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.gait_file import read_gait
+from scalf_opt.locomotion.stance import stance_path, trunk_acceleration_m_s2
+from scalf_opt.locomotion.trot import support_legs
+
+
+def test_paper_defaults():
+    g = Gait()
+    assert (g.period_s, g.duty_cycle, g.step_length_m, g.clearance_m) == (0.5, 0.5, 0.25, 0.08)
+    assert (g.stance_height_m, g.sample_rate_hz, g.cycles) == (0.75, 200.0, 10)
+    assert g.speed_m_s == pytest.approx(1.0)  # Section 6.1: 1.0 m/s
+    assert g.stance_duration_s == g.swing_duration_s == 0.25
+    tau = g.phase_times_s("stance")
+    assert tau.size == 51 and tau[1] == pytest.approx(0.005)
+
+
+def test_stance_path_meets_table_3():
+    g = Gait()
+    p, pd, pdd = stance_path(g, np.array([0.0, g.stance_duration_s]))
+    s, t, z0 = g.step_length_m, g.period_s, g.stance_height_m
+    np.testing.assert_allclose(p[:, 0], [s / 2, -z0], rtol=1e-15)
+    np.testing.assert_allclose(p[:, 1], [-s / 2, -z0], rtol=1e-15)
+    np.testing.assert_allclose(pd[:, 0], [-2 * s / t, 0.0], rtol=1e-15)
+    np.testing.assert_allclose(pd[:, 1], [-2 * s / t, 0.0], rtol=1e-15)
+    assert np.all(pdd == 0.0)
+    assert np.all(trunk_acceleration_m_s2(g, np.linspace(0, 0.25, 7)) == 0.0)
+
+
+def test_stance_velocity_is_the_derivative_of_the_position():
+    g = Gait(step_length_m=0.3, period_s=0.6, duty_cycle=0.6)
+    tau = np.linspace(0.0, g.stance_duration_s, 11)
+    h = 1e-6
+    p_plus, p_minus = stance_path(g, tau + h)[0], stance_path(g, tau - h)[0]
+    np.testing.assert_allclose((p_plus - p_minus) / (2 * h), stance_path(g, tau)[1], atol=1e-8)
+
+
+@pytest.mark.parametrize(
+    ("field", "value", "match"),
+    [
+        ("period_s", 0.0, "period_s"),
+        ("period_s", -1.0, "period_s"),
+        ("step_length_m", float("nan"), "step_length_m"),
+        ("clearance_m", -0.1, "clearance_m"),
+        ("stance_height_m", 0.0, "stance_height_m"),
+        ("duty_cycle", 1.0, r"duty_cycle .* \[0.5, 1\)"),
+        ("duty_cycle", 0.0, "duty_cycle"),
+        ("duty_cycle", 0.4, "flight phase"),
+        ("sample_rate_hz", 0.0, "sample_rate_hz"),
+        ("sample_rate_hz", 10.0, "too low"),
+        ("cycles", 0, "cycles"),
+    ],
+)
+def test_impossible_gaits_name_the_field(field, value, match):
+    with pytest.raises(GaitError, match=match):
+        Gait(**{field: value})
+
+
+def test_gait_file_round_trip(tmp_path):
+    path = tmp_path / "gait.toml"
+    path.write_text("[gait]\nperiod_s = 0.6\nstep_length_m = 0.2\ncycles = 3\n")
+    g = read_gait(path)
+    assert (g.period_s, g.step_length_m, g.cycles, g.duty_cycle) == (0.6, 0.2, 3, 0.5)
+
+
+@pytest.mark.parametrize(
+    ("text", "error", "match"),
+    [
+        ("[gait]\nperiod = 0.5\n", ConfigError, "unknown gait field 'period'"),
+        ("[gait]\nperiod_s = 'fast'\n", ConfigError, "period_s must be a number"),
+        ("[gait]\ncycles = 2.5\n", ConfigError, "cycles must be an integer"),
+        ("[gait\nperiod_s = 1\n", ConfigError, "not valid TOML"),
+        ("[gait]\nclearance_m = -0.08\n", GaitError, "clearance_m"),
+    ],
+)
+def test_bad_gait_files_name_file_and_field(tmp_path, text, error, match):
+    path = tmp_path / "bad.toml"
+    path.write_text(text)
+    with pytest.raises(error, match=match) as info:
+        read_gait(path)
+    assert "bad.toml" in str(info.value)
+
+
+def test_missing_gait_file(tmp_path):
+    with pytest.raises(ConfigError, match=r"nope\.toml"):
+        read_gait(tmp_path / "nope.toml")
+
+
+def test_trot_support_sets():
+    g = Gait()
+    assert sorted(support_legs(g, 0.1, "RF")) == ["LH", "RF"]
+    assert sorted(support_legs(g, 0.25, "RF")) == ["LH", "RF"]  # LF touches down: carries 0
+    g2 = Gait(duty_cycle=0.6)
+    assert sorted(support_legs(g2, 0.28, "RF")) == ["LF", "LH", "RF", "RH"]

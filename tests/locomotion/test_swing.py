@@ -1,0 +1,143 @@
+"""Swing families: basis derivatives, boundary conditions of random members, nesting."""
+
+import numpy as np
+import pytest
+
+from scalf_opt.errors import ConfigError
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.boundary import foot_boundary, joint_boundary
+from scalf_opt.locomotion.swing.fourier import ELIMINATED_TERMS, FourierFamily, fourier_term
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.model.kinematics import LegKinematics
+
+GAIT = Gait()
+
+
+@pytest.fixture(scope="module")
+def kinematics(scalf):
+    return {leg: LegKinematics(scalf.leg(leg)) for leg in ("RF", "LH")}
+
+
+@pytest.mark.parametrize("kind", ["cos", "sin"])
+@pytest.mark.parametrize("order", [0, 1, 2, 3, 7])
+def test_basis_derivatives_against_finite_differences(kind, order):
+    s = np.linspace(0.05, 0.95, 19)
+    h = 1e-5
+    for d in (0, 1):
+        fd = (fourier_term(kind, order, s + h, d) - fourier_term(kind, order, s - h, d)) / (2 * h)
+        # central difference: truncation h^2 |f'''| / 6 <= h^2 (7 pi)^(d+3) / 6 ~ 1e-6 scale
+        scale = max(1.0, (order * np.pi) ** (d + 1))
+        np.testing.assert_allclose(fd, fourier_term(kind, order, s, d + 1), atol=1e-6 * scale)
+
+
+def end_residuals(path, theta, boundary):
+    y = path.values(theta)
+    return np.concatenate(
+        [
+            y[0][:, 0] - boundary.start,
+            y[0][:, -1] - boundary.end,
+            y[1][:, 0] - boundary.start_rate,
+            y[1][:, -1] - boundary.end_rate,
+        ]
+    )
+
+
+@pytest.mark.parametrize(
+    "name", ["reference", "paper", "fourier-2", "fourier-5", "fourier-12", "joint-3", "joint-8"]
+)
+@pytest.mark.parametrize("leg", ["RF", "LH"])
+def test_every_member_meets_the_boundary_conditions(kinematics, name, leg):
+    family = make_family(name)
+    kin = kinematics[leg]
+    boundary = joint_boundary(GAIT, kin) if family.space == "joint" else foot_boundary(GAIT)
+    path = family.path(GAIT, kin)
+    rng = np.random.default_rng(7)
+    for _ in range(50):
+        theta = rng.normal(0.0, 20.0, family.n_params)
+        residual = end_residuals(path, theta, boundary)
+        assert np.max(np.abs(residual)) < 1e-12 * max(1.0, np.abs(boundary.start_rate).max())
+
+
+def test_joint_boundary_is_the_stance_seen_through_ik(kinematics):
+    kin = kinematics["RF"]
+    b_joint, b_foot = joint_boundary(GAIT, kin), foot_boundary(GAIT)
+    np.testing.assert_allclose(kin.forward(b_joint.start), b_foot.start, atol=1e-12)
+    np.testing.assert_allclose(
+        kin.jacobian(b_joint.end) @ b_joint.end_rate, b_foot.end_rate, atol=1e-12
+    )
+
+
+def test_path_derivatives_are_consistent(kinematics):
+    gait = Gait(sample_rate_hz=20000)
+    for name in ("fourier-4", "joint-4"):
+        family = make_family(name)
+        theta = np.random.default_rng(3).normal(0, 5, family.n_params)
+        path = family.path(gait, kinematics["RF"])
+        y = path.values(theta)
+        dt = path.t_s[1] - path.t_s[0]
+        for d in (0, 1):
+            fd = np.gradient(y[d], dt, axis=1)[:, 2:-2]
+            np.testing.assert_allclose(fd, y[d + 1][:, 2:-2], atol=1e-4 * np.max(np.abs(y[d + 1])))
+
+
+def test_families_are_nested(kinematics):
+    kin = kinematics["LH"]
+    for poor_name, rich_name in (
+        ("fourier-3", "fourier-5"),
+        ("paper", "joint-3"),
+        ("joint-2", "joint-6"),
+    ):
+        poor, rich = make_family(poor_name), make_family(rich_name)
+        theta = np.random.default_rng(11).normal(0, 3, poor.n_params)
+        np.testing.assert_allclose(
+            rich.path(GAIT, kin).values(rich.embed(theta, poor)),
+            poor.path(GAIT, kin).values(theta),
+            atol=1e-13,
+        )
+    with pytest.raises(ConfigError, match="not nested"):
+        make_family("fourier-3").embed(np.zeros(2), make_family("paper"))
+
+
+def test_reference_spline_is_c2_through_the_apex():
+    path = make_family("reference").path(GAIT, None)
+    y = path.values()
+    mid = path.t_s.size // 2
+    assert y[0][1, mid] == pytest.approx(-GAIT.stance_height_m + GAIT.clearance_m, abs=1e-15)
+    assert y[0][0, mid] == pytest.approx(0.0, abs=1e-15)
+    assert abs(y[2][1, mid + 1] - y[2][1, mid - 1]) < 0.1 * np.max(np.abs(y[2][1]))
+    np.testing.assert_allclose(end_residuals(path, None, foot_boundary(GAIT)), 0.0, atol=1e-14)
+
+
+def test_family_names_and_sizes():
+    assert make_family("paper").n_params == 2
+    assert make_family("paper").parameter_names == ["hip_cos3", "knee_cos2"]
+    assert make_family("joint-2").n_params == 2
+    assert make_family("joint-3").n_params == 6
+    assert make_family("fourier-6").n_params == 18
+    for bad in ("fourier-1", "fourier-13", "spline", "joint-x"):
+        with pytest.raises(ConfigError, match="family"):
+            make_family(bad)
+    with pytest.raises(ConfigError, match="eliminated"):
+        FourierFamily("bad", "joint", ((ELIMINATED_TERMS[0],), ()))
+
+
+def test_swing_grid_has_a_mid_sample():
+    for rate in (200, 210, 333):
+        tau = Gait(sample_rate_hz=rate).phase_times_s("swing")
+        assert (tau.size - 1) % 2 == 0
+        assert tau[(tau.size - 1) // 2] == pytest.approx(GAIT.swing_duration_s / 2)
+
+
+def test_reference_spline_equals_scipy_clamped_cubic_spline():
+    from scipy.interpolate import CubicSpline
+
+    from scalf_opt.locomotion.swing.reference import clamped_spline
+
+    rng = np.random.default_rng(5)
+    for _ in range(20):
+        y, slopes, h = rng.normal(size=3), rng.normal(size=2), rng.uniform(0.05, 0.5)
+        t = np.linspace(0.0, 2 * h, 41)
+        ours = clamped_spline(tuple(y), tuple(slopes), h, t)
+        spline = CubicSpline([0, h, 2 * h], y, bc_type=((1, slopes[0]), (1, slopes[1])))
+        for d in range(3):
+            np.testing.assert_allclose(ours[d], spline(t, d), rtol=1e-12, atol=1e-12 / h**d)

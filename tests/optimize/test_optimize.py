@@ -1,0 +1,183 @@
+"""Swing optimization: pattern search against Ipopt, nesting, constraints, failures, goals."""
+
+import itertools
+
+import numpy as np
+import pytest
+
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.optimize.nlp import build_nlp
+from scalf_opt.optimize.pattern_search import PatternSearchOptions
+from scalf_opt.optimize.problem import HEAT_SMOOTHING_EPS_M_S, SwingProblem
+from scalf_opt.optimize.solve import run_ipopt, run_pattern_search
+
+# The NLP smooths max(v, 0) by at most eps/2: heat rate error <= F_s eps / 2 per cylinder, so
+# over a 0.25 s swing and two cylinders the smooth and exact energies differ by at most:
+SMOOTHING_BOUND_J = 2 * 50.0 * HEAT_SMOOTHING_EPS_M_S / 2 * 0.25
+
+
+@pytest.fixture(scope="module")
+def model(scalf):
+    return EnergyPipeline(scalf, Gait())
+
+
+@pytest.fixture(scope="module")
+def reference(model):
+    return model.robot_cycle(make_family("reference"), legs=("RF", "LH"))
+
+
+@pytest.fixture(scope="module")
+def paper_optima(model):
+    out = {}
+    for leg in ("RF", "LH"):
+        problem = SwingProblem(model, leg, make_family("paper"))
+        out[leg] = {
+            "coarse": run_pattern_search(problem),
+            "fine": run_pattern_search(problem, options=PatternSearchOptions(precision=1e-4)),
+            "ipopt": run_ipopt(problem),
+        }
+    return out
+
+
+@pytest.mark.parametrize("leg", ["RF", "LH"])
+def test_pattern_search_agrees_with_ipopt(paper_optima, leg):
+    runs = paper_optima[leg]
+    assert all(run.success for run in runs.values())
+    nlp = runs["ipopt"].swing_energy_j
+    assert abs(runs["fine"].swing_energy_j - nlp) <= 1e-3 * nlp  # the issue's 0.1 %
+    # the pattern search cannot beat the NLP optimum by more than the smoothing error
+    assert runs["fine"].swing_energy_j >= nlp - SMOOTHING_BOUND_J
+    assert runs["coarse"].swing_energy_j >= runs["fine"].swing_energy_j - SMOOTHING_BOUND_J
+    np.testing.assert_allclose(runs["fine"].theta, runs["ipopt"].theta, atol=5e-3)
+
+
+@pytest.mark.parametrize("leg", ["RF", "LH"])
+def test_paper_family_beats_the_reference(paper_optima, reference, leg):
+    assert paper_optima[leg]["ipopt"].swing_energy_j < reference.legs[leg].swing_energy_j
+    assert paper_optima[leg]["coarse"].swing_energy_j < reference.legs[leg].swing_energy_j
+
+
+def test_pattern_search_records_its_history(paper_optima):
+    run = paper_optima["RF"]["coarse"]
+    energies = [row[-1] for row in run.history]
+    assert len(run.history[0]) == 2 + 2  # iteration, C1, C2, energy
+    assert all(b < a for a, b in itertools.pairwise(energies))
+    assert run.history[-1][-1] == pytest.approx(run.swing_energy_j)
+    # (0, 0) is infeasible: the feasibility phase ran, and infeasible points were counted
+    assert run.stats["feasibility_phase_iterations"] > 0
+    assert run.infeasible.get("mid-swing clearance", 0) > 0
+
+
+def test_richer_nested_families_never_do_worse(model):
+    for leg in ("RF", "LH"):
+        previous = None
+        chain = ("paper", "joint-3", "joint-4", "joint-5")
+        for poor_name, rich_name in itertools.pairwise(chain):
+            poor, rich = make_family(poor_name), make_family(rich_name)
+            if previous is None:
+                previous = run_ipopt(SwingProblem(model, leg, poor))
+            warm = rich.embed(previous.theta, poor)
+            richer = run_ipopt(SwingProblem(model, leg, rich), warm)
+            assert richer.success
+            assert richer.swing_energy_j <= previous.swing_energy_j + SMOOTHING_BOUND_J
+            previous = richer
+
+
+def test_foot_space_families_are_nested_too(model):
+    poor = run_ipopt(SwingProblem(model, "RF", make_family("fourier-3")))
+    rich_family = make_family("fourier-4")
+    rich = run_ipopt(
+        SwingProblem(model, "RF", rich_family),
+        rich_family.embed(poor.theta, make_family("fourier-3")),
+    )
+    assert poor.success and rich.success
+    assert rich.swing_energy_j <= poor.swing_energy_j + SMOOTHING_BOUND_J
+
+
+@pytest.mark.parametrize("leg", ["RF", "LH"])
+def test_richest_default_family_cuts_swing_energy_by_30_percent(model, reference, leg):
+    problem = SwingProblem(model, leg, make_family(DEFAULT_FAMILY))
+    optimum = run_ipopt(problem)
+    assert optimum.success
+    assert optimum.swing_energy_j <= 0.7 * reference.legs[leg].swing_energy_j
+    # and every constraint holds at the answer, checked on the raw samples
+    energy, q, foot, _, *lengths = (np.array(v) for v in problem.exact_function(optimum.theta))
+    lo, hi = problem.joint_bounds
+    assert np.all(q >= lo - 1e-9) and np.all(q <= hi + 1e-9)
+    assert np.all(foot[1] >= problem.ground_z_m - 1e-9)
+    assert foot[1, problem.mid_index] >= problem.clearance_z_m - 1e-9
+    assert list(problem.output_bounds) == ["cyl_len_hip", "cyl_len_knee"]
+    for (l_lo, l_hi), cyl_len in zip(problem.output_bounds.values(), lengths, strict=True):
+        assert np.all(cyl_len >= l_lo - 1e-9) and np.all(cyl_len <= l_hi + 1e-9)
+    assert float(energy.item()) == pytest.approx(optimum.swing_energy_j)
+
+
+def test_nlp_objective_equals_exact_energy_at_the_optimum(model, paper_optima):
+    # slack pairs make sum(s+ + s-) equal |tau qd| at an optimum; only the heat is smoothed
+    run = paper_optima["RF"]["ipopt"]
+    assert abs(run.stats["smooth_objective_j"] - run.swing_energy_j) <= SMOOTHING_BOUND_J
+
+
+def test_nlp_gradient_against_finite_differences(model):
+    import casadi as ca
+
+    problem = SwingProblem(model, "RF", make_family("joint-3"))
+    theta = ca.SX.sym("theta", problem.n_params)
+    graph = problem.graph(theta, HEAT_SMOOTHING_EPS_M_S)
+    weights = ca.DM(np.tile(problem.weights, (2, 1)))
+    energy = ca.sum1(ca.sum2(graph["power"] * weights))
+    fn = ca.Function("e", [theta], [energy, ca.gradient(energy, theta)])
+    point = np.array([2.0, 20.0, -5.0, -10.0, 3.0, 4.0])
+    _, grad = fn(point)
+    h = 1e-6  # central differences: truncation ~h^2 |E'''|, round-off ~1e-16 E / h: 1e-6 relative
+    fd = [
+        (float(fn(point + h * e)[0]) - float(fn(point - h * e)[0])) / (2 * h)
+        for e in np.eye(problem.n_params)
+    ]
+    np.testing.assert_allclose(np.array(grad).ravel(), fd, rtol=1e-5, atol=1e-6)
+
+
+def test_an_unsolved_nlp_is_reported_not_presented(model):
+    problem = SwingProblem(model, "RF", make_family("joint-4"))
+    result = run_ipopt(problem, ipopt_options={"max_iter": 2})
+    assert not result.success
+    assert "Maximum_Iterations_Exceeded" in result.status
+    assert result.stats["iter_count"] == 2
+
+
+def test_build_nlp_has_the_constraints(model):
+    problem = SwingProblem(model, "LH", make_family("paper"))
+    build = build_nlp(problem)
+    n = problem.path.t_s.size
+    # slack equalities 2n, joint limits 2n, stroke 2n, ground n-2, clearance 1
+    assert build.lbg.size == 2 * n + 2 * n + 2 * n + (n - 2) + 1
+    assert build.lbx.size == 2 + 4 * n
+
+
+def test_feasible_points_have_zero_violation(paper_optima, model):
+    problem = SwingProblem(model, "RF", make_family("paper"))
+    optimum = paper_optima["RF"]["ipopt"]
+    assert problem.evaluate(optimum.theta).violation == 0.0
+    start = problem.evaluate(np.zeros(2))
+    assert start.reason is not None and start.violation > 0  # (0, 0) is infeasible
+
+
+def test_pattern_search_on_another_robot(hyq):
+    gait = Gait(stance_height_m=hyq.nominal_stance_height_m)
+    hyq_model = EnergyPipeline(hyq, gait)
+    reference = hyq_model.robot_cycle(make_family("reference"), legs=("RF", "LH"))
+    for leg in ("RF", "LH"):
+        optimum = run_pattern_search(SwingProblem(hyq_model, leg, make_family("paper")))
+        assert optimum.success, optimum.status
+        assert optimum.swing_energy_j < reference.legs[leg].swing_energy_j
+
+
+def test_pattern_search_reports_when_nothing_is_feasible(scalf):
+    # 0.7 m of clearance under a hip 0.75 m high would fold the knee beyond its limit
+    impossible = EnergyPipeline(scalf, Gait(clearance_m=0.7))
+    result = run_pattern_search(SwingProblem(impossible, "RF", make_family("paper")))
+    assert not result.success
+    assert result.status == "no feasible point found"
