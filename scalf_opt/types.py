@@ -25,6 +25,9 @@ LEG_NAMES: tuple[str, ...] = get_args(LegName)
 """The one leg order of every table, file and loop: the paper's diagonal pair RF + LH first (it
 starts the cycle in stance), then LF and RH, which repeat them half a cycle later."""
 
+FIRST_PAIR: tuple[str, ...] = LEG_NAMES[:2]
+"""The diagonal pair in stance first (RF, LH): the legs the paper reports."""
+
 Space = Literal["foot", "joint"]
 """What a path's coordinates are: the foot ``(x, z)`` in the leg frame [m], or the joint angles
 ``(hip pitch, knee)`` [rad]."""

@@ -9,7 +9,8 @@ import numpy as np
 from scalf_opt.energy.phase import PhaseResult
 from scalf_opt.locomotion.forces import GRAVITY_M_S2
 from scalf_opt.locomotion.gait import Gait
-from scalf_opt.types import Accounting
+from scalf_opt.locomotion.trot import SYMMETRIC_TWIN
+from scalf_opt.types import FIRST_PAIR, Accounting
 
 
 def change_percent(new: float, reference: float) -> float:
@@ -92,7 +93,7 @@ class RobotCycle:
         """Largest relative difference of LF vs RF and RH vs LH cycle energy (paper: 0)."""
         errs = [
             abs(self.legs[a].energy_j - self.legs[b].energy_j) / abs(self.legs[b].energy_j)
-            for a, b in (("LF", "RF"), ("RH", "LH"))
-            if a in self.legs and b in self.legs
+            for b in FIRST_PAIR
+            if (a := SYMMETRIC_TWIN[b]) in self.legs and b in self.legs
         ]
         return max(errs, default=0.0)

@@ -18,7 +18,7 @@ from scalf_opt.energy.codegen import compile_function
 from scalf_opt.energy.physics import trapezoid_weights
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.swing.family import SwingFamily
-from scalf_opt.types import PHASES, Space
+from scalf_opt.types import FIRST_PAIR, PHASES, Space
 
 ROWS_PER_SAMPLE = 8  # y (2), yd (2), ydd (2), ground force (2)
 
@@ -36,7 +36,7 @@ class CycleEvaluator:
     def __init__(
         self,
         pipeline: EnergyPipeline,
-        legs: tuple[str, ...] = ("RF", "LH"),
+        legs: tuple[str, ...] = FIRST_PAIR,
         swing_space: Space = "foot",
         compiled: bool = True,
     ) -> None:

@@ -24,11 +24,12 @@ from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import SwingOptimum, run_ipopt, run_pattern_search
+from scalf_opt.types import FIRST_PAIR
 
 FINE_PRECISION = 1e-4
 """Pattern-search precision of the validation run."""
 
-PAIR = ("RF", "LH")
+PAIR = FIRST_PAIR
 
 RUNS: dict[str, tuple[str, str]] = {
     "pattern": ("paper", "pattern search, paper family (precision 0.1)"),

@@ -9,13 +9,13 @@ from pathlib import Path
 from scalf_opt.cli.options import add_gait, add_robot, load_gait, load_robot
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
-from scalf_opt.types import LEG_NAMES, Method, choices
+from scalf_opt.types import FIRST_PAIR, LEG_NAMES, Method, choices
 
 NAME = "optimize"
 HELP = "optimize the swing of one or more legs"
 
 LEG_CHOICES: dict[str, tuple[str, ...]] = {
-    "pair": ("RF", "LH"),
+    "pair": FIRST_PAIR,
     "all": LEG_NAMES,
     **{leg: (leg,) for leg in LEG_NAMES},
 }

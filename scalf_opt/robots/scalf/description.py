@@ -66,8 +66,6 @@ VELOCITY_LIMIT_RAD_S = 10.0  # chosen: not given
 FORCE_SENSOR_RANGE_N = 14000.0  # Section 2: force sensor range 0 to 14,000 N
 EFFORT_ROUNDING_NM = 10.0  # effort limits are rounded up to a multiple of this
 
-LEGS = ("RF", "LF", "RH", "LH")
-
 
 @dataclass(frozen=True)
 class LegSide:
@@ -78,6 +76,8 @@ class LegSide:
 
 
 SIDES = {"RF": LegSide(1, -1), "LF": LegSide(1, 1), "RH": LegSide(-1, -1), "LH": LegSide(-1, 1)}
+LEGS = tuple(SIDES)
+"""The legs in the URDF's order."""
 
 
 def _f(x: float) -> str:
