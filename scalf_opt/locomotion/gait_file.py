@@ -49,4 +49,4 @@ def read_gait(path: str | Path, base: Gait | None = None) -> Gait:
     try:
         return replace(base or Gait(), **values)  # type: ignore[arg-type]
     except GaitError as exc:
-        raise GaitError(f"{path}: {exc}") from exc
+        raise GaitError(f"{path}: {exc}", field=exc.field) from exc
