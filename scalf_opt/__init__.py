@@ -19,19 +19,7 @@ from typing import TYPE_CHECKING, Any
 
 __version__ = "0.1.0"
 
-_API = (
-    "EvaluationResult",
-    "Gait",
-    "OptimizationResult",
-    "PaperResult",
-    "evaluate",
-    "load_robot",
-    "optimize_swing",
-    "paper",
-    "read_gait",
-)
-
-__all__ = [  # noqa: RUF022 (the version first, then the API as in _API)
+__all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "__version__",
     "EvaluationResult",
     "Gait",
@@ -59,7 +47,7 @@ if TYPE_CHECKING:
 
 
 def __getattr__(name: str) -> Any:
-    if name in _API:
+    if name in __all__:
         from scalf_opt import api
 
         return getattr(api, name)
