@@ -41,6 +41,9 @@ class SwingOptimum:
         evaluations: Objective evaluations (pattern search) or 0 (Ipopt).
         wall_time_s: Time spent [s].
         history: Pattern search: rows (iteration, *theta, energy) of accepted points.
+        feasibility_history: Pattern search from an infeasible start: rows (iteration, *theta,
+            total constraint violation) of the feasibility phase's accepted points (empty when
+            the start is feasible).
         infeasible: Pattern search: count of infeasible evaluations per reason.
         stats: Solver statistics (Ipopt's, as returned by CasADi).
     """
@@ -58,6 +61,7 @@ class SwingOptimum:
     evaluations: int
     wall_time_s: float
     history: list[tuple[float, ...]] = field(default_factory=list)
+    feasibility_history: list[tuple[float, ...]] = field(default_factory=list)
     infeasible: dict[str, int] = field(default_factory=dict)
     stats: dict[str, Any] = field(default_factory=dict)
 
@@ -153,6 +157,7 @@ def _pattern_optimum(
         evaluations=result.evaluations,
         wall_time_s=elapsed,
         history=list(result.history),
+        feasibility_history=list(phase1.history) if phase1 is not None else [],
         infeasible=dict(result.infeasible),
         stats={"feasibility_phase_iterations": phase1.iterations if phase1 else 0},
     )
