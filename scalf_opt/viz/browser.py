@@ -38,6 +38,7 @@ CHROMIUM_FLAGS = (
     "--disable-background-networking",
     "--disable-component-update",
     "--disable-sync",
+    "--host-resolver-rules=MAP * ~NOTFOUND",  # no name resolves: the page must need no network
     "--enable-logging=stderr",
     "--v=0",
 )

@@ -53,8 +53,8 @@ def legend_html(scene: Scene) -> str:
     """The legend: title, one row per trajectory, the power scale, how to use the view."""
     rows = [f"<div class='title'>{html.escape(scene.title)}</div>"]
     rows.append(
-        "<div class='note'>robots from front to back; foot paths of all four legs over "
-        f"{scene.n_cycles} gait cycles</div>"
+        "<div class='note'>robots from front to back, each on a strip of its colour; foot "
+        f"paths of all four legs over {scene.n_cycles} gait cycles</div>"
     )
     for entry in scene.legend:
         swing = ", ".join(f"{leg} {e:.2f}" for leg, e in entry.swing_energy_j.items())

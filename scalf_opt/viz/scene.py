@@ -183,6 +183,7 @@ def build_scene(
         color = trajectory_color(index)
         prefix = ("trajectories", f"{index}")
         _send_robot(out, prefix, visuals)
+        _send_lane(out, prefix, walk, color, spacing)
         radius = tube_radius_m(gait.stance_height_m)
         for leg, foot in feet.items():
             if opts.color_by == "power":
@@ -301,6 +302,22 @@ def _send_ground(out: _Commands, walks: Sequence[Walk], robot: Robot) -> None:
     out.send(SetTransform(_translation(center), path_of("ground")))
 
 
+def _send_lane(
+    out: _Commands, prefix: tuple[str, ...], walk: Walk, color: str, spacing: float
+) -> None:
+    """A strip of the trajectory's colour on the ground along the robot's walk (its label)."""
+    length = walk.cycle.gait.distance_per_cycle_m * walk.n_cycles
+    width, thickness = 0.12 * spacing, 0.001
+    rgb = hex_rgb(color)
+    material = mg.MeshLambertMaterial(
+        color=(round(rgb[0] * 255) << 16) | (round(rgb[1] * 255) << 8) | round(rgb[2] * 255),
+        opacity=0.6,
+    )
+    lane = path_of(*prefix, "lane")
+    out.send(SetObject(out.mesh(mg.Box([length, width, thickness]), material), path=lane))
+    out.send(SetTransform(_translation([length / 2.0, walk.lateral_offset_m, -0.0009]), lane))
+
+
 def _send_robot(out: _Commands, prefix: tuple[str, ...], visuals: Sequence[Visual]) -> None:
     """Every visual of one robot; its node is animated, its ``shape`` child fixes the axes."""
     for visual in visuals:
@@ -376,7 +393,7 @@ def _send_animation(
 
 
 def _send_camera(out: _Commands, walks: Sequence[Walk], robot: Robot) -> None:
-    """Look at the middle of the foot paths from the robots' right, a little ahead and above.
+    """Look at the middle of the foot paths from ahead on the right, above: every robot in sight.
 
     The scene is shifted so that its middle is at the origin, where the camera looks.
     """
@@ -387,8 +404,8 @@ def _send_camera(out: _Commands, walks: Sequence[Walk], robot: Robot) -> None:
     center = np.array([x_end / 2.0, y_max / 2.0, 0.45 * height])
     # what must fit: every foot path along x, every robot along y, a standing robot along z
     span = max(x_end + 2.0 * hip_x, y_max + lateral_spacing_m(robot), 2.5 * height)
-    direction = np.array([0.2, -1.0, 0.42])
-    offset = 1.0 * span * direction / np.linalg.norm(direction)
+    direction = np.array([0.6, -1.0, 0.55])
+    offset = 0.9 * span * direction / np.linalg.norm(direction)
     # the viewer's orbit controls turn about the origin: move the scene so that its middle is there
     out.send(SetTransform(_translation(-center), path_of()))
     # the camera node is rotated so that three.js's y-up is the world's z-up: (x, z, -y)
