@@ -23,14 +23,15 @@ from matplotlib.figure import Figure
 
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
+from scalf_opt.locomotion.gait import Gait, default_gait
 from scalf_opt.model.robot import Robot
-from scalf_opt.types import FIRST_PAIR
+from scalf_opt.types import FIRST_PAIR, Accounting
 from scalf_opt.viz.cycle_figures import foot_force_figure, joint_figure
 from scalf_opt.viz.energy_figure import energy_bars_figure
 from scalf_opt.viz.plotting import FORMATS, close, save_figure
 from scalf_opt.viz.search_figure import GRID_POINTS, search_figure, search_study
 from scalf_opt.viz.stick_figure import foot_path_figure, leg_snapshot_figure
-from scalf_opt.viz.trajectories import Trajectory
+from scalf_opt.viz.trajectories import Trajectory, shown_trajectories
 
 FIGURE_NAMES = (
     "joint_angles",
@@ -107,3 +108,41 @@ def write_figures(
         finally:
             close(fig)
     return written
+
+
+def figures(
+    out: str | Path = "figures",
+    robot: str | Robot = "scalf",
+    from_dirs: Sequence[str | Path] = (),
+    gait: Gait | None = None,
+    accounting: Accounting = "paper",
+    formats: Sequence[str] = FORMATS,
+    grid_points: int = GRID_POINTS,
+) -> tuple[list[Path], list[Trajectory]]:
+    """Compute what to compare and write every figure; return the files and the trajectories.
+
+    >>> from scalf_opt.viz.figure_set import figures
+    >>> files, shown = figures("figures", robot="hyq")
+
+    Args:
+        out: Output directory.
+        robot: A catalog name (``scalf``, ``hyq``, ``solo12``) or a loaded robot.
+        from_dirs: Result directories of ``scalf-opt optimize --out``; none: the reference and
+            the default optimum (``joint-6``, Ipopt).
+        gait: The gait without ``from_dirs`` (default: the robot's).
+        accounting: Power accounting without ``from_dirs``.
+        formats: File formats.
+        grid_points: Landscape points per parameter.
+
+    Raises:
+        ConfigError: Bad arguments, or a gait together with result directories.
+        NotSolvedError: The default optimum did not converge (nothing is written).
+    """
+    from scalf_opt.robots.loading import load_robot
+
+    if gait is not None and from_dirs:
+        raise ConfigError("give a gait or result directories (which bring their own), not both")
+    loaded = load_robot(robot) if isinstance(robot, str) else robot
+    base = gait or default_gait(loaded.nominal_stance_height_m)
+    pipeline, shown = shown_trajectories(loaded, base, from_dirs, accounting)
+    return write_figures(out, loaded, pipeline, shown, formats, grid_points), shown

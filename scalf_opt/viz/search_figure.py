@@ -250,7 +250,7 @@ def _iteration_panel(ax: Axes, search: LegSearch, leg: str) -> None:
     ax.yaxis.set_major_locator(LogLocator(base=10.0, subs=(1.0, 2.0, 3.0, 5.0)))
     ax.yaxis.set_major_formatter(FormatStrFormatter("%g"))
     ax.yaxis.set_minor_formatter(NullFormatter())
-    ax.set_xlabel("iteration")
+    ax.set_xlabel("iteration [count]")
     ax.set_ylabel("swing energy [J]")
     gap = 100.0 * (pattern.swing_energy_j - search.ipopt.swing_energy_j)
     gap /= search.ipopt.swing_energy_j

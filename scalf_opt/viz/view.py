@@ -68,6 +68,10 @@ def view(
         gait: The gait without ``from_dirs`` (default: the robot's).
         accounting: Power accounting without ``from_dirs``.
         options: Scene options (cycles, frame rate, colouring, playback speed).
+
+    Raises:
+        ConfigError: Bad arguments, or a gait together with result directories.
+        NotSolvedError: The default optimum did not converge (nothing is written).
     """
     from scalf_opt.robots.loading import load_robot
 
