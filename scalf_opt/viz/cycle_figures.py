@@ -93,7 +93,7 @@ def _energy_notes(ax: Axes, trajectories: Sequence[Trajectory], leg: str, row: i
         ax.text(
             0.02,
             0.96 - 0.09 * index,
-            f"{energy:.1f} J per cycle",
+            f"{energy:.4g} J per cycle",
             transform=ax.transAxes,
             ha="left",
             va="top",
@@ -138,7 +138,7 @@ def foot_force_figure(
         half = 0.5 * trunk_mass_kg * GRAVITY_M_S2
         ax_z.axhline(half, color="#555555", ls=":", lw=1)
         ax_z.annotate(
-            f"half the trunk's weight, {half:.0f} N",
+            f"half the trunk's weight, {half:.4g} N",
             (0.01, half),
             xycoords=("axes fraction", "data"),
             xytext=(0, 3),

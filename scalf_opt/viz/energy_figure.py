@@ -67,10 +67,10 @@ def energy_bars_figure(trajectories: Sequence[Trajectory]) -> Figure:
                             )
                         bottom += energy
                 ax.text(
-                    x, bottom + 0.01 * top, f"{bottom:.1f}", ha="center", va="bottom", fontsize=7
+                    x, bottom + 0.01 * top, f"{bottom:.4g}", ha="center", va="bottom", fontsize=7
                 )
             total = trajectory.cycle.energy_j
-            note = f"{total:.1f} J per cycle"
+            note = f"{total:.4g} J per cycle"
             if group > 0:
                 note += f"\n{change_percent(total, reference):+.1f} %"
             ax.text(

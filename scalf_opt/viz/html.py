@@ -57,20 +57,20 @@ def legend_html(scene: Scene) -> str:
         f"paths of all four legs over {scene.n_cycles} gait cycles</div>"
     )
     for entry in scene.legend:
-        swing = ", ".join(f"{leg} {e:.2f}" for leg, e in entry.swing_energy_j.items())
+        swing = ", ".join(f"{leg} {e:.4g}" for leg, e in entry.swing_energy_j.items())
         rows.append(
             "<div class='row'>"
             f"<span class='swatch' style='background:{entry.color}'></span>"
             f"<span class='label'>{html.escape(entry.label)}</span>"
-            f"<div class='numbers'>{entry.energy_j:.1f} J per cycle, "
-            f"{entry.average_power_w:.1f} W; swing [J]: {swing}</div></div>"
+            f"<div class='numbers'>{entry.energy_j:.4g} J per cycle, "
+            f"{entry.average_power_w:.4g} W; swing [J]: {swing}</div></div>"
         )
     if scene.color_by == "power":
         lo, hi = scene.power_range_w
         rows.append(
             "<div class='row'>leg power along the swing paths (hip + knee, losses included)"
             f"<div class='scale' style='background:{_css_gradient()}'></div>"
-            f"<div class='ends'><span>{lo:.0f} W</span><span>{hi:.0f} W</span></div></div>"
+            f"<div class='ends'><span>{lo:.3g} W</span><span>{hi:.3g} W</span></div></div>"
         )
     speed = "real time" if scene.playback_speed == 1.0 else f"{scene.playback_speed:g} x real time"
     rows.append(

@@ -255,7 +255,7 @@ def _iteration_panel(ax: Axes, search: LegSearch, leg: str) -> None:
     gap = 100.0 * (pattern.swing_energy_j - search.ipopt.swing_energy_j)
     gap /= search.ipopt.swing_energy_j
     ax.set_title(
-        f"{leg}: {pattern.swing_energy_j:.3f} J in {pattern.iterations} iterations, "
+        f"{leg}: {pattern.swing_energy_j:.4g} J in {pattern.iterations} iterations, "
         f"{gap:+.2f} % vs Ipopt",
         fontsize=8,
         loc="left",

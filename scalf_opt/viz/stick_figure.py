@@ -77,7 +77,7 @@ def foot_path_figure(
                     swing[1] + ground,
                     color=trajectory_color(index),
                     lw=1.8,
-                    label=f"{trajectory.label}: swing {leg_cycle.swing_energy_j:.2f} J",
+                    label=f"{trajectory.label}: swing {leg_cycle.swing_energy_j:.4g} J",
                 )
                 peak = int(np.argmax(swing[1]))
                 ax.plot(
@@ -107,7 +107,7 @@ def foot_path_figure(
                 "|",
                 color="#555555",
                 ms=9,
-                label=f"H = {1000 * gait.clearance_m:.0f} mm, required at mid-swing",
+                label=f"H = {1000 * gait.clearance_m:.4g} mm, required at mid-swing",
             )
             for trajectory in trajectories:
                 foot = trajectory.cycle.legs[leg].swing.values["foot"]
