@@ -175,3 +175,11 @@ def test_cli_view_default_and_bad_input(tmp_path, gait_file, saved_dir, capsys):
         err = capsys.readouterr().err
         assert code == 2, argv
         assert message in err and len(err.strip().splitlines()) == 1, err
+
+
+def test_screenshot_without_chromium_fails_before_any_work(tmp_path, monkeypatch, capsys):
+    monkeypatch.setenv("SCALF_OPT_CHROMIUM", "no-such-browser")
+    out = tmp_path / "scene.html"
+    code = main(["view", "--out", str(out), "--screenshot", str(tmp_path / "shot.png")])
+    err = capsys.readouterr().err
+    assert code == 2 and "--screenshot needs Chromium" in err and not out.exists()

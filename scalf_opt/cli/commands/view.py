@@ -60,7 +60,14 @@ def run(args: argparse.Namespace) -> int:
 
     out = check_output_file(args.out, ".html")
     if args.screenshot is not None:
+        from scalf_opt.viz.browser import find_chromium
+
         check_output_file(args.screenshot, ".png")
+        if find_chromium() is None:  # before any work, not after it
+            raise ConfigError(
+                "--screenshot needs Chromium (install the 'chromium' package, or set "
+                "SCALF_OPT_CHROMIUM)"
+            )
     options = SceneOptions(
         n_cycles=args.cycles, color_by=args.color_by, playback_speed=args.playback_speed
     )
