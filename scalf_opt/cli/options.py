@@ -96,6 +96,21 @@ def load_gait(args: argparse.Namespace, robot: Robot) -> Gait:
         raise
 
 
+def refuse_gait_with_saved(args: argparse.Namespace) -> None:
+    """A result directory (``--from``) brings its own gait: refuse gait options beside it.
+
+    Raises:
+        ConfigError: ``--from`` with ``--gait`` or a gait option; the message names it.
+    """
+    if not getattr(args, "from_dirs", None):
+        return
+    given = [GAIT_OPTIONS[f][0] for f in gait_overrides(args)]
+    if args.gait is not None:
+        given.insert(0, "--gait")
+    if given:
+        raise ConfigError(f"{given[0]} and --from: a result directory brings its own gait")
+
+
 def check_output_dir(path: Path | None, option: str = "--out") -> None:
     """Refuse, before any work, an output directory that cannot be written.
 

@@ -41,8 +41,10 @@ class SwingOptimum:
         evaluations: Objective evaluations (pattern search) or 0 (Ipopt).
         wall_time_s: Time spent [s].
         history: Pattern search: rows (iteration, *theta, energy) of accepted points; in
-            :meth:`as_dict` records with named parameters (an infeasible point's energy, during
-            the feasibility phase, is ``inf``, written as null).
+            :meth:`as_dict` records with named parameters.
+        feasibility_history: Pattern search from an infeasible start: rows (iteration, *theta,
+            total constraint violation) of the feasibility phase's accepted points (empty when
+            the start is feasible); in :meth:`as_dict` records like ``history``.
         infeasible: Pattern search: count of infeasible evaluations per reason.
         stats: Solver statistics (Ipopt's, as returned by CasADi).
     """
@@ -60,8 +62,20 @@ class SwingOptimum:
     evaluations: int
     wall_time_s: float
     history: list[tuple[float, ...]] = field(default_factory=list)
+    feasibility_history: list[tuple[float, ...]] = field(default_factory=list)
     infeasible: dict[str, int] = field(default_factory=dict)
     stats: dict[str, Any] = field(default_factory=dict)
+
+    def _records(self, rows: list[tuple[float, ...]], value: str) -> list[dict[str, Any]]:
+        """History rows ``(iteration, *theta, value)`` as records with named parameters."""
+        return [
+            {
+                "iteration": int(row[0]),
+                "parameters": dict(zip(self.parameter_names, map(float, row[1:-1]), strict=True)),
+                value: float(row[-1]),
+            }
+            for row in rows
+        ]
 
     def as_dict(self) -> dict[str, Any]:
         """Plain-data form for JSON."""
@@ -79,16 +93,8 @@ class SwingOptimum:
             "wall_time_s": self.wall_time_s,
             "infeasible_evaluations": dict(self.infeasible),
             "solver_stats": self.stats,
-            "history": [
-                {
-                    "iteration": int(row[0]),
-                    "parameters": dict(
-                        zip(self.parameter_names, map(float, row[1:-1]), strict=True)
-                    ),
-                    "swing_energy_j": float(row[-1]),
-                }
-                for row in self.history
-            ],
+            "history": self._records(self.history, "swing_energy_j"),
+            "feasibility_history": self._records(self.feasibility_history, "violation"),
         }
 
 
@@ -165,6 +171,7 @@ def _pattern_optimum(
         evaluations=result.evaluations,
         wall_time_s=elapsed,
         history=list(result.history),
+        feasibility_history=list(phase1.history) if phase1 is not None else [],
         infeasible=dict(result.infeasible),
         stats={"feasibility_phase_iterations": phase1.iterations if phase1 else 0},
     )

@@ -5,7 +5,7 @@ it imports the heavy parts of the package inside ``run``. A new command is a new
 entry in :data:`COMMANDS`.
 """
 
-from scalf_opt.cli.commands import evaluate, model, optimize, paper
+from scalf_opt.cli.commands import evaluate, figures, model, optimize, paper, view
 
-COMMANDS = (model, evaluate, optimize, paper)
+COMMANDS = (model, evaluate, optimize, paper, view, figures)
 """In the order ``scalf-opt --help`` lists them."""

@@ -1,0 +1,79 @@
+"""``scalf-opt figures``: the paper's figures (8-13, 17, 18, Table 6), and a landscape it lacked."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from scalf_opt.cli.options import (
+    add_gait,
+    add_robot,
+    check_output_dir,
+    load_gait,
+    load_robot,
+    refuse_gait_with_saved,
+)
+
+NAME = "figures"
+HELP = "draw the paper's figures (PNG and SVG): joints, forces, foot paths, search, energy"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
+    add_robot(parser)
+    add_gait(parser)
+    parser.add_argument(
+        "--from",
+        dest="from_dirs",
+        metavar="DIR",
+        type=Path,
+        action="append",
+        default=[],
+        help="a directory written by 'optimize --out' (repeat to compare; default: the "
+        "reference and the default optimum, joint-6 by Ipopt)",
+    )
+    parser.add_argument(
+        "--out", type=Path, default=Path("figures"), help="output directory (default figures)"
+    )
+    parser.add_argument(
+        "--format",
+        dest="formats",
+        choices=("png", "svg"),
+        action="append",
+        help="file format (repeatable; default: both png and svg)",
+    )
+    parser.add_argument(
+        "--grid",
+        type=int,
+        default=61,
+        help="points per parameter of the pattern search's energy landscape (default 61)",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Exit 0 when every figure is written, 3 when the default optimum is not solved."""
+    from scalf_opt.errors import ConfigError
+    from scalf_opt.viz.figure_set import write_figures
+    from scalf_opt.viz.trajectories import NotSolvedError, shown_trajectories
+
+    check_output_dir(args.out)
+    if args.grid < 3:
+        raise ConfigError(f"--grid must be at least 3, got {args.grid}")
+    refuse_gait_with_saved(args)
+    robot = load_robot(args)
+    try:
+        pipeline, shown = shown_trajectories(
+            robot, load_gait(args, robot), args.from_dirs, args.accounting
+        )
+    except NotSolvedError as exc:
+        args.console.error(f"{exc}; nothing written")
+        return 3
+    formats = tuple(dict.fromkeys(args.formats or ("png", "svg")))
+    written = write_figures(args.out, robot, pipeline, shown, formats, args.grid)
+    for trajectory in shown:
+        cycle = trajectory.cycle
+        args.console.text(
+            f"{trajectory.label}: {cycle.energy_j:.3f} J per cycle, {cycle.average_power_w:.2f} W"
+        )
+    names = sorted({p.stem for p in written}, key=[p.stem for p in written].index)
+    args.console.text(f"wrote {args.out}/: {', '.join(names)} ({', '.join(formats)})")
+    return 0

@@ -1,0 +1,105 @@
+"""``scalf-opt view``: one offline HTML page of the robot walking its foot paths (meshcat)."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from scalf_opt.cli.options import (
+    add_gait,
+    add_robot,
+    load_gait,
+    load_robot,
+    refuse_gait_with_saved,
+)
+
+NAME = "view"
+HELP = "write an offline 3-D view (one HTML file) of the robot walking its foot paths"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
+    add_robot(parser)
+    add_gait(parser)
+    parser.add_argument(
+        "--from",
+        dest="from_dirs",
+        metavar="DIR",
+        type=Path,
+        action="append",
+        default=[],
+        help="a directory written by 'optimize --out' (repeat to compare; default: the "
+        "reference and the default optimum, joint-6 by Ipopt)",
+    )
+    parser.add_argument(
+        "--out", type=Path, default=Path("scene.html"), help="the HTML file (default scene.html)"
+    )
+    parser.add_argument(
+        "--cycles", type=int, default=3, help="gait cycles walked and animated (default 3)"
+    )
+    parser.add_argument(
+        "--color-by",
+        choices=("trajectory", "power"),
+        default="trajectory",
+        help="foot paths in one colour per trajectory, or by the leg's power [W]",
+    )
+    parser.add_argument(
+        "--playback-speed",
+        type=float,
+        default=1.0,
+        help="animation speed against real time (default 1; 0.25 is four times slower)",
+    )
+    parser.add_argument(
+        "--screenshot",
+        type=Path,
+        metavar="PNG",
+        help="also write a PNG of the page rendered by a headless Chromium",
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Exit 0 when the page is written, 3 when the default optimum is not solved."""
+    from scalf_opt.errors import ConfigError
+    from scalf_opt.viz.scene import SceneOptions
+    from scalf_opt.viz.trajectories import NotSolvedError, shown_trajectories
+    from scalf_opt.viz.view import check_output_file, write_scene_html
+
+    out = check_output_file(args.out, ".html")
+    if args.screenshot is not None:
+        from scalf_opt.viz.browser import find_chromium
+
+        check_output_file(args.screenshot, ".png")
+        if find_chromium() is None:  # before any work, not after it
+            raise ConfigError(
+                "--screenshot needs Chromium (install the 'chromium' package, or set "
+                "SCALF_OPT_CHROMIUM)"
+            )
+    options = SceneOptions(
+        n_cycles=args.cycles, color_by=args.color_by, playback_speed=args.playback_speed
+    )
+    refuse_gait_with_saved(args)
+    robot = load_robot(args)
+    try:
+        _, shown = shown_trajectories(
+            robot, load_gait(args, robot), args.from_dirs, args.accounting
+        )
+    except NotSolvedError as exc:
+        args.console.error(f"{exc}; nothing written")
+        return 3
+    write_scene_html(out, robot, shown, options)
+    for trajectory in shown:
+        cycle = trajectory.cycle
+        args.console.text(
+            f"{trajectory.label}: {cycle.energy_j:.3f} J per cycle, {cycle.average_power_w:.2f} W"
+        )
+    args.console.text(f"wrote {out} (open it in a browser; it needs no network)")
+    if args.screenshot is not None:
+        from scalf_opt.viz.browser import render_page
+
+        # a still 40 % into the walk: the robots mid-way along their paths
+        walk_s = options.n_cycles * shown[0].cycle.gait.period_s
+        still_s = 0.4 * walk_s / options.playback_speed  # animation time
+        rendering = render_page(out, args.screenshot, fragment=f"t={still_s:g}")
+        if rendering.errors:
+            raise RuntimeError(f"{out}: the page logged errors: {'; '.join(rendering.errors)}")
+        args.console.text(f"wrote {args.screenshot}")
+    return 0

@@ -1,0 +1,171 @@
+"""Read back the swing trajectories a ``summary.json`` (``evaluate``/``optimize --out``) holds.
+
+A summary records, per leg, the swing family and its parameters, and the gait and accounting it
+was evaluated with: enough to rebuild every sample of the cycle with the energy pipeline, so the
+view and the figures show exactly what ``optimize`` found.
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from scalf_opt.errors import ConfigError, GaitError, ScalfError
+from scalf_opt.io.provenance import sha256_of
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.model.robot import Robot
+from scalf_opt.types import LEG_NAMES, Accounting, check_choice
+
+SUMMARY_FILE = "summary.json"
+
+
+@dataclass(frozen=True)
+class SavedSwings:
+    """The swings of one result directory.
+
+    Attributes:
+        source: The ``summary.json`` read.
+        gait: The gait they were evaluated with.
+        accounting: The power accounting used.
+        families: Swing family name per leg.
+        parameters: The family's parameters per leg (family units; empty for the reference).
+        methods: The optimizer per optimized leg (``ipopt``, ``pattern``), when recorded.
+        robot: The robot's name from the file's provenance, when recorded.
+        urdf_sha256: The SHA-256 of the URDF it was computed on, when recorded.
+    """
+
+    source: Path
+    gait: Gait
+    accounting: Accounting
+    families: dict[str, str]
+    parameters: dict[str, np.ndarray]
+    methods: dict[str, str]
+    robot: str | None = None
+    urdf_sha256: str | None = None
+
+    def check_robot(self, robot: Robot) -> None:
+        """Refuse to replay these swings on another robot than the one they were computed on.
+
+        Raises:
+            ConfigError: The file's ``provenance.urdf_sha256`` is not the robot's URDF's hash.
+        """
+        if self.urdf_sha256 is not None and self.urdf_sha256 != sha256_of(robot.urdf_path):
+            raise ConfigError(
+                f"{self.source}: provenance.urdf_sha256 says these swings are of robot "
+                f"{self.robot!r} ({self.urdf_sha256[:12]}...), not of {robot.name!r} "
+                f"({robot.urdf_path}); give the same --robot or --urdf"
+            )
+
+    @property
+    def label(self) -> str:
+        """A short name: the directory, its optimized families and methods."""
+        optimized = sorted({f for f in self.families.values() if f != "reference"})
+        what = ", ".join(optimized) if optimized else "reference"
+        methods = sorted(set(self.methods.values()))
+        if methods:
+            what += f", {'/'.join(methods)}"
+        return f"{self.source.parent.name or self.source.parent} ({what})"
+
+
+def read_saved_swings(directory: str | Path) -> SavedSwings:
+    """Read ``directory/summary.json``.
+
+    Args:
+        directory: A directory written by ``scalf-opt optimize --out`` or ``evaluate --out``, or
+            the ``summary.json`` file itself.
+
+    Raises:
+        ConfigError: The file is missing, not JSON, or lacks a field; the message names the file
+            and the field.
+        GaitError: Its gait is out of range.
+    """
+    path = Path(directory)
+    if path.is_dir() or path.suffix != ".json":
+        path = path / SUMMARY_FILE
+    try:
+        data = json.loads(path.read_text(encoding="utf-8"))
+    except FileNotFoundError as exc:
+        raise ConfigError(
+            f"{path}: not found (give a directory written by 'scalf-opt optimize --out')"
+        ) from exc
+    except OSError as exc:
+        raise ConfigError(f"{path}: cannot read ({exc.strerror})") from exc
+    except json.JSONDecodeError as exc:
+        raise ConfigError(f"{path}: not valid JSON ({exc.msg}, line {exc.lineno})") from exc
+    if not isinstance(data, dict):
+        raise ConfigError(f"{path}: not a summary (expected a JSON object)")
+    gait = _gait(path, _field(path, data, "gait", dict))
+    accounting = _field(path, data, "accounting", str)
+    try:
+        check_choice(accounting, Accounting, "accounting")
+    except ScalfError as exc:
+        raise ConfigError(f"{path}: {exc}") from exc
+    legs = _field(path, data, "legs", dict)
+    families: dict[str, str] = {}
+    parameters: dict[str, np.ndarray] = {}
+    for leg in LEG_NAMES:
+        if leg not in legs:
+            continue
+        record = _field(path, legs, leg, dict, f"legs.{leg}")
+        family = _field(path, record, "swing_family", str, f"legs.{leg}.swing_family")
+        params = _field(path, record, "swing_parameters", list, f"legs.{leg}.swing_parameters")
+        try:
+            n_params = make_family(family).n_params
+        except ScalfError as exc:
+            raise ConfigError(f"{path}: legs.{leg}.swing_family: {exc}") from exc
+        if len(params) != n_params or not all(
+            isinstance(v, int | float) and not isinstance(v, bool) for v in params
+        ):
+            raise ConfigError(
+                f"{path}: legs.{leg}.swing_parameters must be {n_params} numbers for family "
+                f"{family!r}, got {params!r}"
+            )
+        families[leg] = family
+        parameters[leg] = np.array(params, dtype=float)
+    if not families:
+        raise ConfigError(f"{path}: legs holds none of {', '.join(LEG_NAMES)}")
+    methods = {
+        leg: str(record["method"])
+        for leg, record in (data.get("optimization") or {}).items()
+        if isinstance(record, dict) and "method" in record
+    }
+    record = data.get("provenance")
+    source: dict[str, Any] = record if isinstance(record, dict) else {}
+    robot, sha = source.get("robot"), source.get("urdf_sha256")
+    return SavedSwings(
+        path,
+        gait,
+        accounting,
+        families,
+        parameters,
+        methods,
+        robot if isinstance(robot, str) else None,
+        sha if isinstance(sha, str) else None,
+    )
+
+
+def _field(path: Path, data: dict[str, Any], key: str, kind: type, name: str | None = None) -> Any:
+    if key not in data:
+        raise ConfigError(f"{path}: missing field {name or key!r}")
+    value = data[key]
+    if not isinstance(value, kind):
+        raise ConfigError(f"{path}: field {name or key!r} must be a {kind.__name__}")
+    return value
+
+
+def _gait(path: Path, record: dict[str, Any]) -> Gait:
+    values = {k: record[k] for k in Gait.field_names() if k in record}
+    missing = [k for k in Gait.field_names() if k not in record]
+    if missing:
+        raise ConfigError(f"{path}: gait lacks {', '.join(missing)}")
+    try:
+        return Gait(**values)
+    except GaitError as exc:
+        raise GaitError(f"{path}: {exc}") from exc
+    except TypeError as exc:  # a mistyped value the dataclass cannot even compare
+        raise ConfigError(f"{path}: bad gait ({exc})") from exc

@@ -1,0 +1,148 @@
+"""Every figure of ``scalf-opt figures``, drawn and written in one go.
+
+=================  =========================================================  =====================
+file (.png, .svg)  what                                                       the paper
+=================  =========================================================  =====================
+joint_angles       hip and knee angle over a cycle, RF and LH                 Figure 9
+joint_torques      hip and knee torque over a cycle                           Figure 10
+joint_powers       hip and knee charged power, with each joint's energy       Figure 11
+foot_forces        ground reaction forces of every foot over a cycle          Figure 13
+foot_paths         swing and stance foot paths in the leg frame               Figure 12
+leg_snapshots      stick figures of the leg through the swing                 Figures 17, 18
+pattern_search     pattern search and Ipopt over the (C1, C2) landscape       Figure 8 (+ landscape)
+energy_bars        energy per leg, phase and joint                            Table 6
+=================  =========================================================  =====================
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+from matplotlib.figure import Figure
+
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import ConfigError
+from scalf_opt.locomotion.gait import Gait, default_gait
+from scalf_opt.model.robot import Robot
+from scalf_opt.types import FIRST_PAIR, Accounting
+from scalf_opt.viz.cycle_figures import foot_force_figure, joint_figure
+from scalf_opt.viz.energy_figure import energy_bars_figure
+from scalf_opt.viz.plotting import FORMATS, close, save_figure
+from scalf_opt.viz.search_figure import GRID_POINTS, search_figure, search_study
+from scalf_opt.viz.stick_figure import foot_path_figure, leg_snapshot_figure
+from scalf_opt.viz.trajectories import Trajectory, shown_trajectories
+
+FIGURE_NAMES = (
+    "joint_angles",
+    "joint_torques",
+    "joint_powers",
+    "foot_forces",
+    "foot_paths",
+    "leg_snapshots",
+    "pattern_search",
+    "energy_bars",
+)
+"""The figures, in the order they are written."""
+
+
+def write_figures(
+    out: str | Path,
+    robot: Robot,
+    pipeline: EnergyPipeline,
+    trajectories: Sequence[Trajectory],
+    formats: Sequence[str] = FORMATS,
+    grid_points: int = GRID_POINTS,
+    legs: Sequence[str] = FIRST_PAIR,
+    on_written: Callable[[Path], None] | None = None,
+) -> list[Path]:
+    """Draw every figure and write it in every format to ``out`` (atomically, deterministically).
+
+    Args:
+        out: Output directory (created if missing).
+        robot: The robot.
+        pipeline: The robot's energy pipeline (its gait is the trajectories').
+        trajectories: What to compare, the reference first.
+        formats: File formats (``png``, ``svg``).
+        grid_points: Landscape points per parameter of the pattern-search figure.
+        legs: The legs drawn where a figure shows some legs (default: the diagonal pair).
+        on_written: Called with each file as it is written (progress).
+
+    Returns:
+        The files written, in :data:`FIGURE_NAMES` order, each in ``formats`` order.
+
+    Raises:
+        ConfigError: An unknown format, a grid of fewer than 3 points, or nothing to draw.
+    """
+    unknown = [f for f in formats if f not in FORMATS]
+    if unknown or not formats:
+        raise ConfigError(f"figure formats must be among {', '.join(FORMATS)}, got {formats}")
+    if grid_points < 3:
+        raise ConfigError(f"the landscape grid needs at least 3 points, got {grid_points}")
+    if not trajectories:
+        raise ConfigError("nothing to draw: give at least one trajectory")
+    directory = Path(out)
+    if directory.exists() and not directory.is_dir():
+        raise ConfigError(f"{directory}: exists and is not a directory")
+    drawers: dict[str, Callable[[], Figure]] = {
+        "joint_angles": lambda: joint_figure(trajectories, "angle", legs),
+        "joint_torques": lambda: joint_figure(trajectories, "torque", legs),
+        "joint_powers": lambda: joint_figure(trajectories, "power", legs),
+        "foot_forces": lambda: foot_force_figure(trajectories[0].cycle, robot.trunk_mass_kg),
+        "foot_paths": lambda: foot_path_figure(trajectories, legs),
+        "leg_snapshots": lambda: leg_snapshot_figure(robot, trajectories, legs),
+        "pattern_search": lambda: search_figure(search_study(pipeline, legs, grid_points)),
+        "energy_bars": lambda: energy_bars_figure(trajectories),
+    }
+    written = []
+    for name in FIGURE_NAMES:
+        fig = drawers[name]()
+        try:
+            for kind in formats:
+                path = save_figure(fig, directory / f"{name}.{kind}")
+                # laid out once: the other formats keep the same layout (and save faster)
+                fig.set_layout_engine("none")
+                written.append(path)
+                if on_written is not None:
+                    on_written(path)
+        finally:
+            close(fig)
+    return written
+
+
+def figures(
+    out: str | Path = "figures",
+    robot: str | Robot = "scalf",
+    from_dirs: Sequence[str | Path] = (),
+    gait: Gait | None = None,
+    accounting: Accounting = "paper",
+    formats: Sequence[str] = FORMATS,
+    grid_points: int = GRID_POINTS,
+) -> tuple[list[Path], list[Trajectory]]:
+    """Compute what to compare and write every figure; return the files and the trajectories.
+
+    >>> from scalf_opt.viz.figure_set import figures
+    >>> files, shown = figures("figures", robot="hyq")
+
+    Args:
+        out: Output directory.
+        robot: A catalog name (``scalf``, ``hyq``, ``solo12``) or a loaded robot.
+        from_dirs: Result directories of ``scalf-opt optimize --out``; none: the reference and
+            the default optimum (``joint-6``, Ipopt).
+        gait: The gait without ``from_dirs`` (default: the robot's).
+        accounting: Power accounting without ``from_dirs``.
+        formats: File formats.
+        grid_points: Landscape points per parameter.
+
+    Raises:
+        ConfigError: Bad arguments, or a gait together with result directories.
+        NotSolvedError: The default optimum did not converge (nothing is written).
+    """
+    from scalf_opt.robots.loading import load_robot
+
+    if gait is not None and from_dirs:
+        raise ConfigError("give a gait or result directories (which bring their own), not both")
+    loaded = load_robot(robot) if isinstance(robot, str) else robot
+    base = gait or default_gait(loaded.nominal_stance_height_m)
+    pipeline, shown = shown_trajectories(loaded, base, from_dirs, accounting)
+    return write_figures(out, loaded, pipeline, shown, formats, grid_points), shown

@@ -1,0 +1,118 @@
+"""What every figure shares: the style, the cycle's time axis, and deterministic files.
+
+A figure is written as PNG or SVG (by the file's suffix), atomically and byte-for-byte
+deterministically: no date or software version in the metadata, SVG element ids salted with a
+fixed string instead of a random one, the fonts matplotlib ships (DejaVu).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Iterator
+from contextlib import contextmanager
+from pathlib import Path
+from typing import IO, Any
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only: no display needed
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.axes import Axes
+from matplotlib.figure import Figure
+
+from scalf_opt.energy.cycle import LegCycle
+from scalf_opt.errors import ConfigError
+from scalf_opt.files import write_with
+
+FORMATS = ("png", "svg")
+"""File formats a figure can be written in."""
+
+PNG_DPI = 120
+"""PNG resolution: an 8-inch-wide figure is 960 px, legible at a README's width."""
+
+STYLE: dict[Any, Any] = {
+    "font.family": "DejaVu Sans",
+    "font.size": 9,
+    "axes.titlesize": 10,
+    "axes.labelsize": 9,
+    "legend.fontsize": 8,
+    "xtick.labelsize": 8,
+    "ytick.labelsize": 8,
+    "axes.grid": True,
+    "grid.alpha": 0.3,
+    "axes.spines.top": False,
+    "axes.spines.right": False,
+    "svg.hashsalt": "scalf-opt",  # element ids from a fixed salt: the same SVG bytes every run
+    "svg.fonttype": "path",  # text as paths: no dependence on the reader's fonts
+}
+
+SWING_SHADE = "#e6e6e6"
+"""Background of the swing phase in plots over the cycle."""
+
+
+@contextmanager
+def style() -> Iterator[None]:
+    """Matplotlib's settings for scalf-opt's figures (restored afterwards)."""
+    with plt.rc_context():
+        plt.rcParams.update(STYLE)
+        yield
+
+
+def save_figure(fig: Figure, path: str | Path) -> Path:
+    """Write ``fig`` to ``path`` (``.png`` or ``.svg``) atomically and deterministically.
+
+    Raises:
+        ConfigError: Another suffix.
+    """
+    path = Path(path)
+    kind = path.suffix.lower().lstrip(".")
+    if kind not in FORMATS:
+        raise ConfigError(f"{path}: a figure is written as {' or '.join(FORMATS)}")
+    metadata: dict[str, Any] = (
+        {"Software": None} if kind == "png" else {"Date": None, "Creator": None}
+    )
+
+    def write(handle: IO[bytes]) -> None:
+        with style():
+            fig.savefig(handle, format=kind, dpi=PNG_DPI, metadata=metadata)
+
+    return write_with(path, write)
+
+
+def close(fig: Figure) -> None:
+    """Release a figure's memory (pyplot keeps every figure until closed)."""
+    plt.close(fig)
+
+
+def cycle_samples(leg: LegCycle, name: str) -> tuple[np.ndarray, np.ndarray]:
+    """A leg's output ``name`` over one cycle in cycle time: ``(t [s], values (rows, n))``.
+
+    Stance and swing samples are joined in time order; the phase boundary, which both phases
+    sample, appears once per phase, and a NaN column between the phases keeps a line from
+    joining them where a quantity jumps (torque at touch-down).
+    """
+    parts = sorted((leg.stance, leg.swing), key=lambda p: float(p.t_s[0]))
+    times, values = [], []
+    for phase in parts:
+        v = np.atleast_2d(phase.values[name])
+        times += [phase.t_s, np.array([np.nan])]
+        values += [v, np.full((v.shape[0], 1), np.nan)]
+    return np.concatenate(times[:-1]), np.concatenate(values[:-1], axis=1)
+
+
+def shade_swing(ax: Axes, leg: LegCycle, label: bool = True) -> None:
+    """Shade ``leg``'s swing phase on an axis over cycle time."""
+    t = leg.swing.t_s
+    ax.axvspan(float(t[0]), float(t[-1]), color=SWING_SHADE, zorder=0, lw=0)
+    if label:
+        ax.text(
+            float(t[0] + t[-1]) / 2.0,
+            0.98,
+            "swing",
+            transform=ax.get_xaxis_transform(),
+            ha="center",
+            va="top",
+            fontsize=7,
+            color="#666666",
+        )

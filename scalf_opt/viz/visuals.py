@@ -1,0 +1,127 @@
+"""The robot's visual geometry, as Pinocchio reads it from the URDF, in plain arrays.
+
+Pinocchio builds the visual :class:`pinocchio.GeometryModel` (primitives, and meshes of any
+format its mesh loader reads: STL, OBJ, COLLADA, ...), resolving ``package://`` paths against the
+example-robot-data share directory and the URDF's own ancestor directories. Each geometry object
+becomes a :class:`Visual`: a primitive's dimensions or a mesh's vertices and triangles (the
+URDF's mesh scale applied), its colour, its parent joint and its placement in that joint's frame.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+import pinocchio as pin
+
+from scalf_opt.errors import ModelError, ScalfError
+from scalf_opt.model.robot import Robot
+
+Shape = Literal["box", "cylinder", "sphere", "ellipsoid", "mesh"]
+
+
+@dataclass(frozen=True)
+class Visual:
+    """One visual element of the robot.
+
+    Attributes:
+        name: Pinocchio's geometry name (``<link>_<index>``).
+        parent_joint: Index of the joint it moves with in ``robot.model``.
+        placement: Homogeneous transform from the parent joint's frame to the geometry's frame,
+            shape (4, 4) [m].
+        shape: ``box``, ``cylinder`` (axis z), ``sphere``, ``ellipsoid`` or ``mesh``.
+        size: Box edge lengths (x, y, z); cylinder (radius, length); sphere (radius,); ellipsoid
+            radii (x, y, z) [m]; empty for a mesh.
+        vertices: Mesh vertices in the geometry frame, shape (n, 3) [m] (empty otherwise).
+        faces: Mesh triangles as vertex indices, shape (m, 3) (empty otherwise).
+        rgba: Colour and opacity, each in [0, 1].
+    """
+
+    name: str
+    parent_joint: int
+    placement: np.ndarray
+    shape: Shape
+    size: tuple[float, ...]
+    vertices: np.ndarray
+    faces: np.ndarray
+    rgba: tuple[float, float, float, float]
+
+
+def package_dirs(urdf: Path) -> list[str]:
+    """Where ``package://NAME/...`` may point: example-robot-data's share, the URDF's ancestors."""
+    dirs = []
+    try:
+        from scalf_opt.robots.example_robot_data import example_robot_data_dir
+
+        dirs.append(str(example_robot_data_dir().parents[1]))
+    except ScalfError:
+        pass  # not installed: only the URDF's own tree
+    dirs += [str(p) for p in Path(urdf).resolve().parents]
+    return dirs
+
+
+def visual_model(robot: Robot) -> pin.GeometryModel:
+    """Pinocchio's visual geometry model of ``robot``.
+
+    Raises:
+        ModelError: A mesh file cannot be found or read (the message names the URDF).
+    """
+    try:
+        return pin.buildGeomFromUrdf(
+            robot.model,
+            str(robot.urdf_path),
+            pin.GeometryType.VISUAL,
+            package_dirs=package_dirs(robot.urdf_path),
+        )
+    except (RuntimeError, ValueError, OSError) as exc:
+        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+        raise ModelError(f"{robot.urdf_path}: cannot load its visual geometry ({first})") from exc
+
+
+def load_visuals(robot: Robot) -> tuple[list[Visual], list[str]]:
+    """The robot's visuals, and the names of those whose geometry type cannot be drawn."""
+    visuals, skipped = [], []
+    for obj in visual_model(robot).geometryObjects:
+        visual = _visual(obj)
+        if visual is None:
+            skipped.append(str(obj.name))
+        else:
+            visuals.append(visual)
+    return visuals, skipped
+
+
+def _visual(obj: pin.GeometryObject) -> Visual | None:
+    geometry = obj.geometry
+    kind = type(geometry).__name__
+    empty = np.zeros((0, 3))
+    size: tuple[float, ...] = ()
+    vertices, faces = empty, np.zeros((0, 3), dtype=np.uint32)
+    shape: Shape
+    if kind == "Box":
+        shape, size = "box", tuple(float(v) for v in 2.0 * np.asarray(geometry.halfSide))
+    elif kind == "Cylinder":
+        shape, size = "cylinder", (float(geometry.radius), 2.0 * float(geometry.halfLength))
+    elif kind == "Sphere":
+        shape, size = "sphere", (float(geometry.radius),)
+    elif kind == "Ellipsoid":
+        shape, size = "ellipsoid", tuple(float(v) for v in np.asarray(geometry.radii))
+    elif hasattr(geometry, "num_tris") and hasattr(geometry, "tri_indices"):
+        shape = "mesh"
+        vertices = np.array(geometry.vertices(), dtype=float).reshape(-1, 3)
+        triangles = (geometry.tri_indices(i) for i in range(geometry.num_tris))
+        faces = np.array([[t[0], t[1], t[2]] for t in triangles], dtype=np.uint32).reshape(-1, 3)
+    else:
+        return None
+    rgba = np.clip(np.asarray(obj.meshColor, dtype=float), 0.0, 1.0)
+    return Visual(
+        name=str(obj.name),
+        parent_joint=int(obj.parentJoint),
+        placement=np.array(obj.placement.homogeneous, dtype=float),
+        shape=shape,
+        size=size,
+        vertices=vertices,
+        faces=faces,
+        rgba=(float(rgba[0]), float(rgba[1]), float(rgba[2]), float(rgba[3])),
+    )

@@ -1,0 +1,214 @@
+"""The figures: deterministic bytes, units on every axis, true lengths, what each must show.
+
+Coarse gaits (40 Hz) and small landscape grids keep the drawing fast; what is checked does not
+depend on the resolution.
+"""
+
+import numpy as np
+import pytest
+from matplotlib.figure import Figure
+
+from scalf_opt.cli import main
+from scalf_opt.errors import ConfigError
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.optimize.landscape import energy_landscape
+from scalf_opt.optimize.problem import SwingProblem
+from scalf_opt.optimize.solve import run_ipopt
+from scalf_opt.viz.cycle_figures import foot_force_figure, joint_figure
+from scalf_opt.viz.energy_figure import energy_bars_figure
+from scalf_opt.viz.figure_set import FIGURE_NAMES, write_figures
+from scalf_opt.viz.plotting import close, save_figure
+from scalf_opt.viz.search_figure import search_figure, search_study
+from scalf_opt.viz.stick_figure import foot_path_figure, leg_snapshot_figure
+from scalf_opt.viz.trajectories import optimized_trajectory, reference_trajectory
+from tests.viz.conftest import COARSE_RATE_HZ, coarse_pipeline
+
+SMALL_GRID = 7
+
+
+@pytest.fixture(scope="module")
+def scalf_study(scalf_shown):
+    pipeline, _ = scalf_shown
+    return search_study(pipeline, grid_points=SMALL_GRID)
+
+
+def every_figure(robot, pipeline, shown, study):
+    yield "joint_angles", joint_figure(shown, "angle")
+    yield "joint_torques", joint_figure(shown, "torque")
+    yield "joint_powers", joint_figure(shown, "power")
+    yield "foot_forces", foot_force_figure(shown[0].cycle, robot.trunk_mass_kg)
+    yield "foot_paths", foot_path_figure(shown)
+    yield "leg_snapshots", leg_snapshot_figure(robot, shown)
+    yield "pattern_search", search_figure(study)
+    yield "energy_bars", energy_bars_figure(shown)
+
+
+def numeric(text):
+    try:
+        float(text.replace("\u2212", "-"))
+    except ValueError:
+        return False
+    return True
+
+
+def labels_with_units(fig: Figure):
+    """Problems with the figure's axis labels: a label without a unit ``[...]``, or a numeric
+    axis (categories, like leg names, need none) without a label of its own or of an axis it
+    shares."""
+    problems = []
+    for ax in fig.axes:
+        if not ax.get_visible() or ax.get_label() == "<colorbar>":
+            continue
+        for which in ("x", "y"):
+            label = ax.get_xlabel() if which == "x" else ax.get_ylabel()
+            if label:
+                if "[" not in label or "]" not in label:
+                    problems.append(f"{which} label without a unit: {label!r}")
+                continue
+            ticks = ax.get_xticklabels() if which == "x" else ax.get_yticklabels()
+            texts = [t.get_text() for t in ticks if t.get_text()]
+            if not texts or not all(map(numeric, texts)):
+                continue  # no tick labels shown, or categories
+            shared = ax.get_shared_x_axes() if which == "x" else ax.get_shared_y_axes()
+            getter = "get_xlabel" if which == "x" else "get_ylabel"
+            if not any(getattr(s, getter)() for s in shared.get_siblings(ax) if s is not ax):
+                problems.append(f"{which} axis without a label in {ax.get_title(loc='left')!r}")
+    return problems
+
+
+def test_every_axis_has_units(scalf, scalf_shown, scalf_study):
+    pipeline, shown = scalf_shown
+    for name, fig in every_figure(scalf, pipeline, shown, scalf_study):
+        fig.canvas.draw()  # tick labels exist once drawn
+        assert labels_with_units(fig) == [], name
+        close(fig)
+
+
+def test_foot_paths_true_lengths_both_legs_lift_off_touch_down(scalf_shown, scalf):
+    _, shown = scalf_shown
+    for fig in (foot_path_figure(shown), leg_snapshot_figure(scalf, shown)):
+        panels = [ax for ax in fig.axes if ax.get_visible()]
+        assert {ax.get_title(loc="left")[:2] for ax in panels} == {
+            "RF",
+            "LH",
+        }  # both legs of the pair
+        for ax in panels:
+            assert ax.get_aspect() == 1.0  # equal aspect: true lengths
+            markers = {line.get_marker() for line in ax.get_lines()}
+            assert {"v", "^"} <= markers  # lift-off, touch-down
+        close(fig)
+
+
+def test_snapshot_feet_lie_on_the_sampled_path(scalf_shown, scalf):
+    """The stick figures' feet (Pinocchio's FK of the joint angles) are on the foot path
+    computed by the pipeline: two routes to the same point."""
+    from scalf_opt.viz.stick_figure import leg_points_m
+
+    _, shown = scalf_shown
+    for leg in ("RF", "LH"):
+        swing = shown[1].cycle.legs[leg].swing
+        points = leg_points_m(scalf, leg, swing.values["q"])
+        np.testing.assert_allclose(points[:, 2, :].T, swing.values["foot"], atol=1e-12)
+        knee = np.linalg.norm(points[:, 1, :], axis=1)  # hip to knee: the thigh, in the plane
+        np.testing.assert_allclose(knee, scalf.leg(leg).thigh_length_m, rtol=1e-12)
+
+
+def test_pattern_search_figure_shows_both_phases_and_levels(scalf_study):
+    fig = search_figure(scalf_study)
+    labels = set(
+        fig.legends[0].get_texts()[i].get_text() for i in range(len(fig.legends[0].get_texts()))
+    )
+    assert "pattern search: feasibility phase" in labels
+    assert "pattern search: energy phase" in labels
+    assert "Ipopt's optimum" in labels and "reference swing energy" in labels
+    for leg, axes in zip(("RF", "LH"), fig.axes[2:4], strict=True):
+        levels = {
+            round(line.get_ydata()[0], 9) for line in axes.get_lines() if len(line.get_ydata()) == 2
+        }
+        search = scalf_study[leg]
+        assert round(search.reference_swing_j, 9) in levels
+        assert round(search.ipopt.swing_energy_j, 9) in levels
+    close(fig)
+
+
+def test_landscape_agrees_with_the_optimizers(scalf_shown):
+    """Every feasible grid point costs at least Ipopt's optimum (which is feasible), and the
+    landscape's energies are the problem's exact energies; the start (0, 0) is infeasible, its
+    foot dipping below the ground at mid-swing (README, "Two optimizers")."""
+    pipeline, _ = scalf_shown
+    problem = SwingProblem(pipeline, "RF", make_family("paper"))
+    ipopt = run_ipopt(problem)
+    assert ipopt.success
+    c1, c2 = ipopt.theta
+    land = energy_landscape(problem, np.linspace(c1 - 3, c1 + 3, 9), np.linspace(c2 - 3, c2 + 3, 9))
+    assert land.feasible.any() and not land.feasible.all()
+    assert land.best[2] >= ipopt.swing_energy_j - 1e-6
+    for j, i in zip(*np.nonzero(land.feasible), strict=True):
+        assert land.energy_j[j, i] == problem.evaluate(np.array([land.x[i], land.y[j]])).energy_j
+    origin = energy_landscape(problem, np.array([-1.0, 0.0]), np.array([0.0, 1.0]))
+    assert not origin.feasible[0, 1] and origin.reasons[0, 1] == "foot below ground"
+    with pytest.raises(ConfigError, match="two"):
+        energy_landscape(
+            SwingProblem(pipeline, "RF", make_family("paper")), [0.0], [0.0], axes=(0, 0)
+        )
+
+
+def test_figures_are_deterministic_and_complete(tmp_path, scalf, scalf_shown):
+    pipeline, shown = scalf_shown
+    first = write_figures(tmp_path / "a", scalf, pipeline, shown, grid_points=SMALL_GRID)
+    second = write_figures(tmp_path / "b", scalf, pipeline, shown, grid_points=SMALL_GRID)
+    assert [p.name for p in first] == [f"{n}.{k}" for n in FIGURE_NAMES for k in ("png", "svg")]
+    for a, b in zip(first, second, strict=True):
+        assert a.read_bytes() == b.read_bytes(), a.name
+    svg = (tmp_path / "a" / "joint_angles.svg").read_text()
+    assert "<dc:date>" not in svg and "Matplotlib v" not in svg  # no date, no version
+
+
+@pytest.mark.parametrize("name", ["hyq", "solo12"])
+def test_figures_of_other_robots(name, request, tmp_path):
+    robot = request.getfixturevalue(name)
+    pipeline = coarse_pipeline(robot)
+    shown = [reference_trajectory(pipeline), optimized_trajectory(pipeline, "paper")]
+    written = write_figures(tmp_path, robot, pipeline, shown, ("png",), grid_points=5)
+    assert len(written) == len(FIGURE_NAMES) and all(p.stat().st_size > 10_000 for p in written)
+
+
+def test_save_figure_refuses_other_formats(tmp_path):
+    fig = Figure()
+    with pytest.raises(ConfigError, match="png or svg"):
+        save_figure(fig, tmp_path / "x.pdf")
+
+
+def test_cli_figures(tmp_path, capsys):
+    gait = tmp_path / "coarse.toml"
+    gait.write_text(f"[gait]\nsample_rate_hz = {COARSE_RATE_HZ}\n")
+    saved = tmp_path / "opt"
+    assert main(["optimize", "--family", "paper", "--gait", str(gait), "--out", str(saved)]) == 0
+    capsys.readouterr()
+    out = tmp_path / "figs"
+    code = main(
+        ["figures", "--from", str(saved), "--format", "png", "--grid", "5", "--out", str(out)]
+    )
+    printed = capsys.readouterr().out
+    assert code == 0 and "opt (paper, ipopt)" in printed
+    assert sorted(p.name for p in out.iterdir()) == sorted(f"{n}.png" for n in FIGURE_NAMES)
+    (tmp_path / "file").write_text("")
+    for argv, message in (
+        (["--grid", "2"], "--grid must be at least 3"),
+        (["--out", str(tmp_path / "file")], "is a file, not a directory"),
+        (["--from", str(saved), "--gait", str(gait)], "brings its own gait"),
+    ):
+        assert main(["figures", *argv]) == 2
+        err = capsys.readouterr().err
+        assert message in err and len(err.strip().splitlines()) == 1
+
+
+def test_figures_api_default_trajectories(tmp_path, scalf):
+    from scalf_opt.viz.figure_set import figures
+
+    gait = coarse_pipeline(scalf).gait
+    files, shown = figures(tmp_path, robot=scalf, gait=gait, formats=("png",), grid_points=3)
+    assert [t.label for t in shown] == ["reference (cubic spline)", "optimum (joint-6, ipopt)"]
+    assert all(t.solved for t in shown) and len(files) == len(FIGURE_NAMES)
+    with pytest.raises(ConfigError, match="not both"):
+        figures(tmp_path, robot=scalf, gait=gait, from_dirs=[tmp_path])
