@@ -17,7 +17,8 @@ Per leg and cylinder (hip pitch, knee):
 Cycles: each leg's cycle starts at its touch-down, with the gait period ``T``. Phases and
 touch-downs come from the ``contact`` column when the log has one; without it, from the trot's
 schedule with the log's time origin at RF's (and LH's) touch-down. ``T`` is ``--period`` when
-given, else the median time between a leg's touch-downs (contact column), else the gait's period.
+given, else the median time between a leg's touch-downs (contact column, when a leg touches down
+twice), else the gait's period.
 A complete cycle is a window ``[t_0 + k T, t_0 + (k + 1) T]`` inside the leg's samples, ``t_0``
 its first touch-down in the log.
 """
@@ -191,8 +192,8 @@ def _check_stroke(
             k = int(np.flatnonzero(outside)[0])
             raise LogError(
                 f"{source}: row {data.rows[k]}, column {LENGTH_COLUMNS[j]}: "
-                f"{data.length_m[j][k]!r} m is outside the {leg} {JOINT_ROLES[j]} cylinder's "
-                f"stroke [{lo:.5f}, {hi:.5f}] m"
+                f"{float(data.length_m[j][k])!r} m is outside the {leg} {JOINT_ROLES[j]} "
+                f"cylinder's stroke [{lo:.5f}, {hi:.5f}] m"
             )
 
 
@@ -205,18 +206,12 @@ def _touchdowns(contact: np.ndarray, t_s: np.ndarray) -> np.ndarray:
 def _period(log: CylinderLog, period_s: float | None, gait_period_s: float) -> tuple[float, str]:
     if period_s is not None:
         return period_s, "--period"
-    if not log.has_contact:
-        return gait_period_s, "gait"
-    intervals = np.concatenate(
-        [np.diff(_touchdowns(d.contact, d.t_s)) for d in log.legs.values() if d.contact is not None]
-    )
-    if intervals.size == 0:
-        data = next(iter(log.legs.values()))
-        raise LogError(
-            f"{log.source}: row {data.rows[-1]}, column contact: no leg touches down twice; "
-            "give the gait period with --period"
-        )
-    return float(np.median(intervals)), "contact"
+    intervals = [
+        np.diff(_touchdowns(d.contact, d.t_s)) for d in log.legs.values() if d.contact is not None
+    ]
+    if intervals and np.concatenate(intervals).size:
+        return float(np.median(np.concatenate(intervals))), "contact"
+    return gait_period_s, "gait"
 
 
 def analyze_log(

@@ -12,7 +12,8 @@ step's start; the record holds, per step ``k``:
 * per foot, the ground's force on it in the world frame (x, z) and the speed along x of the
   foot's material point at the contact (zero off the ground): the foot's slip;
 * for the energy balance of the whole robot, the kinetic plus potential energy at ``t_k`` and the
-  power of the actuators and of the contact constraints at the step's mean velocity.
+  power of the actuators and of the other forces (contacts, joint limits, joint damping) at the
+  step's mean velocity.
 """
 
 from __future__ import annotations
@@ -45,7 +46,8 @@ class SimRecord:
         energy_j: Kinetic + potential energy of the robot at each step's start and at the end,
             shape (n + 1,) [J].
         actuator_power_w: Power of all joint torques at each step's mean velocity, (n,) [W].
-        constraint_power_w: Power of the contact forces the same way, (n,) [W].
+        constraint_power_w: Power of the constraint forces (contacts, joint limits) and of the
+            URDF's joint damping, the same way, (n,) [W].
         start_trunk_height_m: The trunk's height at the start, feet just on the ground [m].
     """
 
@@ -124,7 +126,7 @@ def simulate(sim: SimModel, plan: TrotPlan, gains: dict[str, JointGains], cycles
         energy[k] = data.energy[0] + data.energy[1]
         v_mid = 0.5 * (v_start + data.qvel)
         p_act[k] = data.qfrc_actuator @ v_mid
-        p_con[k] = data.qfrc_constraint @ v_mid
+        p_con[k] = (data.qfrc_constraint + data.qfrc_passive) @ v_mid
         tau[:, k] = data.actuator_force[act_i]
         qd[:, k] = data.qvel[dof_i]
         for i in range(data.ncon):

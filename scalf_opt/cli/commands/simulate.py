@@ -51,8 +51,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
-    import mujoco
-
     from scalf_opt.energy.pipeline import EnergyPipeline
     from scalf_opt.files import write_atomic
     from scalf_opt.io.optimum_file import read_planned_swings
@@ -93,7 +91,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     data, trot = simulation_file(robot, pipeline, swings, settings, args.cycles, source)
     families = sorted({family for family, _ in swings.values()})
     title = (
-        f"MuJoCo {mujoco.__version__} simulation of {robot.name}, {', '.join(families)} swing: "
+        f"MuJoCo {data['mujoco_version']} simulation of {robot.name}, {', '.join(families)} swing: "
         f"trot T={gait.period_s:g} s, S={gait.step_length_m:g} m, z0={gait.stance_height_m:g} "
         f"m, {args.cycles} cycles, dt={1e3 * settings.timestep_s:g} ms, servo "
         f"{settings.servo_bandwidth_hz:g} Hz"
