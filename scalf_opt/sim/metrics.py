@@ -11,6 +11,8 @@ Every figure is taken after the first gait cycle (the start-up transient), over 
   ``r dphi`` without slipping, which is not slip);
 * ``stance_force_peak_n``, ``stance_force_mean_n``: per leg, the largest vertical ground force
   and its mean over the planned stance (the paper's Figure 13: about 980 N);
+* ``touchdown_timing_s``: per leg, the mean time from the planned touch-down to the foot's
+  first contact (negative: the foot lands early);
 * ``joint_energy_per_cycle_j``: per leg, the simulated joint torques and rates charged through
   the same power formula as the model (:meth:`~scalf_opt.energy.physics.LegPhysics.power_function`,
   the accounting's mechanical power plus the cylinders' friction heat), beside the model's
@@ -76,6 +78,21 @@ def _largest_stance_slip(record: SimRecord, leg: str, steps: np.ndarray) -> floa
     return max(runs, default=0.0)
 
 
+def _touchdown_timing(record: SimRecord, plan: TrotPlan, leg: str, steps: np.ndarray) -> float:
+    """Mean time from each planned touch-down to the nearest first contact [s]."""
+    gait = plan.cycle.gait
+    contact = record.in_contact(leg)
+    onsets = record.t_s[1:][contact[1:] & ~contact[:-1]]
+    stance = plan.in_stance(leg, record.t_s)
+    planned = record.t_s[1:][stance[1:] & ~stance[:-1] & steps[1:]]
+    delays = []
+    for t_plan in planned:
+        near = onsets[np.abs(onsets - t_plan) < gait.swing_duration_s / 2]
+        if near.size:
+            delays.append(float(near[np.argmin(np.abs(near - t_plan))] - t_plan))
+    return float(np.mean(delays)) if delays else float("nan")
+
+
 def energy_comparison(simulated_j: float, model_j: float) -> dict[str, float]:
     """``{simulated, model, relative_difference}`` of one energy [J]."""
     return {
@@ -132,6 +149,9 @@ def summarize(
         "stance_force_mean_n": {
             leg: float(record.grf_n[leg][1][steps & plan.in_stance(leg, record.t_s)].mean())
             for leg in LEG_NAMES
+        },
+        "touchdown_timing_s": {
+            leg: _touchdown_timing(record, plan, leg, steps) for leg in LEG_NAMES
         },
         "model_stance_force_mean_n": {
             leg: float(model_cycle.legs[leg].stance.values["grf"][1].mean()) for leg in LEG_NAMES

@@ -15,34 +15,15 @@ from dataclasses import dataclass, replace
 
 import numpy as np
 
-from scalf_opt.energy.cycle import LegCycle, RobotCycle
+from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.pipeline import EnergyPipeline
-from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.energy.swings import REFERENCE_SWINGS, SwingChoice, planned_cycle
 from scalf_opt.locomotion.trot import stance_start_s
-from scalf_opt.types import LEG_NAMES
 
-SwingChoice = tuple[str, np.ndarray]
-"""A leg's swing: the family's name and its parameters (family units; empty for the reference)."""
-
-REFERENCE_SWINGS: dict[str, SwingChoice] = {leg: ("reference", np.zeros(0)) for leg in LEG_NAMES}
-"""Every leg on the cubic-spline reference swing."""
+__all__ = ["PHASE_EDGE_S", "REFERENCE_SWINGS", "SwingChoice", "TrotPlan", "planned_cycle"]
 
 PHASE_EDGE_S = 1e-9
 """A time within this of lift-off counts as swing (the stance ends there)."""
-
-
-def planned_cycle(pipeline: EnergyPipeline, swings: Mapping[str, SwingChoice]) -> RobotCycle:
-    """Every leg's planned cycle, each with its own swing family and parameters.
-
-    Raises:
-        ConfigError: A family name is unknown.
-        InfeasibleError, GaitError: A path leaves the leg's reach or joint limits.
-    """
-    legs: dict[str, LegCycle] = {}
-    for leg in LEG_NAMES:
-        family, theta = swings[leg]
-        legs[leg] = pipeline.leg_cycle(leg, make_family(family), np.asarray(theta, dtype=float))
-    return RobotCycle(pipeline.gait, pipeline.accounting, legs, pipeline.robot.total_mass_kg)
 
 
 @dataclass(frozen=True)

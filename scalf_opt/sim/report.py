@@ -41,6 +41,10 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
             f"{100 * p['stance']['relative_difference']:+7.2f} % / "
             f"{100 * p['swing']['relative_difference']:+7.2f} %"
         )
+    timing = ", ".join(
+        f"{leg} {1e3 * result['touchdown_timing_s'][leg]:+.1f}" for leg in LEG_NAMES
+    )
+    lines.append(f"touch-down vs plan [ms] (negative: early): {timing}")
     total, power = result["total_energy_per_cycle_j"], result["average_total_power_w"]
     lines += [
         f"total {'':62s}{total['simulated']:14.3f}  {total['model']:9.3f}  "

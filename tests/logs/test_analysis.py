@@ -9,13 +9,13 @@ from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.logs.analysis import analyze_log, leg_cylinders, window_integral
 from scalf_opt.logs.log_file import CylinderLog
+from scalf_opt.logs.model_log import model_log
 from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.sim.experiment import run_trot
 from scalf_opt.sim.plan import REFERENCE_SWINGS
 from scalf_opt.sim.settings import SimSettings
 from scalf_opt.types import LEG_NAMES
-from tests.logs.model_log import model_log
 
 
 @pytest.fixture(scope="module")

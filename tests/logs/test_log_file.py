@@ -8,9 +8,9 @@ from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import LogError
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.logs.log_file import log_csv_text, parse_log
+from scalf_opt.logs.model_log import model_log
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.sim.plan import REFERENCE_SWINGS
-from tests.logs.model_log import model_log
 
 
 @pytest.fixture(scope="module")

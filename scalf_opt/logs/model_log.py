@@ -1,23 +1,38 @@
-"""A noiseless cylinder log of the model's own samples (the pipeline's planned cycle, repeated)."""
+"""The cylinder log a perfect robot would record of the model's own motion (for cross-checks).
 
+The pipeline's planned cycle, sampled on the gait's grid at the log's rate, repeated over several
+periods, converted by the cylinders' mapping without noise. Each phase's last sample is dropped
+(it is the next phase's first): a log holds one value per instant, so at lift-off it has the
+swing's (no foot force), at touch-down the stance's. Fed to the log analysis
+(:mod:`scalf_opt.logs.analysis`), it must give back the model's mechanical energy, up to what
+sampling at that rate loses.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
 from dataclasses import replace
 
 import numpy as np
 
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.energy.swings import SwingChoice, planned_cycle
 from scalf_opt.locomotion.trot import stance_start_s
 from scalf_opt.logs.analysis import leg_cylinders
+from scalf_opt.logs.log_file import CylinderLog
 from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
-from scalf_opt.sim.plan import planned_cycle
 
 
-def model_log(pipeline: EnergyPipeline, swings, rate_hz: float, cycles: int):
-    """The log of ``cycles`` periods of the planned motion sampled at ``rate_hz`` (the gait's grid).
+def model_log(
+    pipeline: EnergyPipeline, swings: Mapping[str, SwingChoice], rate_hz: float, cycles: int
+) -> tuple[CylinderLog, RobotCycle]:
+    """The noiseless log of ``cycles`` periods of the planned motion at ``rate_hz`` [Hz].
 
-    Each phase's last sample is dropped (it is the next phase's first): a log has one value per
-    instant, so at lift-off it holds the swing's (no foot force), at touch-down the stance's.
-    Returns the log and the planned cycle at that rate.
+    Returns the log (t = 0: RF and LH touch down) and the planned cycle on that grid.
+
+    Raises:
+        LogError: A leg has no hydraulic cylinders.
     """
     gait = replace(pipeline.gait, sample_rate_hz=rate_hz)
     cycle: RobotCycle = planned_cycle(replace(pipeline, gait=gait), swings)
