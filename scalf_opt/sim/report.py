@@ -41,10 +41,6 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
             f"{100 * p['stance']['relative_difference']:+7.2f} % / "
             f"{100 * p['swing']['relative_difference']:+7.2f} %"
         )
-    timing = ", ".join(
-        f"{leg} {1e3 * result['touchdown_timing_s'][leg]:+.1f}" for leg in LEG_NAMES
-    )
-    lines.append(f"touch-down vs plan [ms] (negative: early): {timing}")
     total, power = result["total_energy_per_cycle_j"], result["average_total_power_w"]
     lines += [
         f"total {'':62s}{total['simulated']:14.3f}  {total['model']:9.3f}  "
@@ -52,6 +48,10 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
         f"average total power       {power['simulated']:8.2f} W simulated, "
         f"{power['model']:.2f} W model (mean of {result['cycles_averaged']} cycles after the "
         "first)",
+        "touch-down vs plan (negative: early) "
+        + ", ".join(
+            f"{leg} {1e3 * result['touchdown_timing_s'][leg]:+.1f} ms" for leg in LEG_NAMES
+        ),
         f"goal: joint energy within {100 * goals['joint_energy_relative_difference_at_most']:.0f}"
         f" % of the model's on every leg: {_met(goals['joint_energy_met'])}",
         "",

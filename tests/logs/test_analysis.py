@@ -102,11 +102,12 @@ def test_the_log_of_a_simulated_run_gives_back_its_energy(pipeline):
     """``simulate --log``: 80 Hz, 0.1 mm and 70 N of Gaussian noise (seed 0), 3 cycles.
 
     Compared with the simulation's own mechanical energy over the same cycles. Tolerance, from
-    ``studies/simulation_validation.py`` (20 seeds, reference and optimum, 3 and 10 cycles): a
-    noiseless 80 Hz log of the same run already misses 1 to 4.7 % per leg (the 75 ms filter and
-    the 80 Hz sampling smooth the touch-down transients, a few ms long); the sensor noise spreads
-    the result by 1.5 % per leg (standard deviation) and 0.5 % for the robot, and its rectification
-    by ``|F v|`` adds energy. So: 8 % per leg, 5 % for the whole robot.
+    ``studies/simulation_validation.py`` (the reference and the optimum, 20 seeds): a noiseless
+    80 Hz log of the same run already misses 0.9 to 4.1 % per leg (the 75 ms filter and the 80 Hz
+    sampling smooth the touch-down transients, a few ms long); the sensor noise spreads the result
+    by about 1.5 % per leg (standard deviation) and 0.5 % for the robot, and its rectification by
+    ``|F v|`` adds energy; seen over the seeds: -5.5 to +5.3 % per leg, -2.7 to +1.8 % for the
+    robot. So: 8 % per leg, 5 % for the whole robot.
     """
     robot = pipeline.robot
     run = run_trot(robot, pipeline, REFERENCE_SWINGS, SimSettings(), cycles=3)
