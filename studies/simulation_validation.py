@@ -255,7 +255,7 @@ def main(argv: list[str] | None = None) -> int:
     cycles, seeds = (2, 5) if args.quick else (10, 20)
     robot = load_robot("scalf")
     if args.source is not None:
-        planned = read_planned_swings(args.source)
+        planned = read_planned_swings(args.source, robot)
         pipeline, optimum = EnergyPipeline(robot, planned.gait), planned.swings
     else:
         pipeline = EnergyPipeline(robot, default_gait(robot.nominal_stance_height_m))

@@ -1,12 +1,14 @@
 """Parse the command line, dispatch to a command, and turn errors into one line and an exit code.
 
 Exit codes: 0 success; 2 bad input (:class:`~scalf_opt.errors.ScalfError`: one line on stderr,
-no traceback); 3 an optimizer did not converge (the command says which); 130 interrupted.
+no traceback); 3 an optimizer did not converge (the command says which); 130 interrupted; 1 the
+reader of the output closed the pipe (no traceback).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from collections.abc import Sequence
 
@@ -41,3 +43,8 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         print("scalf-opt: interrupted", file=sys.stderr)
         return 130
+    except BrokenPipeError:
+        # the reader closed the pipe (`scalf-opt ... | head`): stop quietly, like any Unix tool;
+        # stdout goes to devnull so that the interpreter's final flush does not fail again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1

@@ -18,7 +18,11 @@ import numpy as np
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.model.robot import Robot
 from scalf_opt.types import LEG_NAMES
+
+MASS_TOLERANCE = 1e-9
+"""Relative difference of total masses that still counts as the same robot."""
 
 
 @dataclass(frozen=True)
@@ -42,8 +46,31 @@ def _field(path: Path, data: Any, key: str, where: str) -> Any:
     return data[key]
 
 
-def read_planned_swings(directory: str | Path) -> PlannedSwings:
+def _check_robot(path: Path, data: Any, robot: Robot) -> None:
+    name = data.get("robot") if isinstance(data, dict) else None
+    if isinstance(name, str) and name != robot.name:
+        raise ConfigError(
+            f"{path}: field robot is {name!r}, not {robot.name!r}: give the same --robot or --urdf"
+        )
+    mass = data.get("total_mass_kg") if isinstance(data, dict) else None
+    if isinstance(mass, int | float) and not math.isclose(
+        mass, robot.total_mass_kg, rel_tol=MASS_TOLERANCE
+    ):
+        raise ConfigError(
+            f"{path}: field total_mass_kg is {mass:g} kg, but {robot.name} weighs "
+            f"{robot.total_mass_kg:g} kg: the swings belong to another robot; give the same "
+            "--robot or --urdf"
+        )
+
+
+def read_planned_swings(directory: str | Path, robot: Robot | None = None) -> PlannedSwings:
     """Read ``directory/summary.json``.
+
+    Args:
+        directory: Where ``summary.json`` is.
+        robot: The robot the swings will be used on: the file's ``total_mass_kg`` (and
+            ``robot``, when the file names one) must be this robot's, so that swings computed
+            for one robot are not run on another.
 
     Raises:
         ConfigError: The file is missing or not JSON, or a field is missing or invalid (the
@@ -61,6 +88,8 @@ def read_planned_swings(directory: str | Path) -> PlannedSwings:
         raise ConfigError(f"{path}: cannot read ({exc.strerror})") from exc
     except json.JSONDecodeError as exc:
         raise ConfigError(f"{path}: not valid JSON ({exc})") from exc
+    if robot is not None:
+        _check_robot(path, data, robot)
     gait_data = _field(path, data, "gait", "")
     if not isinstance(gait_data, dict):
         raise ConfigError(f"{path}: field gait must be an object")

@@ -109,3 +109,19 @@ def test_simulate_refuses_bad_input_and_writes_nothing(tmp_path, capsys, argv, m
     assert err.startswith("scalf-opt: error: ") and err.count("\n") == 1
     assert message in err
     assert not out.exists()
+
+
+def test_a_closed_pipe_ends_the_command_without_a_traceback():
+    """``scalf-opt ... | head``: the reader goes away before the command prints."""
+    import subprocess
+    import sys
+
+    process = subprocess.Popen(
+        [sys.executable, "-m", "scalf_opt", "evaluate"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    process.stdout.close()  # before the command has computed anything
+    _, err = process.communicate(timeout=120)
+    assert b"Traceback" not in err
+    assert process.returncode == 1

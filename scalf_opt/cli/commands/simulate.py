@@ -21,7 +21,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         type=Path,
         metavar="DIR",
         help="simulate the swings and gait of DIR/summary.json (as `optimize --out DIR` "
-        "writes it), and the reference beside them (default: the reference swing)",
+        "writes it; give the same --robot or --urdf), and the reference beside them "
+        "(default: the reference swing)",
     )
     parser.add_argument(
         "--cycles", type=int, default=10, help="gait cycles to simulate, >= 2 (default 10)"
@@ -77,7 +78,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     )
     robot = load_robot(args)
     if args.source is not None:
-        planned = read_planned_swings(args.source)
+        planned = read_planned_swings(args.source, robot)
         gait, swings = planned.gait, planned.swings
     else:
         gait, swings = load_gait(args, robot), dict(REFERENCE_SWINGS)
@@ -96,7 +97,6 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         f"m, {args.cycles} cycles, dt={1e3 * settings.timestep_s:g} ms, servo "
         f"{settings.servo_bandwidth_hz:g} Hz"
     )
-    print(simulation_report(data, title))
     record = trot.record
     figure = simulation_figure(
         record.t_s,
@@ -108,6 +108,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         title,
     )
     out: Path = args.out
+    # the files first: a reader that closes the pipe early (`| head`) loses no result
     write_atomic(out / "simulation.json", to_json(data))
     save_atomic(figure, out / "simulation.png")
     written = [out / "simulation.json", out / "simulation.png"]
@@ -121,5 +122,6 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         log = sensor_log(motions, cylinders, SensorModel(), args.seed, str(args.log))
         write_atomic(args.log, log_csv_text(log))
         written.append(args.log)
+    print(simulation_report(data, title))
     print(f"wrote {', '.join(map(str, written))}")
     return 0
