@@ -2,8 +2,53 @@
 
 The package implements, and extends, the energy model and swing-trajectory optimization of the
 hydraulic quadruped SCalf (Energies 2019, 12(13), 2514): Pinocchio for rigid-body kinematics and
-dynamics, a CasADi twin of the leg for symbolic derivatives, a hydraulic-cylinder energy model with
-Stribeck friction, and two optimizers (the paper's pattern search and an Ipopt NLP).
+dynamics, a CasADi twin of the leg for symbolic derivatives, drive models (SCalf's hydraulic
+cylinder with Stribeck friction), and two optimizers (the paper's pattern search and an Ipopt NLP).
+
+The public API (:mod:`scalf_opt.api`) is importable from here; it is loaded on first use, so that
+``import scalf_opt`` stays cheap::
+
+    import scalf_opt as so
+
+    robot = so.load_robot("scalf")
+    reference = so.evaluate(robot)
+    optimum = so.optimize_swing(robot, family="joint-6")
 """
 
+from typing import TYPE_CHECKING, Any
+
 __version__ = "0.1.0"
+
+__all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
+    "__version__",
+    "EvaluationResult",
+    "Gait",
+    "OptimizationResult",
+    "PaperResult",
+    "evaluate",
+    "load_robot",
+    "optimize_swing",
+    "paper",
+    "read_gait",
+]
+
+if TYPE_CHECKING:
+    from scalf_opt.api import (
+        EvaluationResult,
+        Gait,
+        OptimizationResult,
+        PaperResult,
+        evaluate,
+        load_robot,
+        optimize_swing,
+        paper,
+        read_gait,
+    )
+
+
+def __getattr__(name: str) -> Any:
+    if name in __all__:
+        from scalf_opt import api
+
+        return getattr(api, name)
+    raise AttributeError(f"module 'scalf_opt' has no attribute {name!r}")

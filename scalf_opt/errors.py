@@ -1,15 +1,26 @@
 """One exception hierarchy for every user-facing mistake.
 
-The CLI turns any :class:`ScalfError` into one line on stderr and exit code 2; everything else is
-a bug and keeps its traceback. An optimizer that does not converge is not an exception: its result
-says so (``SwingOptimum.success``, with the solver's status and statistics) and the CLI exits 3.
+The CLI turns any :class:`ScalfError` into one line on stderr and exit code 2; anything else is a
+bug: one line and exit code 1 (``--debug`` shows the traceback). An optimizer that does not
+converge is not an exception: its result says so (``SwingOptimum.success``, with the solver's
+status and statistics) and the CLI exits 3.
 """
 
 from __future__ import annotations
 
 
 class ScalfError(Exception):
-    """Base class of every error scalf-opt raises on purpose."""
+    """Base class of every error scalf-opt raises on purpose.
+
+    Args:
+        message: One line that names the file or field at fault.
+        field: The field (e.g. a gait field ``period_s``) the error is about, when there is one;
+            the command line maps it to the option that sets it.
+    """
+
+    def __init__(self, message: str, *, field: str | None = None) -> None:
+        super().__init__(message)
+        self.field = field
 
 
 class ModelError(ScalfError):

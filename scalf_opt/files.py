@@ -16,17 +16,25 @@ from typing import IO, Any
 
 from scalf_opt.errors import ConfigError
 
+MAX_TOML_BYTES = 1024 * 1024
+"""Largest configuration file read [bytes]; real ones are a few kB."""
+
 
 def read_toml(path: Path, kind: str) -> dict[str, Any]:
     """Parse ``path``; ``kind`` names the file in messages (``gait``, ``actuator``).
 
     Raises:
-        ConfigError: The file cannot be read or is not valid TOML (the message names the file).
+        ConfigError: The file cannot be read, is larger than :data:`MAX_TOML_BYTES`, is not
+            UTF-8 text or not valid TOML (the message names the file).
     """
     try:
-        return tomllib.loads(path.read_text(encoding="utf-8"))
+        if path.stat().st_size > MAX_TOML_BYTES:
+            raise ConfigError(f"{path}: {kind} file larger than the {MAX_TOML_BYTES} bytes allowed")
+        return tomllib.loads(path.read_bytes().decode("utf-8"))
     except OSError as exc:
         raise ConfigError(f"{path}: cannot read {kind} file ({exc.strerror})") from exc
+    except UnicodeDecodeError as exc:
+        raise ConfigError(f"{path}: {kind} file is not UTF-8 text (byte {exc.start})") from exc
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path}: not valid TOML ({exc})") from exc
 

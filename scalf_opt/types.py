@@ -66,5 +66,5 @@ def check_choice(value: object, kind: Any, field: str) -> str:
     """
     allowed = choices(kind)
     if value not in allowed:
-        raise ConfigError(f"{field} = {value!r} is not one of {', '.join(allowed)}")
+        raise ConfigError(f"{field} = {value!r} is not one of {', '.join(allowed)}", field=field)
     return str(value)

@@ -20,6 +20,7 @@ import itertools
 import sys
 from pathlib import Path
 
+from scalf_opt.cli.console import Console
 from scalf_opt.energy.cycle import change_percent
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.files import write_atomic
@@ -70,18 +71,19 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--out", type=Path, help="write the ranking as CSV")
     args = parser.parse_args(argv)
     rows = scan(args.quick)
-    print("rank  space  C1 term  C2 term   RF swing    LH swing")
+    if args.out:
+        write_atomic(args.out, rows_csv_text(rows))
+    console = Console()  # survives `| head`: the CSV is written first, the table printed after
+    console.text("rank  space  C1 term  C2 term   RF swing    LH swing")
     for i, r in enumerate(rows, 1):
 
         def fmt(x: object) -> str:
             return f"{x:+8.2f} %" if isinstance(x, float) else "  not solved"
 
-        print(
+        console.text(
             f"{i:4d}  {r['space']:5s}  {r['term_1']:7s}  {r['term_2']:7s}  "
             f"{fmt(r['RF_swing_change_pct'])}  {fmt(r['LH_swing_change_pct'])}"
         )
-    if args.out:
-        write_atomic(args.out, rows_csv_text(rows))
     return 0
 
 

@@ -1,20 +1,41 @@
-"""Parse the command line, dispatch to a command, and turn errors into one line and an exit code.
+"""Parse the command line, dispatch to a command, and turn failures into one line and a code.
 
-Exit codes: 0 success; 2 bad input (:class:`~scalf_opt.errors.ScalfError`: one line on stderr,
-no traceback); 3 an optimizer did not converge (the command says which); 130 interrupted; 1 the
-reader of the output closed the pipe (no traceback).
+Exit codes: 0 success; 1 an unexpected failure (a bug: one line and a hint, ``--debug`` shows the
+traceback); 2 bad input (:class:`~scalf_opt.errors.ScalfError`: one line on stderr naming the
+file or field); 3 an optimizer did not converge (the command says which); 130 interrupted.
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from collections.abc import Sequence
 
 from scalf_opt import __version__
 from scalf_opt.cli.commands import COMMANDS
+from scalf_opt.cli.console import Console
 from scalf_opt.errors import ScalfError
+
+
+def _common_options(with_json: bool) -> argparse.ArgumentParser:
+    common = argparse.ArgumentParser(add_help=False)
+    group = common.add_argument_group("output")
+    if with_json:
+        group.add_argument(
+            "--json",
+            action="store_true",
+            help="print the results as JSON on stdout instead of text",
+        )
+    group.add_argument(
+        "-q", "--quiet", action="store_true", help="print nothing but errors (files are written)"
+    )
+    group.add_argument(
+        "-v", "--verbose", action="store_true", help="show the solvers' own logs (Ipopt's)"
+    )
+    group.add_argument(
+        "--debug", action="store_true", help="show the traceback of an unexpected failure"
+    )
+    return common
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -26,7 +47,12 @@ def build_parser() -> argparse.ArgumentParser:
     parser.add_argument("--version", action="version", version=f"scalf-opt {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for command in COMMANDS:
-        p = sub.add_parser(command.NAME, help=command.HELP, description=command.HELP)
+        p = sub.add_parser(
+            command.NAME,
+            help=command.HELP,
+            description=command.HELP,
+            parents=[_common_options(getattr(command, "JSON", False))],
+        )
         command.add_arguments(p)
         p.set_defaults(run=command.run)
     return parser
@@ -34,17 +60,24 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``scalf-opt`` console script."""
+    argv = list(sys.argv[1:] if argv is None else argv)
     args = build_parser().parse_args(argv)
+    args.argv = ["scalf-opt", *argv]
+    console = Console(quiet=args.quiet, json_output=getattr(args, "json", False))
+    args.console = console
     try:
         return int(args.run(args))
     except ScalfError as exc:
-        print(f"scalf-opt: error: {exc}", file=sys.stderr)
+        console.error(str(exc))
         return 2
     except KeyboardInterrupt:
-        print("scalf-opt: interrupted", file=sys.stderr)
+        console.error("interrupted")
         return 130
-    except BrokenPipeError:
-        # the reader closed the pipe (`scalf-opt ... | head`): stop quietly, like any Unix tool;
-        # stdout goes to devnull so that the interpreter's final flush does not fail again
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    except Exception as exc:
+        if args.debug:
+            raise
+        console.error(
+            f"unexpected failure: {type(exc).__name__}: {exc} (a bug: please report it; rerun "
+            "with --debug for the traceback)"
+        )
         return 1

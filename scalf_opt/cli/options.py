@@ -1,17 +1,29 @@
-"""Options several commands share (robot, gait, accounting) and what they load."""
+"""Options several commands share (robot, gait, legs, outputs) and what they load."""
 
 from __future__ import annotations
 
 import argparse
+import os
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from scalf_opt.errors import ConfigError, GaitError
 from scalf_opt.robots.catalog import robot_names
-from scalf_opt.types import Accounting, choices
+from scalf_opt.types import LEG_NAMES, Accounting, choices
 
 if TYPE_CHECKING:
     from scalf_opt.locomotion.gait import Gait
     from scalf_opt.model.robot import Robot
+
+GAIT_OPTIONS: dict[str, tuple[str, type, str]] = {
+    "period_s": ("--period", float, "gait cycle T [s]"),
+    "duty_cycle": ("--duty", float, "stance fraction of the cycle, in [0.5, 1)"),
+    "step_length_m": ("--step-length", float, "step length S [m]"),
+    "clearance_m": ("--clearance", float, "mid-swing clearance H [m]"),
+    "stance_height_m": ("--stance-height", float, "pitching hip above the ground z0 [m]"),
+    "sample_rate_hz": ("--rate", float, "sample rate of each phase [Hz]"),
+}
+"""Gait fields that have a command-line option: field -> (option, type, help)."""
 
 
 def add_robot(parser: argparse.ArgumentParser) -> None:
@@ -22,12 +34,13 @@ def add_robot(parser: argparse.ArgumentParser) -> None:
 
 
 def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
-    """``--gait FILE`` and, unless told otherwise, ``--accounting``."""
-    parser.add_argument(
-        "--gait",
-        type=Path,
-        help="gait file (TOML); fields left out take the robot's default (the paper's trot)",
+    """``--gait FILE``, one option per gait field, and unless told otherwise ``--accounting``."""
+    group = parser.add_argument_group(
+        "gait", "the robot's default trot, then the gait file's fields, then these options"
     )
+    group.add_argument("--gait", type=Path, help="gait file (TOML, a [gait] table)")
+    for field, (option, kind, text) in GAIT_OPTIONS.items():
+        group.add_argument(option, dest=field, type=kind, metavar="X", help=text)
     if accounting:
         parser.add_argument(
             "--accounting",
@@ -37,6 +50,22 @@ def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
         )
 
 
+def leg_name(text: str) -> str:
+    """A leg name in any case (``rf`` is ``RF``), for argparse ``type=``."""
+    return text.upper()
+
+
+def add_leg(parser: argparse.ArgumentParser, default: str = "RF") -> None:
+    """``--leg NAME`` (any case)."""
+    parser.add_argument(
+        "--leg",
+        type=leg_name,
+        default=default,
+        choices=LEG_NAMES,
+        help=f"the leg (default {default})",
+    )
+
+
 def load_robot(args: argparse.Namespace) -> Robot:
     """The robot named by ``--urdf`` or ``--robot`` (default: SCalf)."""
     from scalf_opt.robots.loading import load_robot as load
@@ -44,10 +73,54 @@ def load_robot(args: argparse.Namespace) -> Robot:
     return load(name=args.robot, urdf=args.urdf)
 
 
-def load_gait(args: argparse.Namespace, robot: Robot) -> Gait:
-    """The gait of ``--gait`` over the robot's default gait."""
-    from scalf_opt.locomotion.gait import default_gait
-    from scalf_opt.locomotion.gait_file import read_gait
+def gait_overrides(args: argparse.Namespace) -> dict[str, float]:
+    """The gait fields given as options."""
+    return {f: getattr(args, f) for f in GAIT_OPTIONS if getattr(args, f, None) is not None}
 
-    base = default_gait(robot.nominal_stance_height_m)
-    return read_gait(args.gait, base) if args.gait is not None else base
+
+def load_gait(args: argparse.Namespace, robot: Robot) -> Gait:
+    """The robot's default gait, under ``--gait``'s fields, under the gait options.
+
+    Raises:
+        GaitError: A value is out of range; the message names the option or the file's field.
+    """
+    from scalf_opt.api import read_gait
+
+    overrides = gait_overrides(args)
+    try:
+        return read_gait(args.gait, robot, **overrides)
+    except GaitError as exc:
+        if exc.field in overrides:
+            option = GAIT_OPTIONS[exc.field][0]
+            raise GaitError(f"{option} {overrides[exc.field]:g}: {exc}", field=exc.field) from exc
+        raise
+
+
+def check_output_dir(path: Path | None, option: str = "--out") -> None:
+    """Refuse, before any work, an output directory that cannot be written.
+
+    Raises:
+        ConfigError: ``path`` is a file, or its nearest existing ancestor is not writable.
+    """
+    if path is None:
+        return
+    if path.exists() and not path.is_dir():
+        raise ConfigError(f"{option} {path}: is a file, not a directory")
+    existing = path
+    while not existing.exists():
+        existing = existing.parent
+    if not existing.is_dir() or not os.access(existing, os.W_OK | os.X_OK):
+        raise ConfigError(f"{option} {path}: {existing} is not a writable directory")
+
+
+def check_output_file(path: Path | None, option: str = "--out") -> None:
+    """Refuse, before any work, an output file that cannot be written.
+
+    Raises:
+        ConfigError: ``path`` is a directory, or its folder cannot be written.
+    """
+    if path is None:
+        return
+    if path.is_dir():
+        raise ConfigError(f"{option} {path}: is a directory, not a file")
+    check_output_dir(path.parent if str(path.parent) else Path("."), option)

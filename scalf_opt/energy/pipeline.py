@@ -93,7 +93,14 @@ class EnergyPipeline:
         Raises:
             GaitError: The stance path leaves the leg's reach or joint limits.
         """
-        check_workspace(self.kinematics(leg), self.gait, "foot", self.stance_path, "stance")
+        check_workspace(
+            self.kinematics(leg),
+            self.gait,
+            "foot",
+            self.stance_path,
+            "stance",
+            ("stance_height_m", "step_length_m"),
+        )
         samples = PhaseSamples(
             phase="stance",
             space="foot",
@@ -114,11 +121,14 @@ class EnergyPipeline:
         """Evaluate ``leg``'s swing for a family member (``theta`` in the family's units).
 
         Raises:
-            InfeasibleError: The swing leaves the leg's reach or joint limits.
+            GaitError: The reference swing (no parameters) leaves the reach or joint limits: the
+                gait's clearance, stance height or step length are impossible.
+            InfeasibleError: A family member leaves the reach or joint limits.
         """
         path = self.swing_path(leg, family)
         values = path.values(theta)
-        check_workspace(self.kinematics(leg), self.gait, path.space, values, "swing")
+        fields = ("clearance_m", "stance_height_m", "step_length_m") if not path.n_params else ()
+        check_workspace(self.kinematics(leg), self.gait, path.space, values, "swing", fields)
         samples = PhaseSamples(
             phase="swing",
             space=path.space,

@@ -38,20 +38,34 @@ def check_joint_limits(kin: LegKinematics, q: np.ndarray, phase: Phase) -> None:
 
 
 def check_workspace(
-    kin: LegKinematics, gait: Gait, space: Space, path: np.ndarray, phase: Phase
+    kin: LegKinematics,
+    gait: Gait,
+    space: Space,
+    path: np.ndarray,
+    phase: Phase,
+    gait_fields: tuple[str, ...] = (),
 ) -> None:
     """Refuse a path that leaves the leg's reach or joint limits.
 
+    Args:
+        kin: The leg's kinematics.
+        gait: The gait.
+        space: What ``path`` holds.
+        path: Samples (3, 2, n).
+        phase: The phase, for the message.
+        gait_fields: The gait fields that alone decide this path (the stance, the reference
+            swing): a path out of the workspace is then the gait's fault and the error names them.
+
     Raises:
-        GaitError: In stance: the gait itself is impossible for this leg (names the fields).
-        InfeasibleError: In swing.
+        GaitError: The path is the gait's (``gait_fields``): the gait is impossible for the leg.
+        InfeasibleError: Otherwise (a swing family's member).
     """
     try:
         check_joint_limits(kin, joint_angles(kin, space, path), phase)
     except InfeasibleError as exc:
-        if phase == "swing":
+        if not gait_fields:
             raise
+        values = ", ".join(f"{f} = {getattr(gait, f):g}" for f in gait_fields)
         raise GaitError(
-            f"gait fields stance_height_m = {gait.stance_height_m:g} and step_length_m = "
-            f"{gait.step_length_m:g} are impossible for this robot: {exc}"
+            f"gait fields {values} are impossible for this robot: {exc}", field=gait_fields[0]
         ) from exc

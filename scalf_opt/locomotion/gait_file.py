@@ -24,6 +24,12 @@ def read_gait_fields(path: str | Path) -> dict[str, float | int]:
     table = data.get("gait", data)
     if not isinstance(table, dict):
         raise ConfigError(f"{path}: [gait] must be a table")
+    stray = sorted(set(data) - {"gait"}) if "gait" in data else []
+    if stray:
+        raise ConfigError(
+            f"{path}: unknown key or table {stray[0]!r} beside [gait] (a gait file holds one "
+            "[gait] table, or its fields at the top level)"
+        )
     known = Gait.field_names()
     values: dict[str, float | int] = {}
     for key, value in table.items():
@@ -49,4 +55,4 @@ def read_gait(path: str | Path, base: Gait | None = None) -> Gait:
     try:
         return replace(base or Gait(), **values)  # type: ignore[arg-type]
     except GaitError as exc:
-        raise GaitError(f"{path}: {exc}") from exc
+        raise GaitError(f"{path}: {exc}", field=exc.field) from exc

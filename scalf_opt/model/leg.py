@@ -23,6 +23,9 @@ from scalf_opt.errors import ModelError
 from scalf_opt.model.naming import LegJoints
 from scalf_opt.model.symbolic import SymbolicChain
 
+REVOLUTE_JOINTS = ("JointModelRX", "JointModelRY", "JointModelRZ", "JointModelRevoluteUnaligned")
+"""Pinocchio joint models a leg's hip pitch and knee may be (bounded revolute joints)."""
+
 AXIS_TOLERANCE = 1e-9
 """Largest |x| or |z| component a unit joint axis may have and still count as parallel to y."""
 
@@ -77,6 +80,18 @@ class Leg:
         if not model.existFrame(joints.foot):
             raise ModelError(f"{source}: leg {name} has no foot frame {joints.foot!r}")
         ids = (model.getJointId(joints.pitch), model.getJointId(joints.knee))
+        for joint_id in ids:
+            kind = model.joints[joint_id].shortname()
+            if kind not in REVOLUTE_JOINTS:
+                raise ModelError(
+                    f"{source}: leg {name}: joint {model.names[joint_id]!r} is a {kind}, not a "
+                    "revolute joint with limits (the sagittal leg needs revolute hip and knee)"
+                )
+            if model.inertias[joint_id].mass <= 0:
+                raise ModelError(
+                    f"{source}: leg {name}: the link moved by {model.names[joint_id]!r} has no "
+                    "mass; a leg link needs a positive mass"
+                )
         lock = [j for j in range(1, model.njoints) if j not in ids]
         reduced = pin.buildReducedModel(model, lock, pin.neutral(model))
         posture = None

@@ -17,21 +17,57 @@ import pinocchio as pin
 from scalf_opt.errors import ModelError
 from scalf_opt.model.leg import Leg
 from scalf_opt.model.naming import LegNaming, detect_naming
+from scalf_opt.model.urdf_file import read_urdf_text
+
+INERTIA_TOLERANCE = 1e-9
+"""Relative round-off allowed in the eigenvalue and triangle checks of a body's inertia."""
+
+
+def check_bodies(model: pin.Model, path: Path) -> None:
+    """Every body Pinocchio built (fixed-joint children merged in) has a physical inertia.
+
+    Its rotational inertia about the COM is symmetric positive semi-definite and its principal
+    moments satisfy the triangle inequality ``I_a + I_b >= I_c``. The check is on Pinocchio's
+    bodies, not on the URDF's links: many published URDFs carry massless marker links with
+    degenerate inertias (HyQ's feet, ANYmal's camera frames) that vanish in the merged body.
+
+    Raises:
+        ModelError: A body's inertia is not physical; the message names the body's joint.
+    """
+    for i in range(model.njoints):
+        inertia = model.inertias[i]
+        if inertia.mass <= 0:
+            continue
+        moments = np.linalg.eigvalsh(0.5 * (inertia.inertia + inertia.inertia.T))
+        scale = max(float(np.abs(moments).max()), 1e-12)
+        body = model.names[i] if i else "the root link"
+        if moments[0] < -INERTIA_TOLERANCE * scale:
+            raise ModelError(
+                f"{path}: the body of {body} has a rotational inertia that is not positive "
+                f"semi-definite (principal moments {moments} kg m^2)"
+            )
+        if moments[0] + moments[1] < moments[2] - INERTIA_TOLERANCE * scale:
+            raise ModelError(
+                f"{path}: the body of {body} breaks the triangle inequality of inertia "
+                f"(principal moments {moments} kg m^2)"
+            )
 
 
 def parse_urdf(path: Path) -> pin.Model:
-    """Pinocchio's fixed-base model of a URDF file.
+    """Pinocchio's fixed-base model of a URDF file, read as untrusted input.
 
     Raises:
-        ModelError: The file is missing or is not a URDF Pinocchio reads.
+        ModelError: The file is missing, unsafe or unphysical (:func:`read_urdf_text`,
+            :func:`check_bodies`), or is not a URDF Pinocchio reads.
     """
-    if not path.is_file():
-        raise ModelError(f"{path}: URDF file not found")
+    text = read_urdf_text(path)
     try:
-        return pin.buildModelFromUrdf(str(path))
+        model = pin.buildModelFromXML(text)
     except (RuntimeError, ValueError) as exc:
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise ModelError(f"{path}: not a valid URDF ({first})") from exc
+    check_bodies(model, path)
+    return model
 
 
 @dataclass(frozen=True)

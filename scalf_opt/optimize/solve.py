@@ -40,7 +40,9 @@ class SwingOptimum:
             iteration count).
         evaluations: Objective evaluations (pattern search) or 0 (Ipopt).
         wall_time_s: Time spent [s].
-        history: Pattern search: rows (iteration, *theta, energy) of accepted points.
+        history: Pattern search: rows (iteration, *theta, energy) of accepted points; in
+            :meth:`as_dict` records with named parameters (an infeasible point's energy, during
+            the feasibility phase, is ``inf``, written as null).
         infeasible: Pattern search: count of infeasible evaluations per reason.
         stats: Solver statistics (Ipopt's, as returned by CasADi).
     """
@@ -77,6 +79,16 @@ class SwingOptimum:
             "wall_time_s": self.wall_time_s,
             "infeasible_evaluations": dict(self.infeasible),
             "solver_stats": self.stats,
+            "history": [
+                {
+                    "iteration": int(row[0]),
+                    "parameters": dict(
+                        zip(self.parameter_names, map(float, row[1:-1]), strict=True)
+                    ),
+                    "swing_energy_j": float(row[-1]),
+                }
+                for row in self.history
+            ],
         }
 
 
@@ -198,9 +210,10 @@ def optimize(
     method: Method,
     theta0: np.ndarray | None = None,
     pattern_options: PatternSearchOptions | None = None,
+    ipopt_options: dict[str, Any] | None = None,
 ) -> SwingOptimum:
     """Run ``method`` (``pattern`` or ``ipopt``) on ``problem``."""
     check_choice(method, Method, "method")
     if method == "pattern":
         return run_pattern_search(problem, theta0, pattern_options)
-    return run_ipopt(problem, theta0)
+    return run_ipopt(problem, theta0, ipopt_options)

@@ -12,15 +12,19 @@ For the RF and LH legs (LF and RH repeat them half a cycle later, the paper's sy
 from __future__ import annotations
 
 import time
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
 from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.io.provenance import provenance
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.model.robot import Robot
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import SwingOptimum, run_ipopt, run_pattern_search
@@ -64,24 +68,43 @@ class Reproduction:
         return all(o.success for runs in self.optima.values() for o in runs.values())
 
 
-def reproduce(pipeline: EnergyPipeline) -> Reproduction:
-    """Run every optimizer of the paper's comparison on the RF and LH legs."""
+def reproduce(
+    pipeline: EnergyPipeline,
+    ipopt_options: dict[str, Any] | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> Reproduction:
+    """Run every optimizer of the paper's comparison on the RF and LH legs.
+
+    Args:
+        pipeline: Robot, gait (accounting: the paper's).
+        ipopt_options: Extra Ipopt options (e.g. ``{"print_level": 5}`` for its log).
+        progress: Called with a label before each optimizer run.
+    """
     start = time.perf_counter()
+
+    def step(label: str) -> None:
+        if progress is not None:
+            progress(label)
+
     out = Reproduction(pipeline.gait, pipeline.robot_cycle(make_family("reference")))
     paper, rich = make_family("paper"), make_family(DEFAULT_FAMILY)
     for key in RUNS:
         out.optima[key] = {}
     for leg in PAIR:
         problem = SwingProblem(pipeline, leg, paper)
+        step(f"{leg}: {RUNS['pattern'][1]}")
         out.optima["pattern"][leg] = run_pattern_search(problem)
+        step(f"{leg}: {RUNS['pattern_fine'][1]}")
         out.optima["pattern_fine"][leg] = run_pattern_search(
             problem, options=PatternSearchOptions(precision=FINE_PRECISION)
         )
-        nlp = run_ipopt(problem)
+        step(f"{leg}: {RUNS['ipopt'][1]}")
+        nlp = run_ipopt(problem, ipopt_options=ipopt_options)
         out.optima["ipopt"][leg] = nlp
         rich_problem = SwingProblem(pipeline, leg, rich)
         warm = rich.embed(nlp.theta, paper) if nlp.success else None
-        out.optima["ipopt_rich"][leg] = run_ipopt(rich_problem, warm)
+        step(f"{leg}: {RUNS['ipopt_rich'][1]}")
+        out.optima["ipopt_rich"][leg] = run_ipopt(rich_problem, warm, ipopt_options)
     for key, (family_name, _) in RUNS.items():
         runs = out.optima[key]
         if all(o.success for o in runs.values()):
@@ -142,18 +165,17 @@ def table5_rows(rep: Reproduction) -> list[dict[str, float | str]]:
     return rows
 
 
-def summary(rep: Reproduction) -> dict[str, object]:
-    """Plain data of the whole reproduction (for JSON)."""
+def summary(
+    rep: Reproduction, robot: Robot, command: Sequence[str] | None = None
+) -> dict[str, object]:
+    """Plain data of the whole reproduction (``paper.json``), with its provenance."""
     return {
+        "provenance": provenance(robot, command),
         "gait": rep.gait.to_dict(),
         "reference_average_power_w": rep.reference.average_power_w,
         "table5": table5_rows(rep),
         "table6": table6_rows(rep),
         "optima": {k: {leg: o.as_dict() for leg, o in v.items()} for k, v in rep.optima.items()},
-        "pattern_search_history": {
-            leg: [list(map(float, row)) for row in rep.optima["pattern"][leg].history]
-            for leg in PAIR
-        },
         "validation": {
             leg: {
                 "gap_at_paper_precision_pct": gap_percent(

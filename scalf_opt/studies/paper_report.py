@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from pathlib import Path
 
 from scalf_opt.files import write_atomic
@@ -45,7 +46,8 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         f"Robot `{robot.urdf_path.name}` ({robot.total_mass_kg:.2f} kg); "
         f"trot T = {g.period_s:g} s, duty {g.duty_cycle:g}, S = {g.step_length_m:g} m, "
         f"H = {g.clearance_m:g} m, "
-        f"z0 = {g.stance_height_m:g} m, {g.sample_rate_hz:g} Hz; power `|tau qd| + |F_f v|`. "
+        f"z0 = {g.stance_height_m:g} m, {g.sample_rate_hz:g} Hz; power "
+        f"{'`|tau qd| + |F_f v|`' if compare else '`|tau qd|` plus the drives losses'}. "
         "LF and RH repeat RF and LH half a cycle later (the paper's symmetry; checked: "
         f"{rep.reference.symmetry_error:.1e}).",
         "",
@@ -154,7 +156,9 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
     return "\n".join(lines) + "\n"
 
 
-def write_paper_outputs(rep: Reproduction, robot: Robot, out: Path) -> list[Path]:
+def write_paper_outputs(
+    rep: Reproduction, robot: Robot, out: Path, command: Sequence[str] | None = None
+) -> list[Path]:
     """Write ``report.md``, ``paper.json``, ``table5.csv``, ``table6.csv`` and the two figures.
 
     Returns:
@@ -166,7 +170,7 @@ def write_paper_outputs(rep: Reproduction, robot: Robot, out: Path) -> list[Path
     ]
     return [
         write_atomic(out / "report.md", paper_markdown(rep, robot)),
-        write_atomic(out / "paper.json", to_json(summary(rep))),
+        write_atomic(out / "paper.json", to_json(summary(rep, robot, command))),
         write_atomic(out / "table5.csv", rows_csv_text(table5_rows(rep))),
         write_atomic(out / "table6.csv", rows_csv_text(table6_rows(rep))),
         save_atomic(pattern_search_figure(rep.optima["pattern"]), out / "pattern_search.png"),

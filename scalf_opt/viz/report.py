@@ -3,107 +3,58 @@
 from __future__ import annotations
 
 import math
+from typing import Any
 
 import numpy as np
-import pinocchio as pin
 
-from scalf_opt.actuators.cylinder import HydraulicCylinder
-from scalf_opt.actuators.drive import Drive
 from scalf_opt.energy.cycle import RobotCycle, change_percent
-from scalf_opt.model.kinematics import LegKinematics
-from scalf_opt.model.leg import Leg
-from scalf_opt.model.robot import Robot
 from scalf_opt.optimize.solve import SwingOptimum
 
 
-def _sagittal_angle(link: np.ndarray, vec: np.ndarray) -> float:
-    """Signed angle about +y from sagittal vector ``link`` to ``vec`` (both (x, z)) [rad]."""
-    w_link = complex(link[1], link[0])
-    w_vec = complex(vec[1], vec[0])
-    return math.atan2((w_vec / w_link).imag, (w_vec / w_link).real)
-
-
-def leg_link_table(leg: Leg) -> list[dict[str, float]]:
-    """Mass, length, COM distance and angle, inertia about the COM of the thigh and shank."""
-    model = leg.model
-    data = model.createData()
-    pin.forwardKinematics(model, data, np.zeros(model.nq))
-    rows = []
-    for i, link in ((1, leg.thigh_vector_m), (2, leg.shank_vector_m)):
-        inertia = model.inertias[i]
-        rot = data.oMi[i].rotation
-        com = rot @ inertia.lever
-        com_xz = np.array([com[0], com[2]])
-        rows.append(
-            {
-                "mass_kg": float(inertia.mass),
-                "length_m": float(np.linalg.norm(link)),
-                "com_distance_m": float(np.linalg.norm(com_xz)),
-                "com_angle_rad": _sagittal_angle(link, com_xz),
-                "inertia_yy_kg_m2": float((rot @ inertia.inertia @ rot.T)[1, 1]),
-            }
-        )
-    return rows
-
-
-def model_report(
-    robot: Robot, leg_name: str, drives: tuple[Drive, Drive], stance_height_m: float
-) -> str:
-    """Text of ``scalf-opt model``: a leg's parameters, drives and a standing posture.
-
-    Args:
-        robot: The robot.
-        leg_name: The leg to describe.
-        drives: Its (hip pitch, knee) drives.
-        stance_height_m: Hip height of the standing posture shown [m].
-    """
-    leg = robot.leg(leg_name)
+def model_report(data: dict[str, Any]) -> str:
+    """Text of ``scalf-opt model`` from :func:`scalf_opt.io.model_summary.model_summary`."""
+    hip = data["hip_origin_m"]
     lines = [
-        f"robot {robot.name}: {robot.urdf_path}",
-        f"  total mass {robot.total_mass_kg:.3f} kg, trunk {robot.trunk_mass_kg:.3f} kg, "
-        f"trunk COM {np.array2string(robot.trunk_com_m, precision=4)} m",
-        f"leg {leg.name} ({'hind, mirror of a front leg' if leg.is_hind else 'front'}): "
+        f"robot {data['robot']}: {data['urdf']}",
+        f"  total mass {data['total_mass_kg']:.3f} kg, trunk {data['trunk_mass_kg']:.3f} kg, "
+        f"trunk COM {np.array2string(np.array(data['trunk_com_m']), precision=4)} m",
+        f"leg {data['leg']} ({'hind, mirror of a front leg' if data['hind'] else 'front'}): "
         "Pinocchio reduced model, joints (hip pitch, knee)",
     ]
-    for name, sign in zip(leg.joint_names, leg.axis_signs, strict=True):
-        lines.append(f"  joint {name}: axis {'+' if sign > 0 else '-'}y")
-    hip = leg.hip_origin_m
-    lines.append(
+    lines += [f"  joint {j['name']}: axis {j['axis']}" for j in data["joints"]]
+    lines += [
         f"  hip-pitch origin (trunk frame): x={hip[0]:.4f} y={hip[1]:.4f} z={hip[2]:.4f} m; "
-        f"foot lateral offset {leg.foot_lateral_m:.4f} m"
-    )
-    lines.append(
-        "  link    mass [kg]  length [m]  COM dist [m]  COM angle [rad]  Iyy at COM [kg m^2]"
-    )
-    for label, row in zip(("thigh", "shank"), leg_link_table(leg), strict=True):
+        f"foot lateral offset {data['foot_lateral_m']:.4f} m",
+        "  link    mass [kg]  length [m]  COM dist [m]  COM angle [rad]  Iyy at COM [kg m^2]",
+    ]
+    for label, row in data["links"].items():
         lines.append(
             f"  {label:6s}  {row['mass_kg']:9.4f}  {row['length_m']:10.5f}  "
             f"{row['com_distance_m']:12.5f}  {row['com_angle_rad']:15.4f}  "
             f"{row['inertia_yy_kg_m2']:19.4f}"
         )
-    lo, hi = leg.lower_limits_rad, leg.upper_limits_rad
-    for i, name in enumerate(leg.joint_names):
+    for j in data["joints"]:
         lines.append(
-            f"  {name}: range [{lo[i]:.3f}, {hi[i]:.3f}] rad, effort {leg.effort_limits_nm[i]:.1f}"
-            f" N m, velocity {leg.velocity_limits_rad_s[i]:.1f} rad/s"
+            f"  {j['name']}: range [{j['lower_rad']:.3f}, {j['upper_rad']:.3f}] rad, effort "
+            f"{j['effort_limit_nm']:.1f} N m, velocity {j['velocity_limit_rad_s']:.1f} rad/s"
         )
-    for i, cyl in enumerate(drives):
-        if not isinstance(cyl, HydraulicCylinder):
-            lines.append(f"  {leg.joint_names[i]}: {cyl.kind} drive")
+    for j in data["joints"]:
+        d = j["drive"]
+        if d["kind"] != "cylinder":
+            lines.append(f"  {j['name']}: {d['kind']} drive")
             continue
-        grid = np.linspace(lo[i], hi[i], 2001)
-        lengths = np.array([float(cyl.length_m(x)) for x in grid])
+        lo, hi = d["length_range_m"]
         lines.append(
-            f"  cylinder {cyl.joint_name}: a={cyl.a_m * 1e3:.2f} mm b={cyl.b_m * 1e3:.2f} mm "
-            f"phi = {math.degrees(cyl.phi_offset_rad):.2f} deg {'+' if cyl.angle_sign > 0 else '-'}"
-            f" theta; length {lengths.min() * 1e3:.1f}..{lengths.max() * 1e3:.1f} mm over the "
-            f"joint range (sweep {(lengths.max() - lengths.min()) * 1e3:.1f} mm, stroke "
-            f"{cyl.stroke_m * 1e3:.1f} mm)"
+            f"  cylinder {d['joint']}: a={d['a_m'] * 1e3:.2f} mm b={d['b_m'] * 1e3:.2f} mm "
+            f"phi = {math.degrees(d['phi_offset_rad']):.2f} deg "
+            f"{'+' if d['angle_sign'] > 0 else '-'} theta; length {lo * 1e3:.1f}..{hi * 1e3:.1f} "
+            f"mm over the joint range (sweep {(hi - lo) * 1e3:.1f} mm, stroke "
+            f"{d['stroke_m'] * 1e3:.1f} mm)"
         )
-    q = LegKinematics(leg).inverse(np.array([0.0, -stance_height_m]))
-    grav = pin.computeGeneralizedGravity(leg.model, leg.model.createData(), q)
+    posture = data["standing_posture"]
+    q, grav = posture["q_rad"], posture["gravity_torques_nm"]
     lines.append(
-        f"standing posture (foot {stance_height_m:.3f} m straight below the hip): "
+        f"standing posture (foot {posture['stance_height_m']:.3f} m straight below the hip): "
         f"q = ({q[0]:.4f}, {q[1]:.4f}) rad = ({math.degrees(q[0]):.2f}, "
         f"{math.degrees(q[1]):.2f}) deg; gravity torques ({grav[0]:.2f}, {grav[1]:.2f}) N m"
     )

@@ -97,3 +97,20 @@ def test_trot_support_sets():
     assert sorted(support_legs(g, 0.25, "RF")) == ["LH", "RF"]  # LF touches down: carries 0
     g2 = Gait(duty_cycle=0.6)
     assert sorted(support_legs(g2, 0.28, "RF")) == ["LF", "LH", "RF", "RH"]
+
+
+def test_gait_files_that_are_not_gaits(tmp_path):
+    path = tmp_path / "g.toml"
+    path.write_text("[gait]\nperiod_s = 0.5\n[gaits]\nperiod_s = 0.4\n")
+    with pytest.raises(ConfigError, match=r"g\.toml: unknown key or table 'gaits' beside \[gait\]"):
+        read_gait(path)
+    path.write_bytes(b"[gait]\nperiod_s = 0.5 # \xe9t\xe9\n")
+    with pytest.raises(ConfigError, match=r"g\.toml: gait file is not UTF-8 text"):
+        read_gait(path)
+
+
+def test_resource_limits_are_named(tmp_path):
+    with pytest.raises(GaitError, match=r"sample_rate_hz = 100000000.0 is too high.*20000 samples"):
+        Gait(sample_rate_hz=1e8)
+    with pytest.raises(GaitError, match=r"cycles = 10000 must be an integer in 1\.\.1000"):
+        Gait(cycles=10000)

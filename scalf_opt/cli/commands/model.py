@@ -4,30 +4,35 @@ from __future__ import annotations
 
 import argparse
 
-from scalf_opt.cli.options import add_robot, load_robot
-from scalf_opt.types import LEG_NAMES
+from scalf_opt.cli.options import add_leg, add_robot, load_robot
 
 NAME = "model"
 HELP = "print a leg's parameters as Pinocchio sees them"
+JSON = True
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_robot(parser)
-    parser.add_argument("--leg", default="RF", choices=LEG_NAMES, help="the leg (default RF)")
+    add_leg(parser)
     parser.add_argument(
         "--stance-height",
         type=float,
+        metavar="M",
         help="hip height of the posture shown [m] (default: the robot's nominal stance height)",
     )
 
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.actuators.sidecar import drives_for, leg_drives
-    from scalf_opt.locomotion.gait import default_gait
+    from scalf_opt.api import read_gait
+    from scalf_opt.io.model_summary import model_summary
     from scalf_opt.viz.report import model_report
 
     robot = load_robot(args)
     leg = robot.leg(args.leg)
-    height = args.stance_height or default_gait(robot.nominal_stance_height_m).stance_height_m
-    print(model_report(robot, args.leg, leg_drives(drives_for(robot), leg.joint_names), height))
+    height = args.stance_height or read_gait(robot=robot).stance_height_m
+    drives = leg_drives(drives_for(robot), leg.joint_names)
+    data = model_summary(robot, args.leg, drives, height)
+    args.console.text(model_report(data))
+    args.console.json(data)
     return 0

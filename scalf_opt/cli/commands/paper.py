@@ -3,10 +3,9 @@
 from __future__ import annotations
 
 import argparse
-import sys
 from pathlib import Path
 
-from scalf_opt.cli.options import add_gait, add_robot, load_gait, load_robot
+from scalf_opt.cli.options import add_gait, add_robot, check_output_dir, load_gait, load_robot
 
 NAME = "paper"
 HELP = "reproduce the paper's Tables 5 and 6 (the main job)"
@@ -25,16 +24,21 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when every optimizer converged, 3 otherwise."""
-    from scalf_opt.energy.pipeline import EnergyPipeline
-    from scalf_opt.studies.paper import reproduce
+    from scalf_opt.api import paper
+    from scalf_opt.cli.progress import ProgressBar
+    from scalf_opt.studies.paper import PAIR, RUNS
     from scalf_opt.studies.paper_report import paper_markdown, write_paper_outputs
 
+    check_output_dir(args.out)
     robot = load_robot(args)
-    rep = reproduce(EnergyPipeline(robot, load_gait(args, robot)))
-    print(paper_markdown(rep, robot))
-    written = write_paper_outputs(rep, robot, args.out)
-    print(f"wrote {args.out}/" + ", ".join(p.name for p in written))
+    gait = load_gait(args, robot)
+    with ProgressBar(len(PAIR) * len(RUNS), "paper", enabled=not args.quiet) as bar:
+        result = paper(robot, gait, verbose=args.verbose, progress=bar.step, command=args.argv)
+    rep = result.reproduction
+    written = write_paper_outputs(rep, robot, args.out, args.argv)
+    args.console.text(paper_markdown(rep, robot))
+    args.console.text(f"wrote {args.out}/" + ", ".join(p.name for p in written))
     if not rep.all_solved:
-        print("scalf-opt: error: an optimizer did not converge (see the report)", file=sys.stderr)
+        args.console.error("an optimizer did not converge (see the report)")
         return 3
     return 0

@@ -27,11 +27,13 @@ def parse_fourier_name(name: str) -> tuple[Space, int]:
     if not match:
         raise ConfigError(
             f"unknown family {name!r}: use reference, paper, fourier-N (foot space) or "
-            f"joint-N (joint space) with N in {MIN_ORDER}..{MAX_ORDER}"
+            f"joint-N (joint space) with N in {MIN_ORDER}..{MAX_ORDER}",
+            field="family",
         )
     order = int(match.group(2))
     if not MIN_ORDER <= order <= MAX_ORDER:
         raise ConfigError(
-            f"family {name!r}: order N must be in {MIN_ORDER}..{MAX_ORDER}, got {order}"
+            f"family {name!r}: order N must be in {MIN_ORDER}..{MAX_ORDER}, got {order}",
+            field="family",
         )
     return ("foot" if match.group(1) == "fourier" else "joint"), order

@@ -1,0 +1,64 @@
+"""Where a command's output goes: text or JSON on stdout, notes and errors on stderr.
+
+Writing survives a closed pipe (``scalf-opt paper | head``): the first ``BrokenPipeError`` points
+stdout at the null device and later output is dropped, so the command still finishes its work and
+writes its files, and Python does not complain at exit.
+"""
+
+from __future__ import annotations
+
+import os
+import sys
+from typing import Any, TextIO
+
+
+class Console:
+    """The command's output channels.
+
+    Args:
+        quiet: Drop the human-readable text (files are still written, errors still shown).
+        json_output: Print the results as JSON on stdout instead of text.
+    """
+
+    def __init__(self, quiet: bool = False, json_output: bool = False) -> None:
+        self.quiet = quiet
+        self.json_output = json_output
+        self._closed = False
+
+    def _write(self, stream: TextIO, text: str) -> None:
+        if self._closed and stream is sys.stdout:
+            return
+        try:
+            stream.write(text + "\n")
+            stream.flush()
+        except BrokenPipeError:
+            self._closed = True
+            devnull = os.open(os.devnull, os.O_WRONLY)
+            os.dup2(devnull, sys.stdout.fileno())
+            os.close(devnull)
+
+    def text(self, text: str) -> None:
+        """Human-readable output on stdout (not with ``--quiet`` or ``--json``)."""
+        if not (self.quiet or self.json_output):
+            self._write(sys.stdout, text)
+
+    def json(self, data: Any) -> None:
+        """Machine-readable output on stdout (only with ``--json``)."""
+        if self.json_output:
+            from scalf_opt.io.results import to_json
+
+            self._write(sys.stdout, to_json(data).rstrip("\n"))
+
+    def note(self, text: str) -> None:
+        """A remark for the user on stderr (not with ``--quiet``)."""
+        if not self.quiet:
+            self._write(sys.stderr, f"scalf-opt: {text}")
+
+    def error(self, text: str) -> None:
+        """One line on stderr, always."""
+        self._write(sys.stderr, "scalf-opt: error: " + " ".join(text.splitlines()))
+
+
+def progress_enabled() -> bool:
+    """A progress bar is drawn only when stdout is a terminal and not under CI."""
+    return sys.stdout.isatty() and not os.environ.get("CI")

@@ -1,0 +1,37 @@
+"""What a result file says about where it came from: tool, robot, URDF and its hash, command."""
+
+from __future__ import annotations
+
+import hashlib
+import shlex
+from collections.abc import Sequence
+from typing import Any
+
+from scalf_opt import __version__
+from scalf_opt.model.robot import Robot
+
+
+def sha256_of(path: Any) -> str:
+    """SHA-256 of a file's bytes (hex)."""
+    digest = hashlib.sha256()
+    with open(path, "rb") as handle:
+        for block in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(block)
+    return digest.hexdigest()
+
+
+def provenance(robot: Robot, command: Sequence[str] | None = None) -> dict[str, Any]:
+    """The ``provenance`` record of a result file.
+
+    Args:
+        robot: The robot the results are for.
+        command: The command line that produced them (``None`` from the Python API).
+    """
+    return {
+        "tool": "scalf-opt",
+        "version": __version__,
+        "robot": robot.name,
+        "urdf": str(robot.urdf_path),
+        "urdf_sha256": sha256_of(robot.urdf_path),
+        "command": shlex.join(command) if command is not None else None,
+    }

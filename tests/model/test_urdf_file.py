@@ -1,0 +1,92 @@
+"""Untrusted URDFs: refused with one line naming the file and element, before Pinocchio."""
+
+import time
+
+import pytest
+
+from scalf_opt.errors import ModelError
+from scalf_opt.model import urdf_file
+from scalf_opt.robots.files import shipped_file
+from scalf_opt.robots.loading import load_robot
+
+SCALF = shipped_file("scalf.urdf").read_text(encoding="utf-8")
+THIGH_MASS = '<mass value="4.1"/>'
+
+
+def write(tmp_path, text, name="robot.urdf"):
+    path = tmp_path / name
+    path.write_text(text, encoding="utf-8")
+    return path
+
+
+@pytest.mark.parametrize(
+    ("old", "new", "match"),
+    [
+        (THIGH_MASS, '<mass value="nan"/>', r"link 'RF_thigh' mass = 'nan' is not a finite"),
+        (THIGH_MASS, '<mass value="-4.1"/>', r"link 'RF_thigh' mass = -4.1 kg is negative"),
+        (THIGH_MASS, '<mass value="heavy"/>', r"mass = 'heavy' is not a number"),
+        ('ixx="0.178"', 'ixx="inf"', r"link 'RF_thigh' inertia ixx = 'inf'"),
+        ('lower="-2.032"', 'lower="3"', r"joint 'RF_hip_pitch' limit lower = 3 is above upper"),
+        ('upper="2.57"', 'upper="nan"', r"joint 'RF_knee' limit upper = 'nan'"),
+        ('<robot name="scalf">', "<robut>", "not well-formed XML"),
+    ],
+)
+def test_bad_numbers_are_named(tmp_path, old, new, match):
+    assert old in SCALF
+    with pytest.raises(ModelError, match=match):
+        load_robot(urdf=write(tmp_path, SCALF.replace(old, new, 1)))
+
+
+def test_an_unphysical_body_inertia_is_refused(tmp_path):
+    # Iyy of the thigh far above Ixx + Izz: the triangle inequality fails
+    text = SCALF.replace('iyy="0.178"', 'iyy="5.0"', 1)
+    with pytest.raises(ModelError, match="triangle inequality"):
+        load_robot(urdf=write(tmp_path, text))
+    text = SCALF.replace('iyy="0.178"', 'iyy="-0.178"', 1)
+    with pytest.raises(ModelError, match="not positive semi-definite"):
+        load_robot(urdf=write(tmp_path, text))
+
+
+def test_a_massless_leg_link_and_a_sliding_knee_are_refused(tmp_path):
+    robot = load_robot(urdf=write(tmp_path, SCALF.replace(THIGH_MASS, '<mass value="0"/>', 1)))
+    with pytest.raises(ModelError, match=r"RF_hip_pitch.*no mass"):
+        robot.leg("RF")
+    knee = SCALF.index('<joint name="RF_knee" type="revolute">')
+    text = SCALF[:knee] + SCALF[knee:].replace('type="revolute"', 'type="prismatic"', 1)
+    robot = load_robot(urdf=write(tmp_path, text, "sliding.urdf"))
+    with pytest.raises(ModelError, match=r"'RF_knee' is a JointModelP.*not a revolute"):
+        robot.leg("RF")
+
+
+def test_entities_are_refused_and_never_read(tmp_path):
+    secret = tmp_path / "secret.txt"
+    secret.write_text("TOP-SECRET")
+    leak = SCALF.replace(
+        '<?xml version="1.0"?>',
+        f'<?xml version="1.0"?>\n<!DOCTYPE robot [<!ENTITY s SYSTEM "file://{secret}">]>',
+    ).replace('<robot name="scalf">', '<robot name="&s;">')
+    with pytest.raises(ModelError, match="document type declarations") as info:
+        load_robot(urdf=write(tmp_path, leak))
+    assert "TOP-SECRET" not in str(info.value)
+    lol = "".join(f'<!ENTITY l{i} "{f"&l{i - 1};" * 10}">' for i in range(1, 10))
+    bomb = f'<?xml version="1.0"?><!DOCTYPE r [<!ENTITY l0 "lol">{lol}]><robot name="&l9;"/>'
+    start = time.perf_counter()
+    with pytest.raises(ModelError, match="document type declarations"):
+        load_robot(urdf=write(tmp_path, bomb, "bomb.urdf"))
+    assert time.perf_counter() - start < 5  # refused before any expansion (not a speed test)
+
+
+def test_non_utf8_and_oversized_files(tmp_path, monkeypatch):
+    path = tmp_path / "latin1.urdf"
+    path.write_bytes(SCALF.replace("SCalf", "SCalf \xe9").encode("latin-1"))
+    with pytest.raises(ModelError, match="not UTF-8"):
+        load_robot(urdf=path)
+    monkeypatch.setattr(urdf_file, "MAX_URDF_BYTES", 1000)
+    with pytest.raises(ModelError, match="larger than the 1000 allowed"):
+        load_robot(urdf=write(tmp_path, SCALF))
+
+
+def test_published_robots_pass():
+    # their massless marker links with degenerate inertias vanish in Pinocchio's merged bodies
+    for name in ("scalf", "hyq", "solo12"):
+        assert load_robot(name).model.nq == 12
