@@ -11,7 +11,8 @@ python studies/simulation_validation.py [--quick] [--from DIR] [--out DIR]
    with the sensors' noise over 20 seeds (5 with --quick), against the run's own energy over the
    same cycles; and on 80 Hz logs of the model's own samples, per phase.
 
-Writes DIR/validation.json and the two runs' simulation.json and simulation.png under DIR
+Writes DIR/validation.json, the optimum's summary.json (DIR/optimum-swings) and the two runs'
+simulation.json and simulation.png under DIR
 (default results/simulation_validation).
 """
 
@@ -26,39 +27,18 @@ from typing import Any
 
 import numpy as np
 
+import scalf_opt as so
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.files import write_atomic
 from scalf_opt.io.optimum_file import read_planned_swings
 from scalf_opt.io.results import to_json
-from scalf_opt.locomotion.gait import default_gait
-from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
-from scalf_opt.locomotion.swing.registry import make_family
-from scalf_opt.locomotion.trot import SYMMETRIC_TWIN
 from scalf_opt.logs.analysis import analyze_log, leg_cylinders
 from scalf_opt.logs.model_log import model_log
 from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
-from scalf_opt.optimize.problem import SwingProblem
-from scalf_opt.optimize.solve import optimize
-from scalf_opt.robots.loading import load_robot
-from scalf_opt.sim.experiment import run_trot, simulation_file
+from scalf_opt.sim.experiment import run_trot
 from scalf_opt.sim.plan import REFERENCE_SWINGS, planned_cycle
 from scalf_opt.sim.settings import SimSettings
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
-from scalf_opt.viz.figures import save_atomic
-from scalf_opt.viz.simulation_figure import simulation_figure
-
-
-def default_optimum(pipeline: EnergyPipeline) -> dict[str, tuple[str, np.ndarray]]:
-    """`scalf-opt optimize` with its defaults: the default family on RF and LH, by Ipopt."""
-    family = make_family(DEFAULT_FAMILY)
-    optima = {leg: optimize(SwingProblem(pipeline, leg, family), "ipopt") for leg in FIRST_PAIR}
-    for optimum in optima.values():
-        if not optimum.success:
-            raise RuntimeError(f"{optimum.leg}: Ipopt did not converge ({optimum.status})")
-    return {
-        leg: (family.name, optima[leg if leg in optima else SYMMETRIC_TWIN[leg]].theta)
-        for leg in LEG_NAMES
-    }
 
 
 def results_row(label: str, data: dict[str, Any]) -> dict[str, Any]:
@@ -253,31 +233,24 @@ def main(argv: list[str] | None = None) -> int:
     args = parser.parse_args(argv)
     started = time.perf_counter()
     cycles, seeds = (2, 5) if args.quick else (10, 20)
-    robot = load_robot("scalf")
-    if args.source is not None:
-        planned = read_planned_swings(args.source, robot)
-        pipeline, optimum = EnergyPipeline(robot, planned.gait), planned.swings
-    else:
-        pipeline = EnergyPipeline(robot, default_gait(robot.nominal_stance_height_m))
-        optimum = default_optimum(pipeline)
+    robot = so.load_robot("scalf")
+    source = args.source
+    if source is None:  # `scalf-opt optimize --out DIR`: joint-6, Ipopt, RF and LH
+        optimized = so.optimize_swing(robot)
+        if not optimized.success:
+            raise RuntimeError("the default optimization did not converge")
+        source = args.out / "optimum-swings"
+        optimized.write(source)
+    planned = read_planned_swings(source, robot)
+    pipeline, optimum = EnergyPipeline(robot, planned.gait), planned.swings
     label = f"optimum ({optimum['RF'][0]})"
-    rows, files = [], {}
-    for name, swings in (("reference", REFERENCE_SWINGS), ("optimum", optimum)):
-        data, run = simulation_file(robot, pipeline, swings, SimSettings(), cycles)
-        files[name] = data
-        record = run.record
-        figure = simulation_figure(
-            record.t_s,
-            record.trunk[1],
-            record.start_trunk_height_m,
-            record.trunk[2],
-            {leg: force[1] for leg, force in record.grf_n.items()},
-            float(data["model_stance_force_mean_n"]["RF"]),
-            f"{name}: {cycles} cycles, servo 30 Hz",
-        )
-        write_atomic(args.out / name / "simulation.json", to_json(data))
-        save_atomic(figure, args.out / name / "simulation.png")
-        rows.append(results_row("reference" if name == "reference" else label, data))
+    rows = []
+    for name, run in (
+        ("reference", so.simulate(robot, planned.gait, cycles=cycles)),
+        ("optimum", so.simulate(robot, swings_from=source, cycles=cycles)),
+    ):
+        run.write(args.out / name)
+        rows.append(results_row("reference" if name == "reference" else label, run.data))
     print_results(rows, cycles)
     sensitivity_rows = sensitivity(robot, pipeline, optimum, cycles, args.quick)
     recovery = [

@@ -47,10 +47,12 @@ def _field(path: Path, data: Any, key: str, where: str) -> Any:
 
 
 def _check_robot(path: Path, data: Any, robot: Robot) -> None:
-    name = data.get("robot") if isinstance(data, dict) else None
+    record = data.get("provenance") if isinstance(data, dict) else None
+    name = record.get("robot") if isinstance(record, dict) else None
     if isinstance(name, str) and name != robot.name:
         raise ConfigError(
-            f"{path}: field robot is {name!r}, not {robot.name!r}: give the same --robot or --urdf"
+            f"{path}: field provenance.robot is {name!r}, not {robot.name!r}: give the same "
+            "--robot or --urdf"
         )
     mass = data.get("total_mass_kg") if isinstance(data, dict) else None
     if isinstance(mass, int | float) and not math.isclose(
@@ -68,8 +70,8 @@ def read_planned_swings(directory: str | Path, robot: Robot | None = None) -> Pl
 
     Args:
         directory: Where ``summary.json`` is.
-        robot: The robot the swings will be used on: the file's ``total_mass_kg`` (and
-            ``robot``, when the file names one) must be this robot's, so that swings computed
+        robot: The robot the swings will be used on: the file's ``provenance.robot`` and
+            ``total_mass_kg``, where it has them, must be this robot's, so that swings computed
             for one robot are not run on another.
 
     Raises:

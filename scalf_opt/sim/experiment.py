@@ -79,8 +79,6 @@ def simulation_file(
     run = run_trot(robot, pipeline, swings, settings, cycles)
     gait = pipeline.gait
     data: dict[str, Any] = {
-        "robot": robot.name,
-        "urdf": str(robot.urdf_path),
         "source": source,
         "mujoco_version": mujoco.__version__,
         "gait": {**gait.to_dict(), "speed_m_s": gait.speed_m_s},

@@ -26,9 +26,11 @@ from pathlib import Path
 
 import mujoco
 import numpy as np
+from defusedxml.ElementTree import fromstring
 
 from scalf_opt.errors import ModelError
 from scalf_opt.model.robot import Robot
+from scalf_opt.model.urdf_file import read_urdf_text
 from scalf_opt.sim.settings import DEFAULT_FOOT_RADIUS_FRACTION, SimSettings
 from scalf_opt.types import LEG_NAMES
 
@@ -126,10 +128,8 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
             the file and gives MuJoCo's reason).
     """
     path = Path(robot.urdf_path)
-    try:
-        root = ET.parse(path).getroot()
-    except (OSError, ET.ParseError) as exc:
-        raise ModelError(f"{path}: cannot read the URDF for MuJoCo ({exc})") from exc
+    # the checked text (size, UTF-8, no DTD, finite numbers), parsed without entities
+    root = fromstring(read_urdf_text(path).encode("utf-8"), forbid_dtd=True)
     legs = {leg: robot.leg(leg) for leg in LEG_NAMES}
     sagittal = {name for leg in legs.values() for name in leg.joint_names}
     radius = settings.foot_radius_m

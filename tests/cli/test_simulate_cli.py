@@ -35,7 +35,9 @@ def test_simulate_writes_the_result_the_figure_and_a_log(simulated, capsys):
         assert energy["relative_difference"] == pytest.approx(
             energy["simulated"] / energy["model"] - 1, rel=1e-12
         )
-    assert data["robot"] == "scalf" and data["cycles"] == 2 and data["cycles_averaged"] == 1
+    assert data["provenance"]["robot"] == "scalf"
+    assert data["provenance"]["command"].startswith("scalf-opt simulate --cycles 2")
+    assert data["cycles"] == 2 and data["cycles_averaged"] == 1
     assert data["settings"]["servo_bandwidth_hz"] == 30.0
     assert data["trajectory"]["RF"]["swing_family"] == "reference"
     assert "reference" not in data  # the reference is not simulated twice
@@ -62,6 +64,7 @@ def test_analyze_log_reads_the_simulated_log(simulated, capsys):
     assert "average power of the robot (4 legs)" in out
     code, out, _ = run(["analyze-log", str(simulated / "log.csv"), "--json"], capsys)
     data = json.loads(out)
+    assert data["provenance"]["robot"] == "scalf"
     assert set(data["mechanical_energy_per_cycle_j"]) == set(LEG_NAMES)
     assert data["average_power_w"] == pytest.approx(
         sum(data["mechanical_energy_per_cycle_j"].values()) / data["period_s"]
@@ -97,7 +100,8 @@ def test_simulate_another_robot(tmp_path, capsys):
     [
         (["--cycles", "1"], "--cycles must be at least 2"),
         (["--from", "nowhere"], "nowhere/summary.json: not found"),
-        (["--from", "nowhere", "--gait", "g.toml"], "--gait: with --from DIR"),
+        (["--from", "nowhere", "--gait", "g.toml"], "with --from DIR the gait is DIR's"),
+        (["--from", "nowhere", "--period", "0.6"], "with --from DIR the gait is DIR's"),
         (["--robot", "hyq", "--log", "x.csv"], "has no hydraulic cylinder"),
         (["--servo-bandwidth", "500"], "servo_bandwidth_hz = 500.0 is too high"),
     ],
@@ -123,5 +127,5 @@ def test_a_closed_pipe_ends_the_command_without_a_traceback():
     )
     process.stdout.close()  # before the command has computed anything
     _, err = process.communicate(timeout=120)
-    assert b"Traceback" not in err
-    assert process.returncode == 1
+    assert b"Traceback" not in err and b"Error" not in err
+    assert process.returncode == 0

@@ -71,10 +71,13 @@ def test_not_json(tmp_path):
 def test_swings_of_another_robot_are_refused(tmp_path, summary):
     from scalf_opt.robots.loading import load_robot
 
+    assert summary["provenance"]["robot"] == "scalf"
     (tmp_path / "summary.json").write_text(json.dumps(summary))
     assert read_planned_swings(tmp_path, load_robot("scalf")).swings["RF"][0] == "paper"
+    with pytest.raises(ConfigError, match=r"field provenance\.robot is 'scalf', not 'hyq'"):
+        read_planned_swings(tmp_path, load_robot("hyq"))
+    # a file without provenance (older versions): the robot's mass tells
+    anonymous = {k: v for k, v in summary.items() if k != "provenance"}
+    (tmp_path / "summary.json").write_text(json.dumps(anonymous))
     with pytest.raises(ConfigError, match=r"total_mass_kg is 233\.36 kg, but hyq weighs"):
         read_planned_swings(tmp_path, load_robot("hyq"))
-    (tmp_path / "summary.json").write_text(json.dumps({**summary, "robot": "hyq"}))
-    with pytest.raises(ConfigError, match="field robot is 'hyq', not 'scalf'"):
-        read_planned_swings(tmp_path, load_robot("scalf"))

@@ -5,11 +5,20 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from scalf_opt.cli.options import add_gait, add_robot, load_gait, load_robot
+from scalf_opt.cli.options import (
+    add_gait,
+    add_robot,
+    check_output_dir,
+    check_output_file,
+    gait_overrides,
+    load_gait,
+    load_robot,
+)
 from scalf_opt.errors import ConfigError
 
 NAME = "simulate"
 HELP = "simulate the trot in MuJoCo: trunk motion, foot forces, joint energy against the model"
+JSON = True
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
@@ -52,76 +61,40 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
-    from scalf_opt.energy.pipeline import EnergyPipeline
-    from scalf_opt.files import write_atomic
-    from scalf_opt.io.optimum_file import read_planned_swings
-    from scalf_opt.io.results import to_json
-    from scalf_opt.logs.log_file import log_csv_text
-    from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
-    from scalf_opt.sim.experiment import simulation_file
-    from scalf_opt.sim.plan import REFERENCE_SWINGS
+    from scalf_opt.api import simulate
     from scalf_opt.sim.report import simulation_report
-    from scalf_opt.sim.settings import SimSettings
-    from scalf_opt.viz.figures import save_atomic
-    from scalf_opt.viz.simulation_figure import simulation_figure
 
     if args.cycles < 2:
         raise ConfigError(
             f"--cycles must be at least 2 (the first is the start-up), got {args.cycles}"
         )
-    if args.source is not None and args.gait is not None:
-        raise ConfigError("--gait: with --from DIR the gait is the one in DIR/summary.json")
-    settings = (
-        SimSettings()
-        if args.servo_bandwidth is None
-        else SimSettings(servo_bandwidth_hz=args.servo_bandwidth)
-    )
+    check_output_dir(args.out)
+    check_output_file(args.log, "--log")
+    if args.source is not None and (args.gait is not None or gait_overrides(args)):
+        raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
     robot = load_robot(args)
-    if args.source is not None:
-        planned = read_planned_swings(args.source, robot)
-        gait, swings = planned.gait, planned.swings
-    else:
-        gait, swings = load_gait(args, robot), dict(REFERENCE_SWINGS)
-    pipeline = EnergyPipeline(robot, gait, args.accounting)
-    cylinders = None
     if args.log is not None:
+        from scalf_opt.energy.pipeline import EnergyPipeline
         from scalf_opt.logs.analysis import leg_cylinders
 
-        cylinders = {leg: leg_cylinders(pipeline, leg) for leg in swings}
-    source = None if args.source is None else str(args.source)
-    data, trot = simulation_file(robot, pipeline, swings, settings, args.cycles, source)
-    families = sorted({family for family, _ in swings.values()})
-    title = (
-        f"MuJoCo {data['mujoco_version']} simulation of {robot.name}, {', '.join(families)} swing: "
-        f"trot T={gait.period_s:g} s, S={gait.step_length_m:g} m, z0={gait.stance_height_m:g} "
-        f"m, {args.cycles} cycles, dt={1e3 * settings.timestep_s:g} ms, servo "
-        f"{settings.servo_bandwidth_hz:g} Hz"
+        pipeline = EnergyPipeline(robot, load_gait(args, robot))
+        for leg in robot.naming.leg_prefix:
+            leg_cylinders(pipeline, leg)  # refuse a robot without cylinders before the work
+    gait = None if args.source is not None else load_gait(args, robot)
+    result = simulate(
+        robot,
+        gait,
+        swings_from=args.source,
+        cycles=args.cycles,
+        accounting=args.accounting,
+        servo_bandwidth_hz=args.servo_bandwidth,
+        command=args.argv,
     )
-    record = trot.record
-    figure = simulation_figure(
-        record.t_s,
-        record.trunk[1],
-        record.start_trunk_height_m,
-        record.trunk[2],
-        {leg: force[1] for leg, force in record.grf_n.items()},
-        float(data["model_stance_force_mean_n"]["RF"]),
-        title,
-    )
-    out: Path = args.out
     # the files first: a reader that closes the pipe early (`| head`) loses no result
-    write_atomic(out / "simulation.json", to_json(data))
-    save_atomic(figure, out / "simulation.png")
-    written = [out / "simulation.json", out / "simulation.png"]
-    if cylinders is not None:
-        motions = {
-            leg: JointMotion(
-                record.t_s, record.q_rad[leg], record.tau_nm[leg], record.in_contact(leg)
-            )
-            for leg in cylinders
-        }
-        log = sensor_log(motions, cylinders, SensorModel(), args.seed, str(args.log))
-        write_atomic(args.log, log_csv_text(log))
-        written.append(args.log)
-    print(simulation_report(data, title))
-    print(f"wrote {', '.join(map(str, written))}")
+    written = result.write(args.out)
+    if args.log is not None:
+        written.append(result.write_log(args.log, args.seed))
+    args.console.text(simulation_report(result.data, result.title))
+    args.console.json(result.to_dict())
+    args.console.text(f"wrote {', '.join(map(str, written))}")
     return 0
