@@ -23,26 +23,34 @@ __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "__version__",
     "EvaluationResult",
     "Gait",
+    "LogResult",
     "OptimizationResult",
     "PaperResult",
+    "SimulationResult",
+    "analyze_log",
     "evaluate",
     "load_robot",
     "optimize_swing",
     "paper",
     "read_gait",
+    "simulate",
 ]
 
 if TYPE_CHECKING:
     from scalf_opt.api import (
         EvaluationResult,
         Gait,
+        LogResult,
         OptimizationResult,
         PaperResult,
+        SimulationResult,
+        analyze_log,
         evaluate,
         load_robot,
         optimize_swing,
         paper,
         read_gait,
+        simulate,
     )
 
 

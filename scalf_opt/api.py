@@ -41,13 +41,17 @@ from scalf_opt.types import FIRST_PAIR, Accounting, Method, check_choice
 __all__ = [
     "EvaluationResult",
     "Gait",
+    "LogResult",
     "OptimizationResult",
     "PaperResult",
+    "SimulationResult",
+    "analyze_log",
     "evaluate",
     "load_robot",
     "optimize_swing",
     "paper",
     "read_gait",
+    "simulate",
 ]
 
 Progress = Callable[[str], None]
@@ -276,3 +280,189 @@ def paper(
     pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot))
     rep = reproduce(pipeline, ipopt_options=VERBOSE_IPOPT if verbose else None, progress=progress)
     return PaperResult(robot, rep, tuple(command) if command is not None else None)
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """A MuJoCo simulation of the planned trot (extra ``sim``), beside the model's prediction.
+
+    Attributes:
+        robot: The robot.
+        data: ``simulation.json``: provenance, settings and every figure
+            (:mod:`scalf_opt.sim.metrics`), with ``reference`` and ``saving_vs_reference`` when
+            the swings are not the reference.
+        record: The step-by-step record (:class:`scalf_opt.sim.run.SimRecord`).
+        title: A one-line description, for reports and the figure.
+    """
+
+    robot: Robot
+    data: dict[str, Any]
+    record: Any
+    title: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data: ``simulation.json``."""
+        return self.data
+
+    def write(self, out_dir: str | Path) -> list[Path]:
+        """Write ``simulation.json`` and ``simulation.png`` into ``out_dir`` (atomically)."""
+        from scalf_opt.viz.figures import save_atomic
+        from scalf_opt.viz.simulation_figure import simulation_figure
+
+        out, record = Path(out_dir), self.record
+        figure = simulation_figure(
+            record.t_s,
+            record.trunk[1],
+            record.start_trunk_height_m,
+            record.trunk[2],
+            {leg: force[1] for leg, force in record.grf_n.items()},
+            float(self.data["model_stance_force_mean_n"]["RF"]),
+            self.title,
+        )
+        return [
+            write_atomic(out / "simulation.json", to_json(self.data)),
+            save_atomic(figure, out / "simulation.png"),
+        ]
+
+    def write_log(self, path: str | Path, seed: int = 0) -> Path:
+        """Write the cylinder log SCalf's sensors would record of the run (80 Hz, 0.1 mm, 70 N).
+
+        Raises:
+            LogError: A leg has no hydraulic cylinders.
+        """
+        from scalf_opt.logs.analysis import leg_cylinders
+        from scalf_opt.logs.log_file import log_csv_text
+        from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
+
+        pipeline = EnergyPipeline(self.robot, read_gait(robot=self.robot))
+        cylinders = {leg: leg_cylinders(pipeline, leg) for leg in self.record.q_rad}
+        record = self.record
+        motions = {
+            leg: JointMotion(
+                record.t_s, record.q_rad[leg], record.tau_nm[leg], record.in_contact(leg)
+            )
+            for leg in cylinders
+        }
+        log = sensor_log(motions, cylinders, SensorModel(), seed, str(path))
+        return write_atomic(path, log_csv_text(log))
+
+
+def simulate(
+    robot: Robot,
+    gait: Gait | None = None,
+    *,
+    swings_from: str | Path | None = None,
+    cycles: int = 10,
+    accounting: Accounting = "paper",
+    servo_bandwidth_hz: float | None = None,
+    command: Sequence[str] | None = None,
+) -> SimulationResult:
+    """Simulate the planned trot in MuJoCo (needs the ``sim`` extra).
+
+    Args:
+        robot: The robot.
+        gait: The gait (default: the robot's default trot); not with ``swings_from``.
+        swings_from: A folder with the ``summary.json`` of ``optimize_swing(...).write(...)``:
+            its swings and gait are simulated, and the reference beside them.
+        cycles: Gait cycles to simulate (>= 2; the first is the start-up).
+        accounting: Power accounting of the joint energies.
+        servo_bandwidth_hz: Natural frequency of the joints' PD loops (default 30 Hz).
+        command: The command line, recorded in the result's provenance.
+
+    Raises:
+        ConfigError: Fewer than 2 cycles, a gait given with ``swings_from``, a bad
+            ``summary.json`` or one of another robot, a servo too fast for the time step.
+    """
+    from scalf_opt.io.saved import read_saved_swings
+    from scalf_opt.sim.experiment import simulation_file
+    from scalf_opt.sim.plan import REFERENCE_SWINGS
+    from scalf_opt.sim.settings import SimSettings
+
+    if isinstance(cycles, bool) or not isinstance(cycles, int) or cycles < 2:
+        raise ConfigError(
+            f"cycles must be an integer >= 2 (the first is the start-up), got {cycles!r}",
+            field="cycles",
+        )
+    if swings_from is not None and gait is not None:
+        raise ConfigError("the gait comes with the swings' summary.json: give one", field="gait")
+    settings = (
+        SimSettings()
+        if servo_bandwidth_hz is None
+        else SimSettings(servo_bandwidth_hz=servo_bandwidth_hz)
+    )
+    if swings_from is not None:
+        saved = read_saved_swings(swings_from)
+        saved.check_robot(robot)
+        gait, swings = saved.gait, saved.require_all_legs()
+    else:
+        gait, swings = gait or read_gait(robot=robot), dict(REFERENCE_SWINGS)
+    pipeline = EnergyPipeline(robot, gait, accounting)
+    source = str(swings_from) if swings_from is not None else None
+    data, run = simulation_file(robot, pipeline, swings, settings, cycles, source)
+    data = {"provenance": provenance(robot, command), **data}
+    families = ", ".join(sorted({family for family, _ in swings.values()}))
+    title = (
+        f"MuJoCo {data['mujoco_version']} simulation of {robot.name}, {families} swing: trot "
+        f"T={gait.period_s:g} s, S={gait.step_length_m:g} m, z0={gait.stance_height_m:g} m, "
+        f"{cycles} cycles, dt={1e3 * settings.timestep_s:g} ms, servo "
+        f"{settings.servo_bandwidth_hz:g} Hz"
+    )
+    return SimulationResult(robot, data, run.record, title)
+
+
+@dataclass(frozen=True)
+class LogResult:
+    """The energy in a cylinder log (:class:`scalf_opt.logs.analysis.LogAnalysis`).
+
+    Attributes:
+        robot: The robot whose cylinders the log comes from.
+        analysis: Per leg and phase, the energies over complete cycles.
+        command: The command line that asked for it (``None`` from Python).
+    """
+
+    robot: Robot
+    analysis: Any
+    command: tuple[str, ...] | None = None
+
+    @property
+    def average_power_w(self) -> float:
+        """The robot's mechanical average power [W]."""
+        return float(self.analysis.average_power_w)
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data: what ``analyze-log --json`` prints."""
+        return {"provenance": provenance(self.robot, self.command), **self.analysis.as_dict()}
+
+
+def analyze_log(
+    path: str | Path,
+    robot: Robot | None = None,
+    gait: Gait | None = None,
+    *,
+    period_s: float | None = None,
+    command: Sequence[str] | None = None,
+) -> LogResult:
+    """The mechanical energy per leg and phase in a cylinder log (the paper's Table 7).
+
+    Args:
+        path: The log (CSV: ``t_s,leg,hip_length_m,knee_length_m,hip_force_n,knee_force_n``
+            and an optional ``contact``).
+        robot: The robot (default: SCalf), for its cylinders and joint limits.
+        gait: Its duty cycle and period, where the log does not say (default: the robot's).
+        period_s: The gait period [s], over the log's contacts and the gait.
+        command: The command line, recorded in the result's provenance.
+
+    Raises:
+        LogError: A bad log (the message names the row and the column), or a robot without
+            cylinders.
+        ConfigError: A period that is not > 0.
+    """
+    from scalf_opt.logs.analysis import analyze_log as analyze
+    from scalf_opt.logs.log_file import read_log
+
+    if period_s is not None and not period_s > 0:
+        raise ConfigError(f"the period must be > 0, got {period_s}", field="period_s")
+    robot = robot or load_robot("scalf")
+    pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot))
+    analysis = analyze(read_log(path), pipeline, period_s)
+    return LogResult(robot, analysis, tuple(command) if command is not None else None)

@@ -37,3 +37,7 @@ class GaitError(ScalfError):
 
 class InfeasibleError(ScalfError):
     """A motion cannot be realised: unreachable foot target, joint limit, foot below ground."""
+
+
+class LogError(ScalfError):
+    """A measurement log (cylinder lengths and forces) cannot be read or is invalid."""

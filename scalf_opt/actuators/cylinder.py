@@ -7,6 +7,8 @@ joint axis with angle ``phi``; by the law of cosines (Eq. 52)::
     dl/dtheta     = sign * a b sin(phi) / l                  [m/rad]
     v             = (dl/dtheta) theta_dot                     cylinder velocity [m/s]
     F_cylinder    = tau / (dl/dtheta)                         virtual work [N]
+    theta(l)      = sign * (acos((a^2 + b^2 - l^2) / (2 a b)) - phi_offset)    inverse (Eq. 67)
+    tau           = F_cylinder * dl/dtheta                    from a measured force (Eq. 68)
 
 For the RF leg, hip ``phi = (90 deg - e1 - e2) - theta`` and knee ``phi = theta - (e3 - e4)``;
 hind legs use the negated angle (the ``sign`` flips). The friction heat ``|F_f(v) v|``
@@ -65,6 +67,17 @@ class HydraulicCylinder(Drive):
         """Cylinder length ``l = sqrt(a^2 + b^2 - 2 a b cos(phi))`` [m] (Eq. 52, decision 7)."""
         phi = self.angle_rad(theta)
         return ca.sqrt(self.a_m**2 + self.b_m**2 - 2 * self.a_m * self.b_m * ca.cos(phi))
+
+    def angle_from_length_rad(self, length_m: Expr) -> Expr:
+        """Joint angle from the cylinder length [rad]: the inverse of :meth:`length_m` (Eq. 67).
+
+        ``phi = acos((a^2 + b^2 - l^2) / (2 a b))`` and ``theta = angle_sign (phi - phi_offset)``.
+        ``acos`` returns the arm angle in ``[0, pi]``, the branch on which :meth:`length_m` is
+        monotonic and which :meth:`stroke_limits_m` checks the joint range stays on, so the
+        inverse is exact over the stroke.
+        """
+        cos_phi = (self.a_m**2 + self.b_m**2 - length_m**2) / (2 * self.a_m * self.b_m)
+        return self.angle_sign * (ca.acos(cos_phi) - self.phi_offset_rad)
 
     def moment_arm_m(self, theta: Expr) -> Expr:
         """Signed moment arm ``dl/dtheta = angle_sign * a b sin(phi) / l`` [m/rad]."""

@@ -131,27 +131,63 @@ class LegPhysics:
         """
         jac = self.kin.jacobian_expr(q)
         tau = self.leg.symbolic.rnea(q, qd, qdd) - ca.mtimes(jac.T, grf)
-        max_fn: MaxFn = ca.fmax if heat_eps is None else (lambda x, _: smooth_max(x, heat_eps))
-        p_mech = tau * qd
-        losses, charged, extra = [], [], {}
+        power, p_loss = self.power_expr(q, qd, tau, accounting, heat_eps)
+        extra = {}
         for i, drive in enumerate(self.drives):
-            losses.append(drive.loss_rate(q[i], qd[i], tau[i], max_fn))
-            mech = mechanical_power(p_mech[i], accounting)
-            charged.append(mech if drive.charges_joint_power else 0.0 * mech)
             for name, value in drive.outputs(q[i], qd[i], tau[i]).items():
                 extra[f"{name}_{JOINT_ROLES[i]}"] = value
-        p_loss = ca.vertcat(*losses)
         return {
             "q": q,
             "qd": qd,
             "qdd": qdd,
             "foot": self.kin.forward_expr(q),
             "tau": tau,
-            "p_mech": p_mech,
+            "p_mech": tau * qd,
             "p_loss": p_loss,
-            "power": ca.vertcat(*charged) + p_loss,
+            "power": power,
             **{o.name: extra[o.name] for o in self.drive_outputs},
         }
+
+    def power_expr(
+        self,
+        q: Expr,
+        qd: Expr,
+        tau: Expr,
+        accounting: Accounting = "paper",
+        heat_eps: float | None = None,
+    ) -> tuple[Expr, Expr]:
+        """Power drawn by the two joints for any joint motion and torque (2x1 each) [W].
+
+        Returns ``(power, p_loss)``: the charged mechanical power plus the drives' losses, and
+        the losses alone. Every power in scalf-opt comes from here: the planned samples, and
+        torques and rates that were measured or simulated.
+        """
+        max_fn: MaxFn = ca.fmax if heat_eps is None else (lambda x, _: smooth_max(x, heat_eps))
+        losses, charged = [], []
+        for i, drive in enumerate(self.drives):
+            losses.append(drive.loss_rate(q[i], qd[i], tau[i], max_fn))
+            mech = mechanical_power(tau[i] * qd[i], accounting)
+            charged.append(mech if drive.charges_joint_power else 0.0 * mech)
+        p_loss = ca.vertcat(*losses)
+        return ca.vertcat(*charged) + p_loss, p_loss
+
+    def power_function(self, accounting: Accounting = "paper") -> ca.Function:
+        """``(q, qd, tau) -> (power, p_loss)`` per sample, 2x1 each [W] (:meth:`power_expr`).
+
+        Map it over samples (``.map(n)``) to charge measured or simulated joint motion.
+        """
+        key = ("power", accounting, None)
+        if key not in self._functions:
+            q, qd, tau = (ca.SX.sym(n, 2) for n in ("q", "qd", "tau"))
+            power, p_loss = self.power_expr(q, qd, tau, accounting)
+            self._functions[key] = ca.Function(
+                f"{self.leg.name}_power",
+                [q, qd, tau],
+                [power, p_loss],
+                ["q", "qd", "tau"],
+                ["power", "p_loss"],
+            )
+        return self._functions[key]
 
     def sample_function(
         self, space: Space, accounting: Accounting = "paper", heat_eps: float | None = None

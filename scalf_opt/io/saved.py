@@ -8,6 +8,7 @@ view and the figures show exactly what ``optimize`` found.
 from __future__ import annotations
 
 import json
+import math
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -23,6 +24,9 @@ from scalf_opt.types import LEG_NAMES, Accounting, check_choice
 
 SUMMARY_FILE = "summary.json"
 
+MASS_TOLERANCE = 1e-9
+"""Relative difference of total masses that still counts as the same robot."""
+
 
 @dataclass(frozen=True)
 class SavedSwings:
@@ -37,6 +41,8 @@ class SavedSwings:
         methods: The optimizer per optimized leg (``ipopt``, ``pattern``), when recorded.
         robot: The robot's name from the file's provenance, when recorded.
         urdf_sha256: The SHA-256 of the URDF it was computed on, when recorded.
+        total_mass_kg: The robot's mass the file records, when it does (files written before
+            the provenance record still have it).
     """
 
     source: Path
@@ -47,18 +53,52 @@ class SavedSwings:
     methods: dict[str, str]
     robot: str | None = None
     urdf_sha256: str | None = None
+    total_mass_kg: float | None = None
 
-    def check_robot(self, robot: Robot) -> None:
-        """Refuse to replay these swings on another robot than the one they were computed on.
+    @property
+    def swings(self) -> dict[str, tuple[str, np.ndarray]]:
+        """Per leg in the file, the swing family's name and its parameters."""
+        return {leg: (self.families[leg], self.parameters[leg]) for leg in self.families}
+
+    def require_all_legs(self) -> dict[str, tuple[str, np.ndarray]]:
+        """:attr:`swings`, which must name every leg (a simulation moves all four).
 
         Raises:
-            ConfigError: The file's ``provenance.urdf_sha256`` is not the robot's URDF's hash.
+            ConfigError: A leg is missing (the message names the field).
         """
+        for leg in LEG_NAMES:
+            if leg not in self.families:
+                raise ConfigError(f"{self.source}: missing field legs.{leg}")
+        return self.swings
+
+    def check_robot(self, robot: Robot) -> None:
+        """Refuse to use these swings on another robot than the one they were computed on.
+
+        The file's provenance names the robot and the SHA-256 of its URDF; a file without
+        provenance (older versions) still records the robot's total mass.
+
+        Raises:
+            ConfigError: The name, the URDF's hash or the mass is another robot's (the message
+                names the field).
+        """
+        again = "give the same --robot or --urdf"
+        if self.robot is not None and self.robot != robot.name:
+            raise ConfigError(
+                f"{self.source}: field provenance.robot is {self.robot!r}, not {robot.name!r}: "
+                f"{again}"
+            )
         if self.urdf_sha256 is not None and self.urdf_sha256 != sha256_of(robot.urdf_path):
             raise ConfigError(
-                f"{self.source}: provenance.urdf_sha256 says these swings are of robot "
-                f"{self.robot!r} ({self.urdf_sha256[:12]}...), not of {robot.name!r} "
-                f"({robot.urdf_path}); give the same --robot or --urdf"
+                f"{self.source}: field provenance.urdf_sha256 is not the SHA-256 of "
+                f"{robot.urdf_path}: the swings belong to another URDF of {robot.name!r}; {again}"
+            )
+        if self.total_mass_kg is not None and not math.isclose(
+            self.total_mass_kg, robot.total_mass_kg, rel_tol=MASS_TOLERANCE
+        ):
+            raise ConfigError(
+                f"{self.source}: field total_mass_kg is {self.total_mass_kg:g} kg, but "
+                f"{robot.name} weighs {robot.total_mass_kg:g} kg: the swings belong to another "
+                f"robot; {again}"
             )
 
     @property
@@ -119,10 +159,11 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
         except ScalfError as exc:
             raise ConfigError(f"{path}: legs.{leg}.swing_family: {exc}") from exc
         if len(params) != n_params or not all(
-            isinstance(v, int | float) and not isinstance(v, bool) for v in params
+            isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
+            for v in params
         ):
             raise ConfigError(
-                f"{path}: legs.{leg}.swing_parameters must be {n_params} numbers for family "
+                f"{path}: legs.{leg}.swing_parameters must be {n_params} finite numbers for family "
                 f"{family!r}, got {params!r}"
             )
         families[leg] = family
@@ -137,6 +178,7 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
     record = data.get("provenance")
     source: dict[str, Any] = record if isinstance(record, dict) else {}
     robot, sha = source.get("robot"), source.get("urdf_sha256")
+    mass = data.get("total_mass_kg")
     return SavedSwings(
         path,
         gait,
@@ -146,6 +188,7 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
         methods,
         robot if isinstance(robot, str) else None,
         sha if isinstance(sha, str) else None,
+        float(mass) if isinstance(mass, int | float) and not isinstance(mass, bool) else None,
     )
 
 

@@ -279,3 +279,39 @@ def test_bad_actuator_file_structure(tmp_path, text, match):
 def test_missing_actuator_file(tmp_path):
     with pytest.raises(ConfigError, match=r"none\.toml"):
         load_actuators(tmp_path / "none.toml")
+
+
+def _joint_range(joint):
+    leg, role = joint.split("_", 1)
+    return TABLE_4[role][leg[1]]
+
+
+def test_the_inverse_mapping_undoes_the_length_over_the_whole_range(cylinders):
+    """Eq. 67: theta(l(theta)) = theta and l(theta(l)) = l, on every cylinder, to round-off."""
+    for joint, cylinder in cylinders.items():
+        lo, hi = _joint_range(joint)
+        theta = np.linspace(lo, hi, 201)
+        length = np.array(cylinder.length_m(theta)).ravel()
+        back = np.array(cylinder.angle_from_length_rad(length)).ravel()
+        np.testing.assert_allclose(back, theta, rtol=0, atol=1e-12)
+        l_min, l_max = cylinder.stroke_limits_m(lo, hi)
+        lengths = np.linspace(l_min, l_max - 1e-6, 101)
+        again = np.array(cylinder.length_m(cylinder.angle_from_length_rad(lengths))).ravel()
+        np.testing.assert_allclose(again, lengths, rtol=0, atol=1e-15)
+
+
+def test_torque_from_force_is_the_virtual_work_of_the_cylinder(cylinders):
+    """Eq. 68: tau = F dl/dtheta gives the same power as F v, v the rate of the length."""
+    rng = np.random.default_rng(3)
+    for joint, cylinder in cylinders.items():
+        lo, hi = _joint_range(joint)
+        theta = rng.uniform(lo, hi, 20)
+        rate = rng.normal(0.0, 2.0, 20)
+        force = rng.normal(0.0, 3000.0, 20)
+        arm = np.array(cylinder.moment_arm_m(theta)).ravel()
+        h = 1e-6
+        length_rate = (
+            np.array(cylinder.length_m(theta + h * rate)).ravel()
+            - np.array(cylinder.length_m(theta - h * rate)).ravel()
+        ) / (2 * h)
+        np.testing.assert_allclose(force * arm * rate, force * length_rate, rtol=1e-7, atol=1e-6)

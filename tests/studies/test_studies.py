@@ -32,3 +32,19 @@ def test_paper_reproduction_study(tmp_path, capsys):
     assert load("paper_reproduction").main(["--out", str(tmp_path)]) == 0
     assert (tmp_path / "report.md").exists()
     capsys.readouterr()
+
+
+def test_simulation_validation_study(tmp_path, capsys):
+    """Quick mode: 2 cycles, 5 seeds; the reference keeps the paper's 4 mm and the 10 % goal."""
+    assert load("simulation_validation").main(["--quick", "--out", str(tmp_path)]) == 0
+    out = capsys.readouterr().out
+    assert "| reference |" in out and "optimum (joint-6)" in out
+    import json
+
+    data = json.loads((tmp_path / "validation.json").read_text())
+    reference, optimum = data["results"]
+    assert reference["height_fluctuation_mm"] <= 4.0
+    assert abs(reference["largest_leg_difference_pct"]) <= 10.0
+    assert optimum["saving_model_pct"] < 0 and optimum["saving_sim_pct"] < 0
+    for name in ("reference", "optimum"):
+        assert (tmp_path / name / "simulation.png").read_bytes().startswith(b"\x89PNG")

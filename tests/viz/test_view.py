@@ -166,7 +166,7 @@ def test_cli_view_default_and_bad_input(tmp_path, gait_file, saved_dir, capsys):
         (["--out", str(tmp_path / "x.txt")], "must end in .html"),
         (["--from", str(tmp_path / "missing")], "summary.json: not found"),
         (["--from", str(bad_json)], "not valid JSON"),
-        (["--from", str(no_legs)], "legs.RF.swing_parameters must be 2 numbers"),
+        (["--from", str(no_legs)], "legs.RF.swing_parameters must be 2 finite numbers"),
         (["--from", str(saved_dir), "--gait", str(gait_file)], "brings its own gait"),
         (["--from", str(saved_dir), "--cycles", "0"], "cycles must be in 1..50"),
     ]

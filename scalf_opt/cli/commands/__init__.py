@@ -5,7 +5,16 @@ it imports the heavy parts of the package inside ``run``. A new command is a new
 entry in :data:`COMMANDS`.
 """
 
-from scalf_opt.cli.commands import evaluate, figures, model, optimize, paper, view
+from scalf_opt.cli.commands import (
+    analyze_log,
+    evaluate,
+    figures,
+    model,
+    optimize,
+    paper,
+    simulate,
+    view,
+)
 
-COMMANDS = (model, evaluate, optimize, paper, view, figures)
+COMMANDS = (model, evaluate, optimize, paper, view, figures, simulate, analyze_log)
 """In the order ``scalf-opt --help`` lists them."""

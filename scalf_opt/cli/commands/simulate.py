@@ -1,0 +1,100 @@
+"""``scalf-opt simulate``: the planned trot in MuJoCo, beside the energy model's prediction."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from scalf_opt.cli.options import (
+    add_gait,
+    add_robot,
+    check_output_dir,
+    check_output_file,
+    gait_overrides,
+    load_gait,
+    load_robot,
+)
+from scalf_opt.errors import ConfigError
+
+NAME = "simulate"
+HELP = "simulate the trot in MuJoCo: trunk motion, foot forces, joint energy against the model"
+JSON = True
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
+    add_robot(parser)
+    add_gait(parser)
+    parser.add_argument(
+        "--from",
+        dest="source",
+        type=Path,
+        metavar="DIR",
+        help="simulate the swings and gait of DIR/summary.json (as `optimize --out DIR` "
+        "writes it; give the same --robot or --urdf), and the reference beside them "
+        "(default: the reference swing)",
+    )
+    parser.add_argument(
+        "--cycles", type=int, default=10, help="gait cycles to simulate, >= 2 (default 10)"
+    )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=Path("results/simulation"),
+        help="write simulation.json and simulation.png here (default results/simulation)",
+    )
+    parser.add_argument(
+        "--log",
+        type=Path,
+        metavar="FILE.csv",
+        help="also write the cylinder log the robot's sensors would record (80 Hz, 0.1 mm, "
+        "70 N), for `scalf-opt analyze-log`",
+    )
+    parser.add_argument(
+        "--seed", type=int, default=0, help="seed of the log's sensor noise (default 0)"
+    )
+    parser.add_argument(
+        "--servo-bandwidth",
+        type=float,
+        metavar="HZ",
+        help="natural frequency of the joints' PD loops (default 30 Hz)",
+    )
+
+
+def run(args: argparse.Namespace) -> int:  # noqa: D103
+    from scalf_opt.api import simulate
+    from scalf_opt.sim.report import simulation_report
+
+    if args.cycles < 2:
+        raise ConfigError(
+            f"--cycles must be at least 2 (the first is the start-up), got {args.cycles}"
+        )
+    check_output_dir(args.out)
+    check_output_file(args.log, "--log")
+    if args.source is not None and (args.gait is not None or gait_overrides(args)):
+        raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
+    robot = load_robot(args)
+    if args.log is not None:
+        from scalf_opt.energy.pipeline import EnergyPipeline
+        from scalf_opt.logs.analysis import leg_cylinders
+
+        pipeline = EnergyPipeline(robot, load_gait(args, robot))
+        for leg in robot.naming.leg_prefix:
+            leg_cylinders(pipeline, leg)  # refuse a robot without cylinders before the work
+    gait = None if args.source is not None else load_gait(args, robot)
+    result = simulate(
+        robot,
+        gait,
+        swings_from=args.source,
+        cycles=args.cycles,
+        accounting=args.accounting,
+        servo_bandwidth_hz=args.servo_bandwidth,
+        command=args.argv,
+    )
+    # the files first: a reader that closes the pipe early (`| head`) loses no result
+    written = result.write(args.out)
+    if args.log is not None:
+        written.append(result.write_log(args.log, args.seed))
+    args.console.text(simulation_report(result.data, result.title))
+    args.console.json(result.to_dict())
+    args.console.text(f"wrote {', '.join(map(str, written))}")
+    return 0

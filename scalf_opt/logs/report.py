@@ -1,0 +1,53 @@
+"""The text table of ``scalf-opt analyze-log`` (the paper's Table 7 layout, for one log)."""
+
+from __future__ import annotations
+
+from scalf_opt.logs.analysis import LogAnalysis
+
+_PERIOD_SOURCES = {
+    "--period": "given",
+    "contact": "median time between touch-downs",
+    "gait": "the gait's",
+}
+
+_PHASE_SOURCES = {
+    "contact": "contact column",
+    "schedule": "trot schedule (t = 0: RF and LH touch down)",
+}
+
+
+def log_report(analysis: LogAnalysis) -> str:
+    """Per leg and phase the mechanical energy per cycle; the robot's average power."""
+    first = analysis.as_dict()
+    filt = first["filter"]
+    lines = [
+        f"cylinder log {analysis.source}: legs {', '.join(analysis.legs)}, "
+        f"{analysis.sample_rate_hz:.1f} Hz",
+        f"gait period {analysis.period_s:.4g} s ({_PERIOD_SOURCES[analysis.period_source]}); "
+        f"phases from the {_PHASE_SOURCES[analysis.phase_source]}",
+        f"cylinder velocity: degree-{filt['degree']} least-squares fit over "
+        f"{1e3 * filt['window_s']:.0f} ms ({filt['samples']} samples)",
+        "",
+        "       mechanical energy sum |F v|, mean per complete cycle",
+        "leg   cycles   swing [J]   stance [J]   cycle [J]   friction heat [J]",
+    ]
+    for leg, energy in analysis.legs.items():
+        e = energy.mechanical_j
+        lines.append(
+            f"{leg:4s}  {len(energy.windows_s):6d}  {e['swing']:10.3f}  {e['stance']:11.3f}  "
+            f"{e['cycle']:10.3f}  {energy.friction_heat_j:18.3f}"
+        )
+    total = {
+        phase: sum(e.mechanical_j[phase] for e in analysis.legs.values())
+        for phase in ("swing", "stance", "cycle")
+    }
+    heat = sum(e.friction_heat_j for e in analysis.legs.values())
+    lines += [
+        f"total {'':6s}  {total['swing']:10.3f}  {total['stance']:11.3f}  {total['cycle']:10.3f}  "
+        f"{heat:18.3f}",
+        "",
+        f"average power of the robot ({len(analysis.legs)} legs): "
+        f"{analysis.average_power_w:.2f} W mechanical; {analysis.average_total_power_w:.2f} W "
+        "with the cylinders' friction heat (the model's Stribeck law at the measured velocity)",
+    ]
+    return "\n".join(lines) + "\n"

@@ -1,0 +1,93 @@
+"""One simulated trot from a plan to its figures, and the simulation's result file."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+import mujoco
+
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.model.robot import Robot
+from scalf_opt.sim.control import servo_gains
+from scalf_opt.sim.metrics import saving_comparison, summarize
+from scalf_opt.sim.mujoco_model import build_sim_model
+from scalf_opt.sim.plan import REFERENCE_SWINGS, SwingChoice, TrotPlan, planned_cycle
+from scalf_opt.sim.run import SimRecord, simulate
+from scalf_opt.sim.settings import SimSettings
+
+
+@dataclass(frozen=True)
+class TrotRun:
+    """A simulated trot.
+
+    Attributes:
+        result: Its figures (:func:`~scalf_opt.sim.metrics.summarize`), the servo gains and the
+            swings, as plain data.
+        record: The step-by-step record.
+    """
+
+    result: dict[str, Any]
+    record: SimRecord
+
+
+def run_trot(
+    robot: Robot,
+    pipeline: EnergyPipeline,
+    swings: Mapping[str, SwingChoice],
+    settings: SimSettings,
+    cycles: int,
+) -> TrotRun:
+    """Plan ``swings`` with ``pipeline``, simulate ``cycles`` cycles and measure them.
+
+    Raises:
+        ConfigError, GaitError, InfeasibleError: A swing or gait the pipeline refuses.
+        ModelError: MuJoCo cannot build the robot.
+    """
+    model_cycle = planned_cycle(pipeline, swings)
+    plan = TrotPlan.build(pipeline, swings, 1.0 / settings.timestep_s)
+    sim = build_sim_model(robot, settings)
+    gains = servo_gains(robot, plan, settings)
+    record = simulate(sim, plan, gains, cycles)
+    result = summarize(sim, record, plan, model_cycle, pipeline)
+    result["servo_gains"] = {
+        leg: {"kp_nm_per_rad": g.kp_nm_per_rad, "kd_nms_per_rad": g.kd_nms_per_rad}
+        for leg, g in gains.items()
+    }
+    result["trajectory"] = {
+        leg: {"swing_family": family, "swing_parameters": theta}
+        for leg, (family, theta) in swings.items()
+    }
+    return TrotRun(result, record)
+
+
+def simulation_file(
+    robot: Robot,
+    pipeline: EnergyPipeline,
+    swings: Mapping[str, SwingChoice],
+    settings: SimSettings,
+    cycles: int,
+    source: str | None = None,
+) -> tuple[dict[str, Any], TrotRun]:
+    """The content of ``simulation.json``, and the run it describes.
+
+    A plan that is not the reference is simulated beside the reference, and the file holds the
+    reference's figures (``reference``) and the saving, simulated and modelled
+    (``saving_vs_reference``).
+    """
+    run = run_trot(robot, pipeline, swings, settings, cycles)
+    gait = pipeline.gait
+    data: dict[str, Any] = {
+        "source": source,
+        "mujoco_version": mujoco.__version__,
+        "gait": {**gait.to_dict(), "speed_m_s": gait.speed_m_s},
+        "accounting": pipeline.accounting,
+        "settings": settings.to_dict(),
+        **run.result,
+    }
+    if any(family != "reference" for family, _ in swings.values()):
+        reference = run_trot(robot, pipeline, REFERENCE_SWINGS, settings, cycles).result
+        data["reference"] = reference
+        data["saving_vs_reference"] = saving_comparison(run.result, reference)
+    return data, run

@@ -1,0 +1,196 @@
+"""What the simulation says about the model's assumptions and its energy.
+
+Every figure is taken after the first gait cycle (the start-up transient), over whole cycles:
+
+* ``trunk_height_fluctuation_m``: peak-to-peak of the trunk's height (the paper's Section 6.3:
+  at most 0.004 m in Webots; the model assumes zero, precondition (b));
+* ``trunk_pitch_peak_rad``: the largest |pitch| of the trunk;
+* ``forward_speed_m_s``: the trunk's mean speed (the plan: S / T_stance);
+* ``foot_slip_m``: per leg, the largest slip during one stance, the integral of the x speed of
+  the foot's material point at the contact (a round foot rolls: its centre moves by
+  ``r dphi`` without slipping, which is not slip);
+* ``stance_force_peak_n``, ``stance_force_mean_n``: per leg, the largest vertical ground force
+  and its mean over the planned stance (the paper's Figure 13: about 980 N);
+* ``touchdown_timing_s``: per leg, the mean time from the planned touch-down to the foot's
+  first contact (negative: the foot lands early);
+* ``joint_energy_per_cycle_j``: per leg, the simulated joint torques and rates charged through
+  the same power formula as the model (:meth:`~scalf_opt.energy.physics.LegPhysics.power_function`,
+  the accounting's mechanical power plus the cylinders' friction heat), beside the model's
+  prediction for the same plan and their relative difference.
+
+Two checks of the record itself: the mean vertical ground force over whole cycles equals the
+robot's weight (momentum balance of a periodic motion), and the work of the joint torques and
+the contacts equals the change of the robot's kinetic plus potential energy (MuJoCo's own).
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+
+from scalf_opt.energy.cycle import RobotCycle, change_percent
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import ConfigError
+from scalf_opt.locomotion.forces import GRAVITY_M_S2
+from scalf_opt.sim.mujoco_model import SimModel
+from scalf_opt.sim.plan import TrotPlan
+from scalf_opt.sim.run import SimRecord
+from scalf_opt.types import LEG_NAMES
+
+HEIGHT_GOAL_M = 0.004
+"""The paper's largest trunk-height fluctuation (Section 6.3) [m]."""
+
+ENERGY_GOAL = 0.10
+"""Simulated joint energy within this relative difference of the model's, per leg."""
+
+SAVING_GOAL = 1.0 / 3.0
+"""The simulated saving of an optimum may differ from the model's by this fraction of it."""
+
+
+def averaged_steps(record: SimRecord, period_s: float) -> tuple[np.ndarray, int]:
+    """Steps after the first cycle, and the number of whole cycles they span.
+
+    Raises:
+        ConfigError: Fewer than two cycles were simulated.
+    """
+    cycles = round(record.t_s.size * record.timestep_s / period_s)
+    if cycles < 2:
+        raise ConfigError(f"cycles = {cycles}: simulate at least 2 (the first is the start-up)")
+    return record.t_s >= period_s - 0.5 * record.timestep_s, cycles - 1
+
+
+def joint_power_w(pipeline: EnergyPipeline, record: SimRecord, leg: str) -> np.ndarray:
+    """Power drawn by the leg's joints at every step, (2, n) [W], through the model's formula."""
+    fn = pipeline.physics(leg).power_function(pipeline.accounting).map(record.t_s.size)
+    power, _ = fn(record.q_rad[leg], record.qd_rad_s[leg], record.tau_nm[leg])
+    return np.array(power)
+
+
+def _largest_stance_slip(record: SimRecord, leg: str, steps: np.ndarray) -> float:
+    """The largest slip distance of one uninterrupted contact inside ``steps`` [m]."""
+    contact = record.in_contact(leg) & steps
+    edges = np.flatnonzero(np.diff(np.concatenate([[0], contact.astype(int), [0]])))
+    runs = [
+        float(record.slip_m_s[leg][a:b].sum() * record.timestep_s)
+        for a, b in zip(edges[0::2], edges[1::2], strict=True)
+    ]
+    return max(runs, default=0.0)
+
+
+def _touchdown_timing(record: SimRecord, plan: TrotPlan, leg: str, steps: np.ndarray) -> float:
+    """Mean time from each planned touch-down to the nearest first contact [s]."""
+    gait = plan.cycle.gait
+    contact = record.in_contact(leg)
+    onsets = record.t_s[1:][contact[1:] & ~contact[:-1]]
+    stance = plan.in_stance(leg, record.t_s)
+    planned = record.t_s[1:][stance[1:] & ~stance[:-1] & steps[1:]]
+    delays = []
+    for t_plan in planned:
+        near = onsets[np.abs(onsets - t_plan) < gait.swing_duration_s / 2]
+        if near.size:
+            delays.append(float(near[np.argmin(np.abs(near - t_plan))] - t_plan))
+    return float(np.mean(delays)) if delays else float("nan")
+
+
+def energy_comparison(simulated_j: float, model_j: float) -> dict[str, float]:
+    """``{simulated, model, relative_difference}`` of one energy [J]."""
+    return {
+        "simulated": simulated_j,
+        "model": model_j,
+        "relative_difference": simulated_j / model_j - 1.0,
+    }
+
+
+def summarize(
+    sim: SimModel,
+    record: SimRecord,
+    plan: TrotPlan,
+    model_cycle: RobotCycle,
+    pipeline: EnergyPipeline,
+) -> dict[str, Any]:
+    """The simulation's figures (module docstring) as plain data for ``simulation.json``."""
+    gait = model_cycle.gait
+    steps, cycles = averaged_steps(record, gait.period_s)
+    dt = record.timestep_s
+    x, z, pitch = record.trunk
+    first = int(np.flatnonzero(steps)[0])
+    energy: dict[str, Any] = {}
+    phases: dict[str, Any] = {}
+    for leg in LEG_NAMES:
+        power = joint_power_w(pipeline, record, leg).sum(axis=0)
+        stance = plan.in_stance(leg, record.t_s)
+        sim_stance = float(power[steps & stance].sum() * dt / cycles)
+        sim_swing = float(power[steps & ~stance].sum() * dt / cycles)
+        model_leg = model_cycle.legs[leg]
+        energy[leg] = energy_comparison(sim_stance + sim_swing, model_leg.energy_j)
+        phases[leg] = {
+            "stance": energy_comparison(sim_stance, model_leg.stance_energy_j),
+            "swing": energy_comparison(sim_swing, model_leg.swing_energy_j),
+        }
+    total_sim = sum(e["simulated"] for e in energy.values())
+    weight_n = sim.total_mass_kg * GRAVITY_M_S2
+    vertical = sum(record.grf_n[leg][1] for leg in LEG_NAMES)
+    work = (record.actuator_power_w + record.constraint_power_w).sum() * dt
+    gross = np.abs(record.actuator_power_w).sum() * dt
+    height_ptp = float(np.ptp(z[steps]))
+    largest_gap = max(abs(e["relative_difference"]) for e in energy.values())
+    return {
+        "cycles": cycles + 1,
+        "cycles_averaged": cycles,
+        "trunk_height_fluctuation_m": height_ptp,
+        "trunk_height_mean_m": float(z[steps].mean()),
+        "trunk_height_planned_m": record.start_trunk_height_m,
+        "trunk_pitch_peak_rad": float(np.abs(pitch[steps]).max()),
+        "forward_speed_m_s": float((x[-1] - x[first]) / (record.t_s[-1] - record.t_s[first])),
+        "planned_speed_m_s": gait.speed_m_s,
+        "foot_slip_m": {leg: _largest_stance_slip(record, leg, steps) for leg in LEG_NAMES},
+        "stance_force_peak_n": {leg: float(record.grf_n[leg][1][steps].max()) for leg in LEG_NAMES},
+        "stance_force_mean_n": {
+            leg: float(record.grf_n[leg][1][steps & plan.in_stance(leg, record.t_s)].mean())
+            for leg in LEG_NAMES
+        },
+        "touchdown_timing_s": {
+            leg: _touchdown_timing(record, plan, leg, steps) for leg in LEG_NAMES
+        },
+        "model_stance_force_mean_n": {
+            leg: float(model_cycle.legs[leg].stance.values["grf"][1].mean()) for leg in LEG_NAMES
+        },
+        "joint_energy_per_cycle_j": energy,
+        "joint_energy_per_phase_j": phases,
+        "total_energy_per_cycle_j": energy_comparison(total_sim, model_cycle.energy_j),
+        "average_total_power_w": {
+            "simulated": total_sim / gait.period_s,
+            "model": model_cycle.average_power_w,
+        },
+        "torque_saturation_fraction": {
+            leg: float(record.saturated[leg][:, steps].mean()) for leg in LEG_NAMES
+        },
+        "checks": {
+            "mean_vertical_ground_force_over_weight": float(vertical[steps].mean() / weight_n),
+            "energy_balance_error_over_gross_work": float(
+                (record.energy_j[-1] - record.energy_j[0] - work) / gross
+            ),
+        },
+        "goals": {
+            "trunk_height_fluctuation_at_most_m": HEIGHT_GOAL_M,
+            "trunk_height_met": height_ptp <= HEIGHT_GOAL_M,
+            "joint_energy_relative_difference_at_most": ENERGY_GOAL,
+            "joint_energy_met": largest_gap <= ENERGY_GOAL,
+        },
+    }
+
+
+def saving_comparison(optimum: dict[str, Any], reference: dict[str, Any]) -> dict[str, Any]:
+    """The optimum's total-energy change against the reference, simulated and modelled [%]."""
+    opt, ref = optimum["total_energy_per_cycle_j"], reference["total_energy_per_cycle_j"]
+    model = change_percent(opt["model"], ref["model"])
+    simulated = change_percent(opt["simulated"], ref["simulated"])
+    met = bool(
+        np.sign(model) == np.sign(simulated) and abs(simulated - model) <= SAVING_GOAL * abs(model)
+    )
+    return {
+        "model_percent": model,
+        "simulated_percent": simulated,
+        "same_sign_within_a_third_met": met,
+    }

@@ -1,0 +1,214 @@
+"""The MuJoCo model of a robot's sagittal trot, built from its URDF.
+
+MuJoCo reads the URDF itself (masses, inertias, joint placements, axes, limits and effort
+limits), after three edits made here so that it simulates what the energy model describes:
+
+* every joint except the legs' hip pitch and knee becomes ``fixed`` (the hip roll joints of the
+  sagittal model are locked at zero; MuJoCo then merges those links into their parent, which
+  changes nothing physical);
+* the URDF's visual and collision geometry is dropped (the dynamics need none of it, and meshes
+  need not be found); the only contact geometry is a sphere at each foot frame and the ground;
+  an inertia tensor that is not positive definite (HyQ's 1e-6 kg placeholder links carry
+  ``ixx = ixy = ... = 1e-6``), which MuJoCo refuses, keeps only its diagonal;
+* the trunk (the URDF's root link) gets three joints: slide along x, slide along z and a hinge
+  about y, in that order (the paper's assumption (a): the trunk moves in the sagittal plane).
+
+Each leg joint gets a torque motor (gear 1). Ground: the plane ``z = 0``; feet collide only
+with it. Generalised coordinates: ``(x, z, pitch)`` of the trunk, then the leg joints in the
+URDF's order (:class:`SimModel` keeps the addresses by leg).
+"""
+
+from __future__ import annotations
+
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+from pathlib import Path
+
+import mujoco
+import numpy as np
+from defusedxml.ElementTree import fromstring
+
+from scalf_opt.errors import ModelError
+from scalf_opt.model.robot import Robot
+from scalf_opt.model.urdf_file import read_urdf_text
+from scalf_opt.sim.settings import DEFAULT_FOOT_RADIUS_FRACTION, SimSettings
+from scalf_opt.types import LEG_NAMES
+
+TRUNK_JOINTS: tuple[str, str, str] = ("trunk_x", "trunk_z", "trunk_pitch")
+"""Names of the trunk's sagittal joints in the MuJoCo model, in qpos order."""
+
+_TORSIONAL_FRICTION = 0.005
+_ROLLING_FRICTION = 0.0001
+"""MuJoCo's default second and third friction coefficients (unused with ``condim`` 3)."""
+
+
+@dataclass(frozen=True)
+class SimModel:
+    """A compiled MuJoCo model and where each leg's quantities live in it.
+
+    Attributes:
+        model: The compiled model (z up, gravity -9.81 m/s^2, ground plane at z = 0).
+        trunk_qpos: qpos addresses of the trunk's x, z and pitch [m, m, rad].
+        trunk_dof: qvel addresses of the same.
+        leg_qpos: Per leg, qpos addresses of (hip pitch, knee).
+        leg_dof: Per leg, qvel addresses of (hip pitch, knee).
+        leg_actuators: Per leg, actuator ids of (hip pitch, knee).
+        foot_geom: Per leg, the foot sphere's geom id.
+        foot_body: Per leg, the body the foot sphere belongs to.
+        foot_radius_m: Radius of the foot spheres [m].
+        effort_limit_nm: Per leg, the (hip pitch, knee) effort limits of the URDF [N m].
+    """
+
+    model: mujoco.MjModel
+    trunk_qpos: np.ndarray
+    trunk_dof: np.ndarray
+    leg_qpos: dict[str, np.ndarray]
+    leg_dof: dict[str, np.ndarray]
+    leg_actuators: dict[str, np.ndarray]
+    foot_geom: dict[str, int]
+    foot_body: dict[str, int]
+    foot_radius_m: float
+    effort_limit_nm: dict[str, np.ndarray]
+
+    @property
+    def total_mass_kg(self) -> float:
+        """Mass of the whole simulated robot [kg]."""
+        return float(self.model.body_subtreemass[0])
+
+
+def _root_link(root: ET.Element, path: Path) -> str:
+    children = {
+        child.get("link")
+        for joint in root.iter("joint")
+        if (child := joint.find("child")) is not None
+    }
+    roots = [link.get("name") for link in root.iter("link") if link.get("name") not in children]
+    if len(roots) != 1:
+        raise ModelError(f"{path}: the URDF has {len(roots)} root links, expected one")
+    return str(roots[0])
+
+
+def _foot_sphere_radius(root: ET.Element, foot_link: str) -> float | None:
+    """Radius of a collision sphere centred on the link ``foot_link``, if it has one [m]."""
+    for link in root.iter("link"):
+        if link.get("name") != foot_link:
+            continue
+        for collision in link.findall("collision"):
+            sphere = collision.find("geometry/sphere")
+            origin = collision.find("origin")
+            xyz = origin.get("xyz", "0 0 0") if origin is not None else "0 0 0"
+            if sphere is not None and np.allclose([float(v) for v in xyz.split()], 0.0):
+                return float(sphere.get("radius", "nan"))
+    return None
+
+
+def _repair_singular_inertias(root: ET.Element) -> None:
+    """Drop the products of inertia of a tensor that is not positive definite (see module)."""
+    keys = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+    for inertia in root.iter("inertia"):
+        xx, xy, xz, yy, yz, zz = (float(inertia.get(k, "0")) for k in keys)
+        tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+        if np.linalg.eigvalsh(tensor).min() <= 0.0:
+            for key in ("ixy", "ixz", "iyz"):
+                inertia.set(key, "0")
+
+
+def _child_link(root: ET.Element, joint: str) -> str:
+    for element in root.iter("joint"):
+        if element.get("name") == joint:
+            return str(element.find("child").get("link"))  # type: ignore[union-attr]
+    raise ModelError(f"URDF has no joint {joint!r}")
+
+
+def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
+    """Build the sagittal MuJoCo model of ``robot`` from its URDF.
+
+    Raises:
+        ModelError: The URDF cannot be read, or MuJoCo refuses the model (the message names
+            the file and gives MuJoCo's reason).
+    """
+    path = Path(robot.urdf_path)
+    # the checked text (size, UTF-8, no DTD, finite numbers), parsed without entities
+    root = fromstring(read_urdf_text(path).encode("utf-8"), forbid_dtd=True)
+    legs = {leg: robot.leg(leg) for leg in LEG_NAMES}
+    sagittal = {name for leg in legs.values() for name in leg.joint_names}
+    radius = settings.foot_radius_m
+    if radius is None:
+        found = [_foot_sphere_radius(root, leg.foot_frame) for leg in legs.values()]
+        reach = legs["RF"].thigh_length_m + legs["RF"].shank_length_m
+        radius = found[0] if found[0] is not None else DEFAULT_FOOT_RADIUS_FRACTION * reach
+    trunk_link = _root_link(root, path)
+    shank_links = {name: _child_link(root, leg.joint_names[1]) for name, leg in legs.items()}
+    for link in root.iter("link"):
+        for tag in ("visual", "collision"):
+            for element in link.findall(tag):
+                link.remove(element)
+    for joint in root.iter("joint"):
+        if joint.get("name") not in sagittal:
+            joint.set("type", "fixed")
+    _repair_singular_inertias(root)
+    try:
+        spec = mujoco.MjSpec.from_string(ET.tostring(root, encoding="unicode"))
+    except ValueError as exc:
+        raise ModelError(f"{path}: MuJoCo cannot read the URDF ({exc})") from exc
+    trunk = spec.body(trunk_link)
+    trunk.add_joint(name=TRUNK_JOINTS[0], type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[1, 0, 0])
+    trunk.add_joint(name=TRUNK_JOINTS[1], type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1])
+    trunk.add_joint(name=TRUNK_JOINTS[2], type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0])
+    friction = [settings.foot_friction, _TORSIONAL_FRICTION, _ROLLING_FRICTION]
+    solref = [settings.contact_time_constant_s, settings.contact_damping_ratio]
+    spec.worldbody.add_geom(
+        name="ground",
+        type=mujoco.mjtGeom.mjGEOM_PLANE,
+        size=[0, 0, 1],
+        contype=0,
+        conaffinity=1,
+        friction=friction,
+        solref=solref,
+    )
+    for name, leg in legs.items():
+        placement = leg.model.frames[leg.foot_frame_id].placement
+        spec.body(shank_links[name]).add_geom(
+            name=f"{name}_foot_contact",
+            type=mujoco.mjtGeom.mjGEOM_SPHERE,
+            size=[radius, 0, 0],
+            pos=np.array(placement.translation),
+            contype=1,
+            conaffinity=0,
+            condim=3,
+            friction=friction,
+            solref=solref,
+            mass=0.0,
+        )
+        for joint_name in leg.joint_names:
+            spec.add_actuator(
+                name=joint_name,
+                target=joint_name,
+                trntype=mujoco.mjtTrn.mjTRN_JOINT,
+                gear=[1, 0, 0, 0, 0, 0],
+            )
+    spec.option.timestep = settings.timestep_s
+    spec.option.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
+    try:
+        model = spec.compile()
+    except ValueError as exc:
+        raise ModelError(f"{path}: MuJoCo cannot compile the model ({exc})") from exc
+
+    def addresses(joints: tuple[str, ...], kind: str) -> np.ndarray:
+        field = "jnt_qposadr" if kind == "qpos" else "jnt_dofadr"
+        return np.array([getattr(model, field)[model.joint(j).id] for j in joints], dtype=int)
+
+    return SimModel(
+        model=model,
+        trunk_qpos=addresses(TRUNK_JOINTS, "qpos"),
+        trunk_dof=addresses(TRUNK_JOINTS, "dof"),
+        leg_qpos={n: addresses(leg.joint_names, "qpos") for n, leg in legs.items()},
+        leg_dof={n: addresses(leg.joint_names, "dof") for n, leg in legs.items()},
+        leg_actuators={
+            n: np.array([model.actuator(j).id for j in leg.joint_names]) for n, leg in legs.items()
+        },
+        foot_geom={n: model.geom(f"{n}_foot_contact").id for n in legs},
+        foot_body={n: int(model.geom_bodyid[model.geom(f"{n}_foot_contact").id]) for n in legs},
+        foot_radius_m=float(radius),
+        effort_limit_nm={n: leg.effort_limits_nm for n, leg in legs.items()},
+    )

@@ -1,0 +1,76 @@
+"""The text table ``scalf-opt simulate`` prints: the same numbers as ``simulation.json``."""
+
+from __future__ import annotations
+
+from typing import Any
+
+from scalf_opt.types import LEG_NAMES
+
+
+def _met(flag: bool) -> str:
+    return "met" if flag else "NOT met"
+
+
+def simulation_report(result: dict[str, Any], title: str) -> str:
+    """Trunk motion, foot forces and slip, joint energy against the model, checks and goals."""
+    goals = result["goals"]
+    lines = [
+        title,
+        "",
+        f"trunk height fluctuation  {1e3 * result['trunk_height_fluctuation_m']:8.3f} mm   "
+        f"goal <= {1e3 * goals['trunk_height_fluctuation_at_most_m']:.0f} mm: "
+        f"{_met(goals['trunk_height_met'])}   (mean {1e3 * result['trunk_height_mean_m']:.2f} "
+        f"mm, planned {1e3 * result['trunk_height_planned_m']:.2f} mm)",
+        f"trunk pitch peak          {1e3 * result['trunk_pitch_peak_rad']:8.3f} mrad",
+        f"forward speed             {result['forward_speed_m_s']:8.4f} m/s  "
+        f"(planned {result['planned_speed_m_s']:.4f} m/s)",
+        "",
+        "leg   force peak [N]  mean [N]  model mean [N]  slip [mm]  "
+        "energy sim [J]  model [J]  difference   stance / swing difference",
+    ]
+    energy = result["joint_energy_per_cycle_j"]
+    phases = result["joint_energy_per_phase_j"]
+    for leg in LEG_NAMES:
+        e, p = energy[leg], phases[leg]
+        lines.append(
+            f"{leg:4s}  {result['stance_force_peak_n'][leg]:14.1f}  "
+            f"{result['stance_force_mean_n'][leg]:8.1f}  "
+            f"{result['model_stance_force_mean_n'][leg]:14.1f}  "
+            f"{1e3 * result['foot_slip_m'][leg]:9.3f}  {e['simulated']:14.3f}  "
+            f"{e['model']:9.3f}  {100 * e['relative_difference']:+9.2f} %   "
+            f"{100 * p['stance']['relative_difference']:+7.2f} % / "
+            f"{100 * p['swing']['relative_difference']:+7.2f} %"
+        )
+    total, power = result["total_energy_per_cycle_j"], result["average_total_power_w"]
+    lines += [
+        f"total {'':62s}{total['simulated']:14.3f}  {total['model']:9.3f}  "
+        f"{100 * total['relative_difference']:+9.2f} %",
+        f"average total power       {power['simulated']:8.2f} W simulated, "
+        f"{power['model']:.2f} W model (mean of {result['cycles_averaged']} cycles after the "
+        "first)",
+        "touch-down vs plan (negative: early) "
+        + ", ".join(
+            f"{leg} {1e3 * result['touchdown_timing_s'][leg]:+.1f} ms" for leg in LEG_NAMES
+        ),
+        f"goal: joint energy within {100 * goals['joint_energy_relative_difference_at_most']:.0f}"
+        f" % of the model's on every leg: {_met(goals['joint_energy_met'])}",
+        "",
+        "checks: mean vertical ground force / weight "
+        f"{result['checks']['mean_vertical_ground_force_over_weight']:.5f}; "
+        "energy balance error / gross joint work "
+        f"{result['checks']['energy_balance_error_over_gross_work']:+.1e}; "
+        "torque saturation "
+        f"{100 * max(result['torque_saturation_fraction'].values()):.2f} % of steps",
+    ]
+    saving = result.get("saving_vs_reference")
+    if saving is not None:
+        reference = result["reference"]["total_energy_per_cycle_j"]
+        lines += [
+            "",
+            f"reference swing, simulated the same way: {reference['simulated']:.3f} J per cycle "
+            f"(model {reference['model']:.3f} J)",
+            f"saving over the reference: model {saving['model_percent']:+.2f} %, simulated "
+            f"{saving['simulated_percent']:+.2f} %; goal same sign, within a third: "
+            f"{_met(saving['same_sign_within_a_third_met'])}",
+        ]
+    return "\n".join(lines)

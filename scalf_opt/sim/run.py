@@ -1,0 +1,166 @@
+"""Step the MuJoCo trot and record it.
+
+The simulation starts at cycle time 0, the instant RF and LH touch down and LF and RH lift off,
+with every leg on its plan (angles and rates), the trunk moving forward at the gait's speed and
+so high that the stance feet just touch the ground. Each step (semi-implicit Euler, MuJoCo's
+default) the servo (:mod:`~scalf_opt.sim.control`) sets the joint torques from the state at the
+step's start; the record holds, per step ``k``:
+
+* the state at the step's start (time ``t_k``, trunk pose, joint angles), the torques applied
+  over the step and the joint rates at its end, ``qd_{k+1}``: semi-implicit Euler moves the
+  joints by ``qd_{k+1} dt``, so ``tau_k qd_{k+1} dt`` is exactly the work of step ``k``;
+* per foot, the ground's force on it in the world frame (x, z) and the speed along x of the
+  foot's material point at the contact (zero off the ground): the foot's slip;
+* for the energy balance of the whole robot, the kinetic plus potential energy at ``t_k`` and the
+  power of the actuators and of the other forces (contacts, joint limits, joint damping) at the
+  step's mean velocity.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+
+from scalf_opt.sim.control import JointGains
+from scalf_opt.sim.mujoco_model import SimModel
+from scalf_opt.sim.plan import TrotPlan
+from scalf_opt.types import LEG_NAMES
+
+
+@dataclass(frozen=True)
+class SimRecord:
+    """One simulated run, step by step (n steps; arrays along the last axis).
+
+    Attributes:
+        t_s: Time at each step's start [s], shape (n,).
+        timestep_s: Step [s].
+        trunk: Trunk x [m], z [m] and pitch [rad] at each step's start, shape (3, n).
+        q_rad: Per leg, (hip pitch, knee) angles at each step's start, (2, n) [rad].
+        qd_rad_s: Per leg, joint rates at each step's end, (2, n) [rad/s].
+        tau_nm: Per leg, joint torques applied over each step (after the effort limit), (2, n).
+        saturated: Per leg, whether the servo asked more than the effort limit, (2, n).
+        grf_n: Per leg, ground force on the foot in the world frame (x, z), (2, n) [N].
+        slip_m_s: Per leg, |x speed| of the foot's contact point, (n,) [m/s] (0 off the ground).
+        energy_j: Kinetic + potential energy of the robot at each step's start and at the end,
+            shape (n + 1,) [J].
+        actuator_power_w: Power of all joint torques at each step's mean velocity, (n,) [W].
+        constraint_power_w: Power of the constraint forces (contacts, joint limits) and of the
+            URDF's joint damping, the same way, (n,) [W].
+        start_trunk_height_m: The trunk's height at the start, feet just on the ground [m].
+    """
+
+    t_s: np.ndarray
+    timestep_s: float
+    trunk: np.ndarray
+    q_rad: dict[str, np.ndarray]
+    qd_rad_s: dict[str, np.ndarray]
+    tau_nm: dict[str, np.ndarray]
+    saturated: dict[str, np.ndarray]
+    grf_n: dict[str, np.ndarray]
+    slip_m_s: dict[str, np.ndarray]
+    energy_j: np.ndarray
+    actuator_power_w: np.ndarray
+    constraint_power_w: np.ndarray
+    start_trunk_height_m: float
+
+    def in_contact(self, leg: str) -> np.ndarray:
+        """Whether the foot of ``leg`` presses on the ground, shape (n,)."""
+        return self.grf_n[leg][1] > 0.0
+
+
+def _start(sim: SimModel, plan: TrotPlan, data: mujoco.MjData) -> float:
+    """Put the robot on its plan at t = 0; return the trunk's height."""
+    model = sim.model
+    for leg in LEG_NAMES:
+        ref = plan.sample(leg, np.zeros(1))
+        data.qpos[sim.leg_qpos[leg]] = ref["q"][:, 0]
+        data.qvel[sim.leg_dof[leg]] = ref["qd"][:, 0]
+    data.qvel[sim.trunk_dof[0]] = plan.cycle.gait.speed_m_s
+    mujoco.mj_kinematics(model, data)
+    stance = [leg for leg in LEG_NAMES if plan.in_stance(leg, np.zeros(1))[0]]
+    lowest = min(float(data.geom_xpos[sim.foot_geom[leg]][2]) for leg in stance)
+    height = sim.foot_radius_m - lowest
+    data.qpos[sim.trunk_qpos[1]] = height
+    mujoco.mj_forward(model, data)
+    return height
+
+
+def simulate(sim: SimModel, plan: TrotPlan, gains: dict[str, JointGains], cycles: int) -> SimRecord:
+    """Simulate ``cycles`` gait cycles of the plan with the servo ``gains``."""
+    model = sim.model
+    data = mujoco.MjData(model)
+    dt = float(model.opt.timestep)
+    n = round(cycles * plan.cycle.gait.period_s / dt)
+    t = np.arange(n) * dt
+    refs = [plan.sample(leg, t) for leg in LEG_NAMES]
+    q_ref, qd_ref, tau_ff = (np.vstack([r[k] for r in refs]) for k in ("q", "qd", "tau"))
+    qpos_i = np.concatenate([sim.leg_qpos[leg] for leg in LEG_NAMES])
+    dof_i = np.concatenate([sim.leg_dof[leg] for leg in LEG_NAMES])
+    act_i = np.concatenate([sim.leg_actuators[leg] for leg in LEG_NAMES])
+    kp = np.concatenate([gains[leg].kp_nm_per_rad for leg in LEG_NAMES])
+    kd = np.concatenate([gains[leg].kd_nms_per_rad for leg in LEG_NAMES])
+    limit = np.concatenate([sim.effort_limit_nm[leg] for leg in LEG_NAMES])
+    foot_leg = {geom: leg for leg, geom in sim.foot_geom.items()}
+
+    start_height = _start(sim, plan, data)
+    trunk = np.zeros((3, n))
+    q, qd, tau = (np.zeros((qpos_i.size, n)) for _ in range(3))
+    saturated = np.zeros((qpos_i.size, n), dtype=bool)
+    grf = {leg: np.zeros((2, n)) for leg in LEG_NAMES}
+    slip = {leg: np.zeros(n) for leg in LEG_NAMES}
+    energy = np.zeros(n + 1)
+    p_act, p_con = np.zeros(n), np.zeros(n)
+    force6 = np.zeros(6)
+    jacp = np.zeros((3, model.nv))
+    for k in range(n):
+        trunk[:, k] = data.qpos[sim.trunk_qpos]
+        q[:, k] = data.qpos[qpos_i]
+        v_start = data.qvel.copy()
+        demand = tau_ff[:, k] + kp * (q_ref[:, k] - q[:, k]) + kd * (qd_ref[:, k] - v_start[dof_i])
+        saturated[:, k] = np.abs(demand) > limit
+        data.ctrl[act_i] = np.clip(demand, -limit, limit)
+        mujoco.mj_step(model, data)
+        # data now holds the forces and contacts of state k and the velocity of state k + 1
+        energy[k] = data.energy[0] + data.energy[1]
+        v_mid = 0.5 * (v_start + data.qvel)
+        p_act[k] = data.qfrc_actuator @ v_mid
+        p_con[k] = (data.qfrc_constraint + data.qfrc_passive) @ v_mid
+        tau[:, k] = data.actuator_force[act_i]
+        qd[:, k] = data.qvel[dof_i]
+        for i in range(data.ncon):
+            contact = data.contact[i]
+            g1, g2 = int(contact.geom1), int(contact.geom2)
+            leg = foot_leg.get(g2) or foot_leg.get(g1)
+            if leg is None:
+                continue
+            mujoco.mj_contactForce(model, data, i, force6)
+            # the force of geom1 on geom2, along the contact normal (from geom1 to geom2) first
+            force = contact.frame.reshape(3, 3).T @ force6[:3]
+            if g1 == sim.foot_geom[leg]:
+                force = -force
+            grf[leg][:, k] += force[[0, 2]]
+            mujoco.mj_jac(model, data, jacp, None, contact.pos, sim.foot_body[leg])
+            slip[leg][k] = abs(float(jacp[0] @ data.qvel))
+    mujoco.mj_forward(model, data)
+    energy[n] = data.energy[0] + data.energy[1]
+
+    def by_leg(rows: np.ndarray) -> dict[str, np.ndarray]:
+        return {leg: rows[2 * i : 2 * i + 2] for i, leg in enumerate(LEG_NAMES)}
+
+    return SimRecord(
+        t_s=t,
+        timestep_s=dt,
+        trunk=trunk,
+        q_rad=by_leg(q),
+        qd_rad_s=by_leg(qd),
+        tau_nm=by_leg(tau),
+        saturated=by_leg(saturated),
+        grf_n=grf,
+        slip_m_s=slip,
+        energy_j=energy,
+        actuator_power_w=p_act,
+        constraint_power_w=p_con,
+        start_trunk_height_m=start_height,
+    )

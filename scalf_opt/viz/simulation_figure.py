@@ -1,0 +1,57 @@
+"""The figure of a simulated trot: trunk height and pitch, vertical foot forces, over time."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only: no display needed
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.figure import Figure
+
+
+def simulation_figure(
+    t_s: np.ndarray,
+    trunk_height_m: np.ndarray,
+    planned_height_m: float,
+    trunk_pitch_rad: np.ndarray,
+    vertical_force_n: Mapping[str, np.ndarray],
+    model_force_n: float,
+    title: str,
+    height_band_m: float = 0.004,
+) -> Figure:
+    """Three panels over time: trunk height, trunk pitch, vertical ground force per foot.
+
+    Args:
+        t_s: Time [s], shape (n,).
+        trunk_height_m: Trunk height, shape (n,) [m].
+        planned_height_m: The height the model assumes [m] (drawn dashed).
+        trunk_pitch_rad: Trunk pitch, shape (n,) [rad].
+        vertical_force_n: Per leg, the vertical ground force on the foot, shape (n,) [N].
+        model_force_n: The model's stance force (half the carried weight) [N], drawn dashed.
+        title: Figure title.
+        height_band_m: Half-height of the band drawn around the planned height [m] (the
+            paper's 4 mm).
+    """
+    fig, (ax_z, ax_p, ax_f) = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
+    ax_z.plot(t_s, 1e3 * (trunk_height_m - planned_height_m), lw=1)
+    ax_z.axhline(0.0, color="grey", ls="--", lw=1)
+    for edge in (-height_band_m, height_band_m):
+        ax_z.axhline(1e3 * edge, color="tab:red", ls=":", lw=1)
+    ax_z.set_ylabel("trunk height - planned [mm]")
+    ax_z.set_title(title, fontsize=10)
+    ax_p.plot(t_s, 1e3 * trunk_pitch_rad, lw=1)
+    ax_p.set_ylabel("trunk pitch [mrad]")
+    for leg, force in vertical_force_n.items():
+        ax_f.plot(t_s, force, lw=1, label=leg)
+    ax_f.axhline(model_force_n, color="grey", ls="--", lw=1, label="model")
+    ax_f.set_ylabel("vertical ground force [N]")
+    ax_f.set_xlabel("time [s]")
+    ax_f.legend(fontsize=8, ncol=5, loc="upper right")
+    for ax in (ax_z, ax_p, ax_f):
+        ax.grid(True, alpha=0.3)
+    fig.tight_layout()
+    return fig

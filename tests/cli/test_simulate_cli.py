@@ -1,0 +1,131 @@
+"""``scalf-opt simulate`` and ``scalf-opt analyze-log`` as a user runs them."""
+
+import json
+
+import pytest
+
+from scalf_opt.cli import main
+from scalf_opt.types import LEG_NAMES
+
+
+def run(argv, capsys):
+    code = main(argv)
+    out, err = capsys.readouterr()
+    return code, out, err
+
+
+@pytest.fixture(scope="module")
+def simulated(tmp_path_factory):
+    out = tmp_path_factory.mktemp("sim")
+    assert (
+        main(["simulate", "--cycles", "2", "--out", str(out), "--log", str(out / "log.csv")]) == 0
+    )
+    return out
+
+
+def test_simulate_writes_the_result_the_figure_and_a_log(simulated, capsys):
+    data = json.loads((simulated / "simulation.json").read_text())
+    for key in ("trunk_height_fluctuation_m", "trunk_pitch_peak_rad", "forward_speed_m_s"):
+        assert isinstance(data[key], float)
+    for key in ("foot_slip_m", "stance_force_peak_n", "stance_force_mean_n"):
+        assert set(data[key]) == set(LEG_NAMES)
+    for leg in LEG_NAMES:
+        energy = data["joint_energy_per_cycle_j"][leg]
+        assert set(energy) == {"simulated", "model", "relative_difference"}
+        assert energy["relative_difference"] == pytest.approx(
+            energy["simulated"] / energy["model"] - 1, rel=1e-12
+        )
+    assert data["provenance"]["robot"] == "scalf"
+    assert data["provenance"]["command"].startswith("scalf-opt simulate --cycles 2")
+    assert data["cycles"] == 2 and data["cycles_averaged"] == 1
+    assert data["settings"]["servo_bandwidth_hz"] == 30.0
+    assert data["trajectory"]["RF"]["swing_family"] == "reference"
+    assert "reference" not in data  # the reference is not simulated twice
+    png = (simulated / "simulation.png").read_bytes()
+    assert png.startswith(b"\x89PNG")
+    header = (simulated / "log.csv").read_text().splitlines()[0]
+    assert header == "t_s,leg,hip_length_m,knee_length_m,hip_force_n,knee_force_n,contact"
+    capsys.readouterr()
+
+
+def test_simulate_prints_the_table(tmp_path, capsys):
+    code, out, err = run(["simulate", "--cycles", "2", "--out", str(tmp_path)], capsys)
+    assert code == 0 and err == ""
+    assert "trunk height fluctuation" in out and "goal <= 4 mm: met" in out
+    for leg in LEG_NAMES:
+        assert f"\n{leg} " in out
+    assert out.rstrip().endswith("simulation.png")
+
+
+def test_analyze_log_reads_the_simulated_log(simulated, capsys):
+    code, out, _ = run(["analyze-log", str(simulated / "log.csv")], capsys)
+    assert code == 0
+    assert "80.0 Hz" in out and "phases from the contact column" in out
+    assert "average power of the robot (4 legs)" in out
+    code, out, _ = run(["analyze-log", str(simulated / "log.csv"), "--json"], capsys)
+    data = json.loads(out)
+    assert data["provenance"]["robot"] == "scalf"
+    assert set(data["mechanical_energy_per_cycle_j"]) == set(LEG_NAMES)
+    assert data["average_power_w"] == pytest.approx(
+        sum(data["mechanical_energy_per_cycle_j"].values()) / data["period_s"]
+    )
+    assert data["filter"]["samples"] == 7
+
+
+def test_simulate_an_optimum_beside_the_reference(tmp_path, capsys):
+    opt = tmp_path / "opt"
+    assert main(["optimize", "--family", "paper", "--out", str(opt)]) == 0
+    capsys.readouterr()
+    code, out, _ = run(
+        ["simulate", "--from", str(opt), "--cycles", "2", "--out", str(tmp_path)], capsys
+    )
+    assert code == 0
+    assert "saving over the reference" in out
+    data = json.loads((tmp_path / "simulation.json").read_text())
+    assert data["trajectory"]["RF"]["swing_family"] == "paper"
+    saving = data["saving_vs_reference"]
+    assert saving["model_percent"] < 0 and saving["simulated_percent"] < 0
+    assert data["reference"]["trajectory"]["LH"]["swing_family"] == "reference"
+
+
+def test_simulate_another_robot(tmp_path, capsys):
+    code, out, _ = run(
+        ["simulate", "--robot", "solo12", "--cycles", "2", "--out", str(tmp_path)], capsys
+    )
+    assert code == 0 and "simulation of solo12" in out
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--cycles", "1"], "--cycles must be at least 2"),
+        (["--from", "nowhere"], "nowhere/summary.json: not found"),
+        (["--from", "nowhere", "--gait", "g.toml"], "with --from DIR the gait is DIR's"),
+        (["--from", "nowhere", "--period", "0.6"], "with --from DIR the gait is DIR's"),
+        (["--robot", "hyq", "--log", "x.csv"], "has no hydraulic cylinder"),
+        (["--servo-bandwidth", "500"], "servo_bandwidth_hz = 500.0 is too high"),
+    ],
+)
+def test_simulate_refuses_bad_input_and_writes_nothing(tmp_path, capsys, argv, message):
+    out = tmp_path / "out"
+    code, _, err = run(["simulate", "--out", str(out), *argv], capsys)
+    assert code == 2
+    assert err.startswith("scalf-opt: error: ") and err.count("\n") == 1
+    assert message in err
+    assert not out.exists()
+
+
+def test_a_closed_pipe_ends_the_command_without_a_traceback():
+    """``scalf-opt ... | head``: the reader goes away before the command prints."""
+    import subprocess
+    import sys
+
+    process = subprocess.Popen(
+        [sys.executable, "-m", "scalf_opt", "evaluate"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+    )
+    process.stdout.close()  # before the command has computed anything
+    _, err = process.communicate(timeout=120)
+    assert b"Traceback" not in err and b"Error" not in err
+    assert process.returncode == 0

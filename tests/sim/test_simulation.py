@@ -1,0 +1,156 @@
+"""The simulated trot: what it measures, checked against independent physics.
+
+Tests run two cycles (the first is the start-up); ``studies/simulation_validation.py`` runs ten.
+"""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.locomotion.forces import GRAVITY_M_S2
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.logs.analysis import analyze_log, leg_cylinders
+from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
+from scalf_opt.robots.loading import load_robot
+from scalf_opt.sim.experiment import run_trot
+from scalf_opt.sim.metrics import joint_power_w
+from scalf_opt.sim.plan import REFERENCE_SWINGS, TrotPlan, planned_cycle
+from scalf_opt.sim.settings import SimSettings
+from scalf_opt.types import LEG_NAMES
+
+
+@pytest.fixture(scope="module")
+def robot():
+    return load_robot("scalf")
+
+
+@pytest.fixture(scope="module")
+def pipeline(robot):
+    return EnergyPipeline(robot, Gait())
+
+
+@pytest.fixture(scope="module")
+def reference(robot, pipeline):
+    return run_trot(robot, pipeline, REFERENCE_SWINGS, SimSettings(), cycles=2)
+
+
+def test_the_plan_is_the_pipelines_samples(pipeline):
+    """At its own grid times the plan returns the pipeline's samples; lift-off starts the swing."""
+    plan = TrotPlan.build(pipeline, REFERENCE_SWINGS, 2000.0)
+    gait = pipeline.gait
+    for leg in LEG_NAMES:
+        cycle = plan.cycle.legs[leg]
+        for phase in (cycle.stance, cycle.swing):
+            t = phase.t_s[:-1]  # a phase's last sample is the next phase's first
+            sampled = plan.sample(leg, t)
+            for name in ("q", "qd", "tau"):
+                np.testing.assert_allclose(sampled[name], phase.values[name][:, :-1], atol=1e-9)
+        lift_off = np.array([cycle.swing.t_s[0]])
+        assert not plan.in_stance(leg, lift_off)[0]
+        np.testing.assert_allclose(
+            plan.sample(leg, lift_off)["tau"][:, 0], cycle.swing.values["tau"][:, 0]
+        )
+    # the model's energy does not depend on the plan's finer grid beyond its O(h^2) quadrature
+    coarse = planned_cycle(pipeline, REFERENCE_SWINGS).energy_j
+    fine = replace(pipeline, gait=replace(gait, sample_rate_hz=2000.0))
+    assert planned_cycle(fine, REFERENCE_SWINGS).energy_j == pytest.approx(coarse, rel=2e-3)
+
+
+def test_the_reference_trot_keeps_the_papers_assumptions(reference, pipeline):
+    result = reference.result
+    assert result["cycles_averaged"] == 1
+    assert result["trunk_height_fluctuation_m"] <= 0.004  # the paper's Section 6.3
+    assert abs(result["trunk_height_mean_m"] - result["trunk_height_planned_m"]) < 0.002
+    assert result["trunk_pitch_peak_rad"] < 0.005
+    # round feet roll: the hip advances r * (change of shank angle) more per stance than a point
+    assert result["forward_speed_m_s"] == pytest.approx(pipeline.gait.speed_m_s, rel=0.05)
+    assert max(result["foot_slip_m"].values()) < 0.002
+    assert max(result["torque_saturation_fraction"].values()) == 0.0
+    assert result["goals"]["trunk_height_met"]
+
+
+def test_the_ground_carries_the_whole_robot(reference, robot):
+    """Momentum balance over a cycle: the mean vertical ground force is the robot's weight.
+
+    The model's minimum-norm distribution carries only the trunk (decision 11): each stance foot
+    then holds 981 N; in the simulation the legs' and hips' 33.4 kg are carried too.
+    """
+    result = reference.result
+    assert result["checks"]["mean_vertical_ground_force_over_weight"] == pytest.approx(
+        1.0, abs=5e-3
+    )
+    half_weight = robot.total_mass_kg * GRAVITY_M_S2 / 2
+    for leg in LEG_NAMES:
+        assert result["model_stance_force_mean_n"][leg] == pytest.approx(
+            robot.trunk_mass_kg * GRAVITY_M_S2 / 2, rel=1e-9
+        )
+        assert result["stance_force_mean_n"][leg] == pytest.approx(half_weight, rel=0.03)
+
+
+def test_the_work_of_the_joints_and_contacts_is_the_change_of_energy(robot, pipeline):
+    """Work-energy balance with MuJoCo's own kinetic and potential energy.
+
+    Semi-implicit Euler is first order: the error halves with the step (measured 1.0e-3, 5.3e-4,
+    2.7e-4 of the gross joint work at 1, 0.5, 0.25 ms), and the joint energy does not move.
+    """
+    errors, energies = [], []
+    for dt in (0.001, 0.0005):
+        run = run_trot(robot, pipeline, REFERENCE_SWINGS, SimSettings(timestep_s=dt), cycles=2)
+        errors.append(run.result["checks"]["energy_balance_error_over_gross_work"])
+        energies.append(run.result["total_energy_per_cycle_j"]["simulated"])
+    assert abs(errors[1]) < 1e-3
+    assert abs(errors[1]) == pytest.approx(abs(errors[0]) / 2, rel=0.2)
+    assert energies[1] == pytest.approx(energies[0], rel=1e-3)
+
+
+def test_joint_energy_two_ways(reference, pipeline):
+    """Torque times joint rate (the record) = cylinder force times the rate of its length.
+
+    The second way never sees a joint rate: a noiseless 2 kHz cylinder log of the run (lengths
+    from the angles, forces from the torques), its lengths differentiated by the log pipeline's
+    filter over a short window (4 ms: no noise to smooth), integrated over the same cycles.
+    They agree to 0.12 % (the touch-down transients, 2 ms long, are what the 4 ms fit smooths).
+    """
+    record = reference.record
+    motions = {
+        leg: JointMotion(record.t_s, record.q_rad[leg], record.tau_nm[leg], record.in_contact(leg))
+        for leg in LEG_NAMES
+    }
+    cylinders = {leg: leg_cylinders(pipeline, leg) for leg in LEG_NAMES}
+    log = sensor_log(motions, cylinders, SensorModel.exact(2000.0), seed=0)
+    analysis = analyze_log(log, pipeline, period_s=pipeline.gait.period_s, half_window_s=0.002)
+    for leg, energy in analysis.legs.items():
+        power, loss = (
+            np.array(v).sum(axis=0)
+            for v in pipeline.physics(leg)
+            .power_function()
+            .map(record.t_s.size)(record.q_rad[leg], record.qd_rad_s[leg], record.tau_nm[leg])
+        )
+        by_record = sum(
+            (power - loss)[(record.t_s >= a - 1e-9) & (record.t_s < b - 1e-9)].sum()
+            * record.timestep_s
+            for a, b in energy.windows_s
+        ) / len(energy.windows_s)
+        assert energy.mechanical_j["cycle"] == pytest.approx(by_record, rel=3e-3)
+        assert np.array(joint_power_w(pipeline, record, leg)).shape == (2, record.t_s.size)
+
+
+def test_the_simulated_joint_energy_is_within_ten_percent_of_the_model(reference):
+    result = reference.result
+    for leg in LEG_NAMES:
+        energy = result["joint_energy_per_cycle_j"][leg]
+        assert energy["model"] > 0
+        assert abs(energy["relative_difference"]) <= 0.10
+        phases = result["joint_energy_per_phase_j"][leg]
+        total = phases["stance"]["simulated"] + phases["swing"]["simulated"]
+        assert total == pytest.approx(energy["simulated"], rel=1e-12)
+    assert result["goals"]["joint_energy_met"]
+
+
+def test_a_simulation_is_deterministic(robot, pipeline):
+    first = run_trot(robot, pipeline, REFERENCE_SWINGS, SimSettings(), cycles=2).result
+    second = run_trot(robot, pipeline, REFERENCE_SWINGS, SimSettings(), cycles=2).result
+    assert first["joint_energy_per_cycle_j"] == second["joint_energy_per_cycle_j"]
+    assert first["trunk_height_fluctuation_m"] == second["trunk_height_fluctuation_m"]
