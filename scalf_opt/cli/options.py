@@ -26,7 +26,8 @@ def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
     parser.add_argument(
         "--gait",
         type=Path,
-        help="gait file (TOML); fields left out take the robot's default (the paper's trot)",
+        help="gait file (TOML); fields left out take the robot's default (the paper's trot "
+        "scaled to its leg length)",
     )
     if accounting:
         parser.add_argument(
@@ -46,8 +47,8 @@ def load_robot(args: argparse.Namespace) -> Robot:
 
 def load_gait(args: argparse.Namespace, robot: Robot) -> Gait:
     """The gait of ``--gait`` over the robot's default gait."""
-    from scalf_opt.locomotion.gait import default_gait
     from scalf_opt.locomotion.gait_file import read_gait
+    from scalf_opt.locomotion.scaling import default_gait_for
 
-    base = default_gait(robot.nominal_stance_height_m)
+    base = default_gait_for(robot)
     return read_gait(args.gait, base) if args.gait is not None else base

@@ -9,6 +9,7 @@ import pinocchio as pin
 
 from scalf_opt.actuators.cylinder import HydraulicCylinder
 from scalf_opt.actuators.drive import Drive
+from scalf_opt.actuators.valve_cylinder import ValveControlledCylinder
 from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.model.kinematics import LegKinematics
 from scalf_opt.model.leg import Leg
@@ -89,7 +90,7 @@ def model_report(
         )
     for i, cyl in enumerate(drives):
         if not isinstance(cyl, HydraulicCylinder):
-            lines.append(f"  {leg.joint_names[i]}: {cyl.kind} drive")
+            lines.append(f"  {leg.joint_names[i]}: {cyl.summary()}")
             continue
         grid = np.linspace(lo[i], hi[i], 2001)
         lengths = np.array([float(cyl.length_m(x)) for x in grid])
@@ -100,6 +101,8 @@ def model_report(
             f"joint range (sweep {(lengths.max() - lengths.min()) * 1e3:.1f} mm, stroke "
             f"{cyl.stroke_m * 1e3:.1f} mm)"
         )
+        if isinstance(cyl, ValveControlledCylinder):
+            lines.append(f"    {cyl.summary()}")
     q = LegKinematics(leg).inverse(np.array([0.0, -stance_height_m]))
     grav = pin.computeGeneralizedGravity(leg.model, leg.model.createData(), q)
     lines.append(

@@ -23,11 +23,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.actuators.sidecar import drives_for, leg_drives
-    from scalf_opt.locomotion.gait import default_gait
+    from scalf_opt.locomotion.scaling import default_gait_for
     from scalf_opt.viz.report import model_report
 
     robot = load_robot(args)
     leg = robot.leg(args.leg)
-    height = args.stance_height or default_gait(robot.nominal_stance_height_m).stance_height_m
+    height = args.stance_height or default_gait_for(robot).stance_height_m
     print(model_report(robot, args.leg, leg_drives(drives_for(robot), leg.joint_names), height))
     return 0
