@@ -5,7 +5,7 @@ it imports the heavy parts of the package inside ``run``. A new command is a new
 entry in :data:`COMMANDS`.
 """
 
-from scalf_opt.cli.commands import evaluate, model, optimize, paper
+from scalf_opt.cli.commands import evaluate, model, optimize, paper, variant
 
-COMMANDS = (model, evaluate, optimize, paper)
+COMMANDS = (model, evaluate, optimize, paper, variant)
 """In the order ``scalf-opt --help`` lists them."""
