@@ -5,7 +5,7 @@ it imports the heavy parts of the package inside ``run``. A new command is a new
 entry in :data:`COMMANDS`.
 """
 
-from scalf_opt.cli.commands import evaluate, model, optimize, paper, variant
+from scalf_opt.cli.commands import evaluate, model, optimize, paper, study, variant
 
-COMMANDS = (model, evaluate, optimize, paper, variant)
+COMMANDS = (model, evaluate, optimize, paper, variant, study)
 """In the order ``scalf-opt --help`` lists them."""
