@@ -46,6 +46,10 @@ RESULT_COLUMNS = (
     "status",
     "robot",
     "speed_m_s",
+    "total_mass_kg",
+    "thigh_length_m",
+    "shank_length_m",
+    "thigh_to_shank",
     "reference_energy_j",
     "optimized_energy_j",
     "saving_pct",
@@ -56,7 +60,8 @@ RESULT_COLUMNS = (
     *(f"{leg}_{kind}_j" for leg in LEG_NAMES for kind in ("reference", "optimized")),
     "error",
 )
-"""The columns of a case's row after its swept values (energies per gait cycle)."""
+"""The columns of a case's row after its swept values (energies per gait cycle; geometry of the
+RF leg)."""
 
 
 def _robot(case: Case, folder: Path) -> Robot:
@@ -108,6 +113,11 @@ def run_case(case: Case) -> dict[str, Any]:
             robot = _robot(case, Path(folder))
             gait = _gait(case, robot)
             row["speed_m_s"] = gait.speed_m_s
+            rf = robot.leg("RF")
+            row["total_mass_kg"] = robot.total_mass_kg
+            row["thigh_length_m"] = rf.thigh_length_m
+            row["shank_length_m"] = rf.shank_length_m
+            row["thigh_to_shank"] = rf.thigh_length_m / rf.shank_length_m
             pipeline = EnergyPipeline(robot, gait, case.accounting)  # type: ignore[arg-type]
             _energies(row, pipeline.robot_cycle(make_family("reference")), "reference")
             family = make_family(case.family)

@@ -25,6 +25,10 @@ _RESULT_KEYS = {
     "status",
     "robot",
     "speed_m_s",
+    "total_mass_kg",
+    "thigh_length_m",
+    "shank_length_m",
+    "thigh_to_shank",
     "error",
 }
 
@@ -43,7 +47,12 @@ def _groups(rows: Sequence[dict[str, Any]], x: str) -> dict[str, list[dict[str, 
         and not k.endswith(("_j", "_w", "_pct"))
         and not k.startswith("cost_of_transport")
     ]
-    varying = [k for k in swept if len({str(r.get(k)) for r in rows}) > 1]
+
+    def follows_x(key: str) -> bool:  # set together with x (a combined axis): not a group
+        seen: dict[str, str] = {}
+        return all(seen.setdefault(str(r.get(x)), str(r.get(key))) == str(r.get(key)) for r in rows)
+
+    varying = [k for k in swept if len({str(r.get(k)) for r in rows}) > 1 and not follows_x(k)]
     out: dict[str, list[dict[str, Any]]] = {}
     for row in rows:
         label = ", ".join(f"{k.split('.')[-1]} {row.get(k)}" for k in varying) or "all cases"
@@ -111,5 +120,37 @@ def study_figure(rows: Sequence[dict[str, Any]], x: str, title: str) -> Figure:
     handles, _ = ax_e.get_legend_handles_labels()
     if handles:
         ax_e.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def scan_figure(
+    x: Sequence[float],
+    y: Sequence[float],
+    labels: tuple[str, str, str],
+    target: tuple[float, str] | None = None,
+    marks: Sequence[tuple[float, float, str]] = (),
+) -> Figure:
+    """One curve ``y(x)`` with an optional horizontal target line and labelled points.
+
+    Args:
+        x: Abscissae.
+        y: Values.
+        labels: (x label, y label, title).
+        target: (value, label) of a horizontal line.
+        marks: (x, y, label) of points to mark.
+    """
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    ax.plot(x, y, "-o", ms=3, color="C0")
+    if target is not None:
+        ax.axhline(target[0], color="C3", ls="--", lw=1, label=target[1])
+    for (mx, my, label), color in zip(marks, ("C1", "C2", "C4", "C5"), strict=False):
+        ax.plot([mx], [my], "s", ms=7, color=color, label=label)
+    ax.set_xlabel(labels[0])
+    ax.set_ylabel(labels[1])
+    ax.set_title(labels[2])
+    ax.grid(True, alpha=0.3)
+    if target is not None or marks:
+        ax.legend(fontsize=8)
     fig.tight_layout()
     return fig

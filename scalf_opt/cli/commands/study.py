@@ -6,10 +6,6 @@ import argparse
 import os
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
-
-if TYPE_CHECKING:
-    from scalf_opt.studies.runner import StudyRun
 
 NAME = "study"
 HELP = "run a sweep declared in a study file (local processes or a Dask cluster)"
@@ -35,6 +31,7 @@ def run(args: argparse.Namespace) -> int:
     from scalf_opt.errors import ConfigError
     from scalf_opt.studies.runner import choose_runner, run_study
     from scalf_opt.studies.study_file import read_study
+    from scalf_opt.studies.table import results_table
 
     if args.workers is not None and args.scheduler is not None:
         raise ConfigError("give --workers or --scheduler, not both")
@@ -42,7 +39,7 @@ def run(args: argparse.Namespace) -> int:
     out = args.out if args.out is not None else Path("results") / args.file.stem
     result = run_study(study, out, choose_runner(args.workers, args.scheduler))
     try:
-        print(_table(study.name, result))
+        print(results_table(study.name, result))
     except BrokenPipeError:  # a reader such as `head` stopped reading: the files are written
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
     if result.failed:
@@ -53,27 +50,3 @@ def run(args: argparse.Namespace) -> int:
         )
         return 3
     return 0
-
-
-def _table(name: str, result: StudyRun) -> str:
-    """The results as a text table, and the files written."""
-    swept = result.columns[1 : result.columns.index("status")]
-    header = ["case", *(s.split(".")[-1] for s in swept), "reference J", "optimized J", "saving"]
-    lines = [f"study {name}: {len(result.rows)} cases ({result.cached} from the cache)"]
-    lines.append("  ".join(f"{h:>12s}" for h in header) + "  status")
-    for row in result.rows:
-        cells = [str(row["case"]), *(_cell(row[s]) for s in swept)]
-        cells += [_cell(row["reference_energy_j"]), _cell(row["optimized_energy_j"])]
-        cells.append(f"{row['saving_pct']:.2f} %" if row["saving_pct"] is not None else "")
-        status = row["status"] + (f": {row['error']}" if row["error"] else "")
-        lines.append("  ".join(f"{c:>12s}" for c in cells) + f"  {status}")
-    lines.append(f"wrote {result.results_path} and {result.figure_path}")
-    return "\n".join(lines)
-
-
-def _cell(value: object) -> str:
-    if value is None:
-        return ""
-    if isinstance(value, float):
-        return f"{value:.4g}"
-    return str(value)
