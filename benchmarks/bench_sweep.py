@@ -1,9 +1,10 @@
 """Throughput of a study: cases per minute with 1 and 2 workers, and their ratio (goal >= 1.7x).
 
-The same 8-case study (SCalf, family joint-4, Ipopt, gait periods 0.40..0.61 s) runs, without
-cache, on (a) the local process pool, the default backend, with 1 and then 2 worker processes,
+The same study (default 16 cases: SCalf, family joint-6, Ipopt, gait periods from 0.40 s in
+steps of 0.02 s) runs, without cache, on (a) the local process pool, the default backend, with 1 and then 2 worker processes,
 and (b) a Dask LocalCluster with 1 and then 2 worker processes (the cluster's start is not
-timed). Both pools start fresh worker interpreters (imports included in the time).
+timed). The pool starts fresh worker interpreters (their imports are in the time). The machine's
+load average is printed before and after: on a shared machine other jobs take cores away.
 
     python benchmarks/bench_sweep.py [--cases N]
 """
@@ -11,6 +12,7 @@ timed). Both pools start fresh worker interpreters (imports included in the time
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 import tempfile
 import time
@@ -24,10 +26,10 @@ from scalf_opt.studies.study_file import read_study
 
 
 def study_file(folder: Path, cases: int) -> Path:
-    periods = ", ".join(f"{0.40 + 0.03 * i:.2f}" for i in range(cases))
+    periods = ", ".join(f"{0.40 + 0.02 * i:.2f}" for i in range(cases))
     path = folder / "bench.toml"
     path.write_text(
-        f'[study]\nrobot = "scalf"\nfamily = "joint-4"\n[sweep]\n"gait.period_s" = [{periods}]\n'
+        f'[study]\nrobot = "scalf"\nfamily = "joint-6"\n[sweep]\n"gait.period_s" = [{periods}]\n'
     )
     return path
 
@@ -43,12 +45,12 @@ def timed(study, runner) -> float:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--cases", type=int, default=8)
+    parser.add_argument("--cases", type=int, default=16)
     args = parser.parse_args()
     with tempfile.TemporaryDirectory() as folder:
         study = read_study(study_file(Path(folder), args.cases))
     n = len(study.cases)
-    print(f"{n} cases (SCalf, joint-4, Ipopt), no cache")
+    print(f"{n} cases (SCalf, joint-6, Ipopt), no cache; load average {os.getloadavg()[0]:.2f}")
     rows = []
     for workers in (1, 2):
         rows.append(("process pool", workers, timed(study, _pool(workers))))
@@ -60,6 +62,7 @@ def main() -> None:
         ) as cluster:
             runner = choose_runner(scheduler=cluster.scheduler_address)
             rows.append(("Dask LocalCluster", workers, timed(study, runner)))
+    print(f"load average after: {os.getloadavg()[0]:.2f} (2 cores)")
     print(f"{'backend':18s} {'workers':>7s} {'time [s]':>9s} {'cases/min':>10s} {'ratio':>6s}")
     for backend, workers, elapsed in rows:
         one = next(e for b, w, e in rows if b == backend and w == 1)

@@ -17,12 +17,13 @@ else is an error that lists what was found, so the user can write a legs file
 from __future__ import annotations
 
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
 
 from scalf_opt.errors import ModelError
-from scalf_opt.model.naming import LegJoints, LegMap
+from scalf_opt.model.naming import LegJoints, LegMap, legs_file_for
 
 PARALLEL_TOLERANCE = 1e-9
 """Largest |x| or |z| component a unit joint axis may have and still count as parallel to y."""
@@ -141,7 +142,7 @@ def discover_legs(model: pin.Model, source: str) -> LegMap:
     found = chains(model)
     legs = [c for c in found if c.is_leg]
     hint = (
-        "; name the legs in a legs file beside the URDF (<name>_legs.toml with [legs.RF] "
+        f"; name the legs in {legs_file_for(Path(source)).name} beside the URDF ([legs.RF] "
         "pitch = ..., knee = ..., foot = ..., and the same for LH, LF, RH)"
     )
     listing = "; ".join(c.describe() for c in found) or "none"

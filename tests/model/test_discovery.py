@@ -72,7 +72,7 @@ def test_a_fifth_chain_is_reported_and_a_legs_file_resolves_it(tmp_path):
         load_robot(urdf=urdf)
     message = str(info.value)
     assert "found 5 legs" in message and "tail_pitch -> tail_bend" in message
-    assert "tailed_legs.toml" not in message and "_legs.toml" in message
+    assert "name the legs in tailed_legs.toml beside the URDF" in message
     assert len(re.findall(r"foot \w+ at x=", message)) == 5 and "\n" not in message
     (tmp_path / "tailed_legs.toml").write_text(LEGS_FILE)
     robot = load_robot(urdf=urdf)

@@ -49,7 +49,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     variant = derive_variant(robot, scales, args.out)
     derived = load_path(urdf=variant.urdf_path)
     print(
-        f"variant of {robot.name} ({robot.urdf_path}): "
+        f"variant of {robot.name} ({robot.urdf_path.name}): "
         + ", ".join(
             f"{field.removesuffix('_scale').replace('_', ' ')} x{getattr(scales, field):g}"
             for field, _ in SCALES
