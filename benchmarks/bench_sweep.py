@@ -3,8 +3,9 @@
 The same study (default 16 cases: SCalf, family joint-6, Ipopt, gait periods from 0.40 s in
 steps of 0.02 s) runs, without cache, on (a) the local process pool, the default backend, with 1
 and then 2 worker processes, and (b) a Dask LocalCluster with 1 and then 2 worker processes (the
-cluster's start is not timed). The pool starts fresh worker interpreters (their imports are in the time). The machine's
-load average is printed before and after: on a shared machine other jobs take cores away.
+cluster's start is not timed). The pool starts fresh worker interpreters (their imports are in
+the time). The machine's load average is printed before and after: on a shared machine other
+jobs take cores away.
 
     python benchmarks/bench_sweep.py [--cases N]
 """
