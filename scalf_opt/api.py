@@ -25,8 +25,9 @@ from scalf_opt.errors import ConfigError
 from scalf_opt.files import write_atomic
 from scalf_opt.io.provenance import provenance
 from scalf_opt.io.results import cycle_summary, samples_csv_text, to_json
-from scalf_opt.locomotion.gait import Gait, default_gait
+from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.gait_file import read_gait as read_gait_file
+from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.robot import Robot
@@ -66,8 +67,9 @@ def read_gait(path: str | Path | None = None, robot: Robot | None = None, **fiel
 
     Args:
         path: A gait file (TOML, ``[gait]`` table); ``None`` for none.
-        robot: Whose default gait to start from (its nominal stance height); ``None``: the
-            paper's trot.
+        robot: Whose default gait to start from (the paper's trot scaled to its legs, at its
+            stance height, :func:`~scalf_opt.locomotion.scaling.default_gait_for`); ``None``:
+            the paper's trot.
         fields: Gait fields to set, e.g. ``period_s=0.4``.
 
     Raises:
@@ -79,7 +81,7 @@ def read_gait(path: str | Path | None = None, robot: Robot | None = None, **fiel
         raise ConfigError(
             f"unknown gait field {unknown[0]!r} (known: {', '.join(Gait.field_names())})"
         )
-    gait = default_gait(robot.nominal_stance_height_m if robot is not None else None)
+    gait = default_gait_for(robot) if robot is not None else Gait()
     if path is not None:
         gait = read_gait_file(path, gait)
     return replace(gait, **fields) if fields else gait  # type: ignore[arg-type]

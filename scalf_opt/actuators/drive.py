@@ -6,12 +6,17 @@ and torque ``tau`` [N m] (CasADi expressions or numbers) and asks it for
 * its *outputs*: named scalar channels such as a cylinder's length or force (:attr:`channels`
   declares their names and units; they become columns of ``samples.csv``);
 * its *power*: the joint's signed mechanical power ``tau qd`` is charged through the chosen
-  accounting when :attr:`charges_joint_power` is true, and :meth:`loss_rate` [W] (never
-  negative) is added on top, e.g. friction heat;
+  accounting when :attr:`charges_joint_power` is true, and :meth:`loss_rate` [W] is added on
+  top, e.g. friction heat. A drive that meters its own input power (a valve-controlled hydraulic
+  supply: pressure x flow; an electric motor: electrical power) does not charge the joint power
+  and returns everything it draws from :meth:`loss_rate`;
 * its *bounds*: allowed ranges of outputs over the joint's range (a cylinder's stroke).
 
 Every method is written with CasADi operations, so one formula serves floats, numeric arrays and
-the symbolic NLP.
+the symbolic NLP. The non-smooth operations go through the ``max_fn`` argument of
+:meth:`Drive.loss_rate`: the exact :func:`casadi.fmax`, or for the NLP a smooth max whose width
+is 1e-4 in its argument's unit; a drive passes arguments in units where that width is negligible
+(velocities in m/s or rad/s, powers scaled, see :mod:`scalf_opt.actuators.electric`).
 """
 
 from __future__ import annotations
@@ -65,12 +70,20 @@ class Drive:
         return {}
 
     def loss_rate(self, q: Expr, qd: Expr, tau: Expr, max_fn: MaxFn = ca.fmax) -> Expr:
-        """Power the drive draws beyond the charged joint power [W], never negative."""
+        """Power the drive draws beyond the charged joint power [W].
+
+        Never negative, except for a drive that recovers energy (a regenerative electric
+        drive). For a drive that does not charge the joint power it is all the drive draws.
+        """
         return 0.0 * q
 
     def output_bounds(self, q_lower: float, q_upper: float) -> dict[str, tuple[float, float]]:
         """Allowed range of some outputs while the joint stays in ``[q_lower, q_upper]`` [rad]."""
         return {}
+
+    def summary(self) -> str:
+        """One line describing the drive and its parameters, for reports."""
+        return f"{self.kind} drive"
 
 
 @dataclass(frozen=True)

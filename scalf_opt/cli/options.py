@@ -36,7 +36,9 @@ def add_robot(parser: argparse.ArgumentParser) -> None:
 def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
     """``--gait FILE``, one option per gait field, and unless told otherwise ``--accounting``."""
     group = parser.add_argument_group(
-        "gait", "the robot's default trot, then the gait file's fields, then these options"
+        "gait",
+        "the robot's default trot (the paper's, scaled to its legs), then the gait file's fields, "
+        "then these options",
     )
     group.add_argument("--gait", type=Path, help="gait file (TOML, a [gait] table)")
     for field, (option, kind, text) in GAIT_OPTIONS.items():

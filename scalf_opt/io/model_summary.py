@@ -52,7 +52,11 @@ def leg_link_table(leg: Leg) -> list[dict[str, float]]:
 
 def drive_summary(drive: Drive, lower_rad: float, upper_rad: float) -> dict[str, Any]:
     """A drive's kind and, for a cylinder, its geometry and its length over the joint range."""
-    out: dict[str, Any] = {"joint": drive.joint_name, "kind": drive.kind}
+    out: dict[str, Any] = {
+        "joint": drive.joint_name,
+        "kind": drive.kind,
+        "summary": drive.summary(),
+    }
     if isinstance(drive, HydraulicCylinder):
         grid = np.linspace(lower_rad, upper_rad, 2001)
         lengths = np.array([float(drive.length_m(x)) for x in grid])

@@ -135,8 +135,3 @@ def _positive(name: str, value: object) -> None:
     ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
     if not (ok and value > 0):  # type: ignore[operator]
         raise GaitError(f"gait field {name} = {value!r} must be a finite number > 0", field=name)
-
-
-def default_gait(stance_height_m: float | None = None) -> Gait:
-    """The paper's trot, at a robot's nominal stance height when given (else the paper's z0)."""
-    return Gait() if stance_height_m is None else Gait(stance_height_m=stance_height_m)

@@ -75,7 +75,7 @@ class Leg:
             ModelError: A joint or the foot frame is missing, or a joint axis is not along y.
         """
         for joint in (joints.roll, joints.pitch, joints.knee):
-            if not model.existJointName(joint):
+            if joint is not None and not model.existJointName(joint):
                 raise ModelError(f"{source}: leg {name} has no joint {joint!r}")
         if not model.existFrame(joints.foot):
             raise ModelError(f"{source}: leg {name} has no foot frame {joints.foot!r}")

@@ -1,25 +1,46 @@
-"""How a robot names its legs' joints and foot frames, and which convention a URDF follows."""
+"""How a robot names its legs' joints and foot frames.
+
+Two ways to say it, with one interface (:class:`LegNames`): a naming convention with a prefix per
+leg (:class:`LegNaming`, the catalog's robots), or an explicit map from leg to names
+(:class:`LegMap`: found in the kinematic tree by :mod:`scalf_opt.model.discovery`, or read from a
+legs file by :func:`read_leg_map`).
+"""
 
 from __future__ import annotations
 
-from collections.abc import Iterable
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, NamedTuple
+from pathlib import Path
+from typing import Any, NamedTuple, Protocol
 
-from scalf_opt.errors import ModelError
+from scalf_opt.errors import ConfigError, ModelError
+from scalf_opt.files import read_toml
 from scalf_opt.types import LEG_NAMES
-
-if TYPE_CHECKING:
-    import pinocchio as pin
 
 
 class LegJoints(NamedTuple):
-    """URDF names of one leg's hip roll, hip pitch and knee joints and its foot frame."""
+    """URDF names of one leg's joints and foot frame (the hip roll is ``None`` if it has none)."""
 
-    roll: str
+    roll: str | None
     pitch: str
     knee: str
     foot: str
+
+
+class LegNames(Protocol):
+    """What the robot model needs: a name for messages and the names of each leg."""
+
+    @property
+    def name(self) -> str:
+        """Where the names come from (a convention, ``discovered``, a file)."""
+        ...
+
+    def names(self, leg: str) -> LegJoints:
+        """The joint and frame names of ``leg`` (RF, LH, LF, RH)."""
+        ...
+
+
+def _unknown_leg(leg: str) -> ModelError:
+    return ModelError(f"unknown leg {leg!r}: choose one of {', '.join(LEG_NAMES)}")
 
 
 @dataclass(frozen=True)
@@ -49,7 +70,7 @@ class LegNaming:
             ModelError: ``leg`` is not a leg name.
         """
         if leg not in self.leg_prefix:
-            raise ModelError(f"unknown leg {leg!r}: choose one of {', '.join(LEG_NAMES)}")
+            raise _unknown_leg(leg)
         p = self.leg_prefix[leg]
         return LegJoints(
             self.roll_joint.format(p=p),
@@ -58,23 +79,74 @@ class LegNaming:
             self.foot_frame.format(p=p),
         )
 
-    def matches(self, model: pin.Model) -> bool:
-        """Every leg's three joints exist in ``model``."""
-        return all(model.existJointName(n) for leg in LEG_NAMES for n in self.names(leg)[:3])
+
+@dataclass(frozen=True)
+class LegMap:
+    """The names of every leg, given one by one.
+
+    Attributes:
+        name: Where they come from, for messages (``discovered``, a file's path).
+        legs: Leg name (RF, LH, LF, RH) to its names.
+    """
+
+    name: str
+    legs: dict[str, LegJoints]
+
+    def names(self, leg: str) -> LegJoints:
+        """The joint and frame names of ``leg``.
+
+        Raises:
+            ModelError: ``leg`` is not a leg name.
+        """
+        if leg not in self.legs:
+            raise _unknown_leg(leg)
+        return self.legs[leg]
 
 
-def detect_naming(model: pin.Model, candidates: Iterable[LegNaming], source: str) -> LegNaming:
-    """The first of ``candidates`` whose joint names ``model`` has.
+_LEG_KEYS = ("roll", "pitch", "knee", "foot")
+
+
+def legs_file_for(urdf_path: Path) -> Path:
+    """The optional legs file of a URDF: ``<name>_legs.toml`` beside it."""
+    return urdf_path.with_name(f"{urdf_path.stem}_legs.toml")
+
+
+def read_leg_map(path: Path) -> LegMap:
+    """Read a legs file: one ``[legs.<RF|LH|LF|RH>]`` table per leg with the URDF names.
+
+    Keys ``pitch``, ``knee`` (joints) and ``foot`` (a frame: a link or joint name) are required,
+    ``roll`` (the hip roll joint) is optional. Whether the names exist is checked when the legs
+    are built.
 
     Raises:
-        ModelError: None matches; the message names ``source`` and the conventions tried.
+        ConfigError: Unreadable file, a missing leg or key, an unknown key, a name that is not
+            text; the message names the file and the key.
     """
-    tried = []
-    for naming in candidates:
-        if naming.matches(model):
-            return naming
-        tried.append(naming.name)
-    raise ModelError(
-        f"{source}: joint names match no known robot ({', '.join(tried)}); "
-        "name the legs' joints like SCalf's ({L}_hip_roll, {L}_hip_pitch, {L}_knee, {L}_foot)"
-    )
+    data = read_toml(path, "legs")
+    extra = sorted(set(data) - {"legs"})
+    if extra:
+        raise ConfigError(f"{path}: unknown table {extra[0]} (the file has one table, [legs])")
+    legs: Any = data.get("legs")
+    if not isinstance(legs, dict):
+        raise ConfigError(f"{path}: missing table [legs] (one [legs.RF], [legs.LH], ... per leg)")
+    unknown = sorted(set(legs) - set(LEG_NAMES))
+    if unknown:
+        raise ConfigError(f"{path}: unknown leg legs.{unknown[0]} (legs: {', '.join(LEG_NAMES)})")
+    out = {}
+    for leg in LEG_NAMES:
+        table = legs.get(leg)
+        if not isinstance(table, dict):
+            raise ConfigError(f"{path}: missing table [legs.{leg}]")
+        bad = sorted(set(table) - set(_LEG_KEYS))
+        if bad:
+            raise ConfigError(
+                f"{path}: unknown key legs.{leg}.{bad[0]} (allowed: {', '.join(_LEG_KEYS)})"
+            )
+        for key in _LEG_KEYS:
+            value = table.get(key)
+            if value is None and key == "roll":
+                continue
+            if not isinstance(value, str) or not value:
+                raise ConfigError(f"{path}: legs.{leg}.{key} must be a URDF name, got {value!r}")
+        out[leg] = LegJoints(table.get("roll"), table["pitch"], table["knee"], table["foot"])
+    return LegMap(str(path), out)

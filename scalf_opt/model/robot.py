@@ -6,7 +6,6 @@ z up, origin at the URDF root link.
 
 from __future__ import annotations
 
-from collections.abc import Iterable
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
@@ -15,42 +14,27 @@ import numpy as np
 import pinocchio as pin
 
 from scalf_opt.errors import ModelError
+from scalf_opt.model.discovery import discover_legs
+from scalf_opt.model.inertia import inertia_problems
 from scalf_opt.model.leg import Leg
-from scalf_opt.model.naming import LegNaming, detect_naming
+from scalf_opt.model.naming import LegNames, legs_file_for, read_leg_map
 from scalf_opt.model.urdf_file import read_urdf_text
-
-INERTIA_TOLERANCE = 1e-9
-"""Relative round-off allowed in the eigenvalue and triangle checks of a body's inertia."""
+from scalf_opt.types import LEG_NAMES
 
 
 def check_bodies(model: pin.Model, path: Path) -> None:
     """Every body Pinocchio built (fixed-joint children merged in) has a physical inertia.
 
-    Its rotational inertia about the COM is symmetric positive semi-definite and its principal
-    moments satisfy the triangle inequality ``I_a + I_b >= I_c``. The check is on Pinocchio's
-    bodies, not on the URDF's links: many published URDFs carry massless marker links with
-    degenerate inertias (HyQ's feet, ANYmal's camera frames) that vanish in the merged body.
+    The check (:func:`~scalf_opt.model.inertia.inertia_problems`) is on Pinocchio's bodies, not
+    on the URDF's links: many published URDFs carry massless marker links with degenerate
+    inertias (HyQ's feet, ANYmal's camera frames) that vanish in the merged body.
 
     Raises:
         ModelError: A body's inertia is not physical; the message names the body's joint.
     """
-    for i in range(model.njoints):
-        inertia = model.inertias[i]
-        if inertia.mass <= 0:
-            continue
-        moments = np.linalg.eigvalsh(0.5 * (inertia.inertia + inertia.inertia.T))
-        scale = max(float(np.abs(moments).max()), 1e-12)
-        body = model.names[i] if i else "the root link"
-        if moments[0] < -INERTIA_TOLERANCE * scale:
-            raise ModelError(
-                f"{path}: the body of {body} has a rotational inertia that is not positive "
-                f"semi-definite (principal moments {moments} kg m^2)"
-            )
-        if moments[0] + moments[1] < moments[2] - INERTIA_TOLERANCE * scale:
-            raise ModelError(
-                f"{path}: the body of {body} breaks the triangle inequality of inertia "
-                f"(principal moments {moments} kg m^2)"
-            )
+    problems = inertia_problems(model)
+    if problems:
+        raise ModelError(f"{path}: the body of {problems[0]}")
 
 
 def parse_urdf(path: Path) -> pin.Model:
@@ -67,7 +51,26 @@ def parse_urdf(path: Path) -> pin.Model:
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise ModelError(f"{path}: not a valid URDF ({first})") from exc
     check_bodies(model, path)
+    _rename_links_named_like_joints(model)
     return model
+
+
+def _rename_links_named_like_joints(model: pin.Model) -> None:
+    """Rename the frame of a link that shares its name with a joint to ``<name>_link``.
+
+    ANYmal's drive housings are links named like their joints; Pinocchio's reduced models look
+    frames up by name and refuse duplicates.
+    """
+    joints = {f.name for f in model.frames if f.type == pin.JOINT}
+    taken = {f.name for f in model.frames}
+    for i, frame in enumerate(model.frames):
+        if frame.type == pin.BODY and frame.name in joints:
+            name = f"{frame.name}_link"
+            while name in taken:
+                name += "_"
+            taken.add(name)
+            frame.name = name
+            model.frames[i] = frame
 
 
 @dataclass(frozen=True)
@@ -80,42 +83,56 @@ class Robot:
         naming: How its legs' joints and feet are named.
         name: Robot name for reports (the catalog's name, or the URDF file's stem).
         nominal_stance_height_m: Pitching hip above the ground in the robot's nominal standing
-            posture [m], when known (the catalog's value); the default gait uses it.
+            posture [m], when known (the catalog's value, or :attr:`standing_height_m`); the
+            default gait uses it.
         reference_q: The robot's standing configuration (nq), when known (an SRDF's
             ``standing`` state); it fixes each leg's IK branch.
+        actuator_path: The robot's actuator file, when it is not the one beside the URDF
+            (``None``: ``<urdf stem>_actuators.toml`` beside it, if there is one).
     """
 
     model: pin.Model
     urdf_path: Path
-    naming: LegNaming
+    naming: LegNames
     name: str
     nominal_stance_height_m: float | None = None
     reference_q: np.ndarray | None = None
+    actuator_path: Path | None = None
 
     @classmethod
     def from_urdf(
         cls,
         urdf_path: str | Path,
-        namings: Iterable[LegNaming],
+        legs: LegNames | None = None,
         name: str | None = None,
         nominal_stance_height_m: float | None = None,
         srdf: tuple[Path, str] | None = None,
+        actuator_path: Path | None = None,
     ) -> Robot:
-        """Parse a URDF with Pinocchio (once) and recognise its leg naming among ``namings``.
+        """Parse a URDF with Pinocchio (once) and name its legs.
 
         Args:
             urdf_path: The URDF.
-            namings: Naming conventions to try.
+            legs: How the legs are named; ``None``: the legs file beside the URDF
+                (``<name>_legs.toml``) if there is one, else the legs found in the kinematic tree
+                (:func:`~scalf_opt.model.discovery.discover_legs`).
             name: Robot name (default: the file's stem).
             nominal_stance_height_m: See the attribute.
             srdf: ``(SRDF path, state name)`` of the standing configuration, if any.
+            actuator_path: See the attribute.
 
         Raises:
-            ModelError: The file is missing, is not a URDF Pinocchio reads, or has no known legs.
+            ModelError: The file is missing, is not a URDF Pinocchio reads, or its legs cannot
+                be found.
+            ConfigError: The legs file is invalid.
         """
         path = Path(urdf_path)
         model = parse_urdf(path)
-        naming = detect_naming(model, namings, str(path))
+        if legs is None:
+            legs_file = legs_file_for(path)
+            legs = (
+                read_leg_map(legs_file) if legs_file.is_file() else discover_legs(model, str(path))
+            )
         reference = None
         if srdf is not None:
             srdf_path, state = srdf
@@ -123,7 +140,9 @@ class Robot:
             if state not in model.referenceConfigurations:
                 raise ModelError(f"{srdf_path}: no group state {state!r}")
             reference = np.array(model.referenceConfigurations[state], dtype=float)
-        return cls(model, path, naming, name or path.stem, nominal_stance_height_m, reference)
+        return cls(
+            model, path, legs, name or path.stem, nominal_stance_height_m, reference, actuator_path
+        )
 
     @property
     def total_mass_kg(self) -> float:
@@ -140,6 +159,29 @@ class Robot:
     def trunk_mass_kg(self) -> float:
         """Mass of the root link (the trunk) [kg]: what the stance legs carry (decision 11)."""
         return float(self.model.inertias[0].mass)
+
+    @property
+    def standing_height_m(self) -> float | None:
+        """Hip height of the reference posture [m]; ``None`` without a reference posture.
+
+        The mean over the legs of the pitching hip's height above the foot at
+        :attr:`reference_q`, with the roll joints at zero (the sagittal leg).
+        """
+        if self.reference_q is None:
+            return None
+        heights = []
+        for leg in (self.leg(n) for n in LEG_NAMES):
+            model = leg.model
+            data = model.createData()
+            pin.framesForwardKinematics(model, data, leg.reference_posture_rad)
+            heights.append(leg.hip_origin_m[2] - data.oMf[leg.foot_frame_id].translation[2])
+        return float(np.mean(heights))
+
+    @property
+    def leg_length_m(self) -> float:
+        """Thigh plus shank length, the mean over the four legs [m]."""
+        legs = [self.leg(n) for n in LEG_NAMES]
+        return float(np.mean([leg.thigh_length_m + leg.shank_length_m for leg in legs]))
 
     def leg(self, name: str) -> Leg:
         """The sagittal two-joint view of leg ``name`` (RF, LH, LF or RH), built once."""

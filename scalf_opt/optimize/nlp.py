@@ -5,7 +5,8 @@ reformulations of the non-smooth energy:
 
 * ``|tau_i qd_i|`` at every sample becomes a slack pair: ``s+ - s- = tau qd``, ``s+, s- >= 0``,
   and the objective charges ``s+ + s-``; at an optimum one of the two is zero, so the objective
-  equals the exact mechanical energy;
+  equals the exact mechanical energy (only for joints whose drive charges its mechanical power;
+  a drive that meters its own input power, valve-controlled or electric, has no slacks);
 * the drives' losses (SCalf: the friction heat) take ``max(v, 0)`` as
   ``(v + sqrt(v^2 + eps^2)) / 2`` with
   ``eps = HEAT_SMOOTHING_EPS_M_S``.
@@ -55,7 +56,7 @@ class NlpBuild:
     ubg: np.ndarray
     n_theta: int
     n_samples: int
-    p_mech: ca.Function  # theta -> signed mechanical power (2 x n), for slack initial guesses
+    p_mech: ca.Function  # theta -> signed mechanical power of the slack rows, for initial guesses
 
 
 def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None) -> NlpBuild:
@@ -63,19 +64,27 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
     n_theta = problem.n_params
     n = problem.path.t_s.size
     theta = ca.SX.sym("theta", n_theta)
-    s_pos = ca.SX.sym("s_pos", 2 * n)
-    s_neg = ca.SX.sym("s_neg", 2 * n)
     g = problem.graph(theta, HEAT_SMOOTHING_EPS_M_S)
-    w = ca.DM(np.tile(trapezoid_weights(problem.path.t_s), 2))
+    weights = np.tile(trapezoid_weights(problem.path.t_s), 2)
+    w = ca.DM(weights)
     p_mech = ca.reshape(g["p_mech"].T, 2 * n, 1)  # column-major: all hip samples, then knee
     loss = ca.reshape(g["p_loss"].T, 2 * n, 1)
-    # 1 where the joint's drive charges its mechanical power, 0 where it does not
-    charged = ca.DM(np.repeat([float(d.charges_joint_power) for d in problem.physics.drives], n))
+    # 1 where the joint's drive charges its mechanical power, 0 where it does not (a drive that
+    # meters its own input power: its loss rate is all it draws)
+    charged_rows = np.repeat([d.charges_joint_power for d in problem.physics.drives], n)
+    charged = ca.DM(charged_rows.astype(float))
     accounting = problem.pipeline.accounting
-    # the slack pair is the paper's |tau qd|; the other accountings need no slacks
+    # the slack pair is the paper's |tau qd|, for the charged rows only (a slack without a cost
+    # would leave Ipopt a free direction); the other accountings need no slacks
     paper = accounting == "paper"
-    mech_cost = s_pos + s_neg if paper else mechanical_power(p_mech, accounting)
-    objective = ca.dot(w, charged * mech_cost + loss)
+    rows = np.flatnonzero(charged_rows).tolist() if paper else []
+    s_pos = ca.SX.sym("s_pos", len(rows))
+    s_neg = ca.SX.sym("s_neg", len(rows))
+    p_slack = p_mech[rows] if rows else ca.SX(0, 1)
+    if paper:
+        objective = ca.dot(ca.DM(weights[rows]), s_pos + s_neg) + ca.dot(w, loss)
+    else:
+        objective = ca.dot(w, charged * mechanical_power(p_mech, accounting) + loss)
 
     constraints, lower, upper = [], [], []
 
@@ -85,8 +94,8 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
         lower.append(np.broadcast_to(np.asarray(lo, dtype=float), (size,)).ravel())
         upper.append(np.broadcast_to(np.asarray(hi, dtype=float), (size,)).ravel())
 
-    if accounting == "paper":
-        add(s_pos - s_neg - p_mech, 0.0, 0.0)
+    if rows:
+        add(s_pos - s_neg - p_slack, 0.0, 0.0)
     q_lo, q_hi = problem.joint_bounds
     add(
         g["q"],
@@ -100,7 +109,7 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
         add(g["reach"], -1.0, 1.0)
     add(g["foot"][1, problem.mid_index], problem.clearance_z_m, np.inf)
 
-    x = ca.vertcat(theta, s_pos, s_neg) if accounting == "paper" else theta
+    x = ca.vertcat(theta, s_pos, s_neg)
     options: dict[str, Any] = {
         "ipopt": {**IPOPT_DEFAULTS, **(ipopt_options or {})},
         "print_time": False,
@@ -111,7 +120,7 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
         {"x": x, "f": objective, "g": ca.vertcat(*constraints)},
         options,
     )
-    n_slack = 4 * n if accounting == "paper" else 0
+    n_slack = 2 * len(rows)
     lbx = np.concatenate([np.full(n_theta, -np.inf), np.zeros(n_slack)])
     ubx = np.full(n_theta + n_slack, np.inf)
     return NlpBuild(
@@ -122,7 +131,7 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
         ubg=np.concatenate(upper),
         n_theta=n_theta,
         n_samples=n,
-        p_mech=ca.Function("p_mech", [theta], [p_mech]),
+        p_mech=ca.Function("p_mech", [theta], [p_slack]),
     )
 
 

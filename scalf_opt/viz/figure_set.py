@@ -23,7 +23,8 @@ from matplotlib.figure import Figure
 
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
-from scalf_opt.locomotion.gait import Gait, default_gait
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.model.robot import Robot
 from scalf_opt.types import FIRST_PAIR, Accounting
 from scalf_opt.viz.cycle_figures import foot_force_figure, joint_figure
@@ -143,6 +144,6 @@ def figures(
     if gait is not None and from_dirs:
         raise ConfigError("give a gait or result directories (which bring their own), not both")
     loaded = load_robot(robot) if isinstance(robot, str) else robot
-    base = gait or default_gait(loaded.nominal_stance_height_m)
+    base = gait or default_gait_for(loaded)
     pipeline, shown = shown_trajectories(loaded, base, from_dirs, accounting)
     return write_figures(out, loaded, pipeline, shown, formats, grid_points), shown

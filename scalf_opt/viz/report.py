@@ -40,8 +40,8 @@ def model_report(data: dict[str, Any]) -> str:
         )
     for j in data["joints"]:
         d = j["drive"]
-        if d["kind"] != "cylinder":
-            lines.append(f"  {j['name']}: {d['kind']} drive")
+        if "a_m" not in d:  # not a cylinder
+            lines.append(f"  {j['name']}: {d['summary']}")
             continue
         lo, hi = d["length_range_m"]
         lines.append(
@@ -51,6 +51,8 @@ def model_report(data: dict[str, Any]) -> str:
             f"mm over the joint range (sweep {(hi - lo) * 1e3:.1f} mm, stroke "
             f"{d['stroke_m'] * 1e3:.1f} mm)"
         )
+        if d["kind"] != "cylinder":  # a cylinder with another power model
+            lines.append(f"    {d['summary']}")
     posture = data["standing_posture"]
     q, grav = posture["q_rad"], posture["gravity_torques_nm"]
     lines.append(

@@ -12,7 +12,8 @@ from pathlib import Path
 
 from scalf_opt.errors import ConfigError
 from scalf_opt.files import write_atomic
-from scalf_opt.locomotion.gait import Gait, default_gait
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.model.robot import Robot
 from scalf_opt.types import Accounting
 from scalf_opt.viz.html import scene_page
@@ -79,6 +80,6 @@ def view(
     if gait is not None and from_dirs:
         raise ConfigError("give a gait or result directories (which bring their own), not both")
     loaded = load_robot(robot) if isinstance(robot, str) else robot
-    base = gait or default_gait(loaded.nominal_stance_height_m)
+    base = gait or default_gait_for(loaded)
     _, shown = shown_trajectories(loaded, base, from_dirs, accounting)
     return write_scene_html(out, loaded, shown, options), shown

@@ -11,6 +11,7 @@ import pytest
 
 from scalf_opt.cli import main
 from scalf_opt.energy.physics import trapezoid_weights
+from scalf_opt.robots.files import shipped_file
 
 SCALF_COLUMNS = [
     "leg",
@@ -56,7 +57,9 @@ def test_model_prints_the_leg(capsys):
 
 def test_model_of_other_robots(capsys):
     code, out, _ = run(["model", "--robot", "hyq", "--leg", "LH"], capsys)
-    assert code == 0 and "lh_kfe_joint" in out and "ideal drive" in out
+    assert code == 0 and "lh_kfe_joint" in out and "valve-controlled supply: 160 bar" in out
+    code, out, _ = run(["model", "--robot", "go1"], capsys)
+    assert code == 0 and "FR_calf_joint: electric drive: gear 9.495:1" in out
 
 
 def test_evaluate_writes_summary_and_samples(tmp_path, capsys):
@@ -87,7 +90,10 @@ def test_evaluate_writes_summary_and_samples(tmp_path, capsys):
 
 
 def test_ideal_drives_have_no_cylinder_columns(tmp_path, capsys):
-    code, _, _ = run(["evaluate", "--robot", "hyq", "--out", str(tmp_path)], capsys)
+    # SCalf's URDF without its actuator file beside it: every joint has an ideal drive
+    urdf = tmp_path / "bare.urdf"
+    urdf.write_text(shipped_file("scalf.urdf").read_text())
+    code, _, _ = run(["evaluate", "--urdf", str(urdf), "--out", str(tmp_path)], capsys)
     assert code == 0
     header = (tmp_path / "samples.csv").read_text().splitlines()[0].split(",")
     assert header == [c for c in SCALF_COLUMNS if not c.startswith(("cyl_", "friction_"))]

@@ -77,7 +77,7 @@ def test_json_quiet_and_version(tmp_path, capsys):
     )
     code, out, _ = run(["model", "--json", "--robot", "hyq"], capsys)
     model = json.loads(out)
-    assert model["robot"] == "hyq" and model["joints"][0]["drive"]["kind"] == "ideal"
+    assert model["robot"] == "hyq" and model["joints"][0]["drive"]["kind"] == "valve_cylinder"
 
 
 def test_result_files_describe_themselves(tmp_path, capsys):

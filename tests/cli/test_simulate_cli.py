@@ -102,7 +102,7 @@ def test_simulate_another_robot(tmp_path, capsys):
         (["--from", "nowhere"], "nowhere/summary.json: not found"),
         (["--from", "nowhere", "--gait", "g.toml"], "with --from DIR the gait is DIR's"),
         (["--from", "nowhere", "--period", "0.6"], "with --from DIR the gait is DIR's"),
-        (["--robot", "hyq", "--log", "x.csv"], "has no hydraulic cylinder"),
+        (["--robot", "solo12", "--log", "x.csv"], "has no hydraulic cylinder"),
         (["--servo-bandwidth", "500"], "servo_bandwidth_hz = 500.0 is too high"),
     ],
 )

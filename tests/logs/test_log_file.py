@@ -128,7 +128,7 @@ def test_a_missing_file_and_a_robot_without_cylinders(tmp_path, capsys, good_tex
     assert "cannot read the log" in capsys.readouterr().err
     path = tmp_path / "log.csv"
     path.write_text(good_text)
-    assert main(["analyze-log", str(path), "--robot", "hyq"]) == 2
+    assert main(["analyze-log", str(path), "--robot", "solo12"]) == 2
     assert "has no hydraulic cylinder" in capsys.readouterr().err
     assert main(["analyze-log", str(path), "--period", "-1"]) == 2
     assert "--period -1" in capsys.readouterr().err

@@ -3,7 +3,13 @@
 import importlib.util
 from pathlib import Path
 
+import pytest
+
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.fourier import PAPER_FREE_TERMS
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.robots.loading import load_robot
 
 STUDIES = Path(__file__).resolve().parents[2] / "studies"
 
@@ -48,3 +54,69 @@ def test_simulation_validation_study(tmp_path, capsys):
     assert optimum["saving_model_pct"] < 0 and optimum["saving_sim_pct"] < 0
     for name in ("reference", "optimum"):
         assert (tmp_path / name / "simulation.png").read_bytes().startswith(b"\x89PNG")
+
+
+def rows_of(path):
+    import csv
+
+    with path.open() as handle:
+        return list(csv.DictReader(handle))
+
+
+def test_speed_sweep(tmp_path, capsys):
+    assert load("speed_sweep").main(["--quick", "--workers", "1", "--out", str(tmp_path)]) == 0
+    rows = rows_of(tmp_path / "results.csv")
+    speeds = [float(r["speed_m_s"]) for r in rows]
+    assert speeds == pytest.approx([0.5, 1.0, 1.5], abs=1e-3)  # T and S rounded to 0.1 ms, mm
+    energies = [float(r["reference_energy_j"]) for r in rows]
+    assert energies == sorted(energies)  # faster costs more per cycle here
+    assert all(float(r["saving_pct"]) > 0 for r in rows)
+    assert (tmp_path / "study.png").stat().st_size > 10_000
+    capsys.readouterr()
+
+
+def test_clearance_sweep(tmp_path, capsys):
+    assert load("clearance_sweep").main(["--quick", "--workers", "1", "--out", str(tmp_path)]) == 0
+    rows = rows_of(tmp_path / "results.csv")
+    reference = [float(r["reference_energy_j"]) for r in rows]
+    assert reference == sorted(reference)  # lifting the foot higher costs more
+    assert float(rows[1]["reference_energy_j"]) == pytest.approx(282.259, abs=1e-3)  # H = 8 cm
+    capsys.readouterr()
+
+
+def test_leg_ratio(tmp_path, capsys):
+    study = load("leg_ratio")
+    assert study.main(["--quick", "--workers", "1", "--out", str(tmp_path)]) == 0
+    rows = rows_of(tmp_path / "results.csv")
+    ratios = [float(r["thigh_to_shank"]) for r in rows]
+    assert ratios == pytest.approx(list(study.QUICK), rel=1e-12)
+    assert all(
+        float(r["thigh_length_m"]) + float(r["shank_length_m"]) == pytest.approx(0.85586)
+        for r in rows
+    )
+    # SCalf's own ratio is a variant with scales 1 up to round-off: SCalf's energy
+    scalf = EnergyPipeline(load_robot("scalf"), Gait()).robot_cycle(make_family("reference"))
+    assert float(rows[1]["reference_energy_j"]) == pytest.approx(scalf.energy_j, rel=1e-9)
+    capsys.readouterr()
+
+
+def test_paper_power_height(tmp_path, capsys):
+    study = load("paper_power_height")
+    assert study.main(["--quick", "--out", str(tmp_path)]) == 0
+    rows = rows_of(tmp_path / "result.csv")
+    root = float(rows[0]["stance_height_m"])
+    assert 0.5 < root < 0.6
+    assert study.reference_power_w(root) == pytest.approx(671.52, abs=1e-3)
+    assert float(rows[1]["reference_power_w"]) == pytest.approx(564.52, abs=0.01)  # z0 = 0.75 m
+    out = capsys.readouterr().out
+    assert "671.52 W (the paper, Table 6) at z0 = 0.54" in out
+
+
+def test_cross_robot(tmp_path, capsys):
+    assert load("cross_robot").main(["--quick", "--workers", "1", "--out", str(tmp_path)]) == 0
+    rows = rows_of(tmp_path / "results.csv")
+    assert [r["robot"] for r in rows] == ["scalf", "hyq", "solo12", "anymal_c", "go1", "a1"]
+    assert all(r["status"] == "ok" and float(r["saving_pct"]) > 0 for r in rows)
+    table = (tmp_path / "table.md").read_text()
+    assert table.count("\n") == 8 and "valve-controlled" in table
+    capsys.readouterr()

@@ -5,7 +5,7 @@ from dataclasses import replace
 import pytest
 
 from scalf_opt.energy.pipeline import EnergyPipeline
-from scalf_opt.locomotion.gait import default_gait
+from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.viz.trajectories import Trajectory, optimized_trajectory, reference_trajectory
 
@@ -14,7 +14,7 @@ COARSE_RATE_HZ = 40.0
 
 
 def coarse_pipeline(robot):
-    gait = replace(default_gait(robot.nominal_stance_height_m), sample_rate_hz=COARSE_RATE_HZ)
+    gait = replace(default_gait_for(robot), sample_rate_hz=COARSE_RATE_HZ)
     return EnergyPipeline(robot, gait)
 
 

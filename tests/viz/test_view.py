@@ -64,7 +64,14 @@ def children_of_this_process():
         except OSError:
             continue
         if int(fields[1]) == me and fields[0] != "Z":
-            found.append(stat.parent.name)
+            try:
+                command = (stat.parent / "cmdline").read_bytes()
+            except OSError:
+                continue
+            # Python's own multiprocessing resource tracker (started once per interpreter by
+            # any process pool, e.g. an earlier study test's) lives as long as the interpreter
+            if b"multiprocessing.resource_tracker" not in command:
+                found.append(stat.parent.name)
     return found
 
 

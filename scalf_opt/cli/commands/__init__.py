@@ -13,8 +13,21 @@ from scalf_opt.cli.commands import (
     optimize,
     paper,
     simulate,
+    study,
+    variant,
     view,
 )
 
-COMMANDS = (model, evaluate, optimize, paper, view, figures, simulate, analyze_log)
+COMMANDS = (
+    model,
+    evaluate,
+    optimize,
+    paper,
+    view,
+    figures,
+    simulate,
+    analyze_log,
+    variant,
+    study,
+)
 """In the order ``scalf-opt --help`` lists them."""

@@ -15,6 +15,7 @@ from scalf_opt.cli.options import (
     load_robot,
 )
 from scalf_opt.errors import ConfigError
+from scalf_opt.types import LEG_NAMES
 
 NAME = "simulate"
 HELP = "simulate the trot in MuJoCo: trunk motion, foot forces, joint energy against the model"
@@ -78,7 +79,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         from scalf_opt.logs.analysis import leg_cylinders
 
         pipeline = EnergyPipeline(robot, load_gait(args, robot))
-        for leg in robot.naming.leg_prefix:
+        for leg in LEG_NAMES:
             leg_cylinders(pipeline, leg)  # refuse a robot without cylinders before the work
     gait = None if args.source is not None else load_gait(args, robot)
     result = simulate(

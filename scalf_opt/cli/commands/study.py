@@ -1,0 +1,52 @@
+"""``scalf-opt study``: run a declared sweep, locally or on a Dask cluster."""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from pathlib import Path
+
+NAME = "study"
+HELP = "run a sweep declared in a study file (local processes or a Dask cluster)"
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
+    parser.add_argument("file", type=Path, help="the study file (TOML)")
+    parser.add_argument(
+        "--workers",
+        type=int,
+        help="local worker processes (default: one per CPU; 1 runs the cases in this process)",
+    )
+    parser.add_argument(
+        "--scheduler", metavar="ADDRESS", help="a Dask scheduler, e.g. tcp://host:8786"
+    )
+    parser.add_argument(
+        "--out", type=Path, help="output folder (default results/<study file name>)"
+    )
+
+
+def run(args: argparse.Namespace) -> int:
+    """Exit 0 when every case succeeded, 3 when some did not (``results.csv`` says why)."""
+    from scalf_opt.errors import ConfigError
+    from scalf_opt.studies.runner import choose_runner, run_study
+    from scalf_opt.studies.study_file import read_study
+    from scalf_opt.studies.table import results_table
+
+    if args.workers is not None and args.scheduler is not None:
+        raise ConfigError("give --workers or --scheduler, not both")
+    study = read_study(args.file)
+    out = args.out if args.out is not None else Path("results") / args.file.stem
+    result = run_study(study, out, choose_runner(args.workers, args.scheduler))
+    try:
+        print(results_table(study.name, result))
+    except BrokenPipeError:  # a reader such as `head` stopped reading: the files are written
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    if result.failed:
+        print(
+            f"scalf-opt: error: {len(result.failed)} of {len(result.rows)} cases did not succeed "
+            f"(see {result.results_path})",
+            file=sys.stderr,
+        )
+        return 3
+    return 0

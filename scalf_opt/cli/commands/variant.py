@@ -1,0 +1,77 @@
+"""``scalf-opt variant``: a robot with scaled legs (lengths, masses) or trunk mass, as a URDF."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+from scalf_opt.cli.options import add_robot, load_robot
+
+if TYPE_CHECKING:
+    from scalf_opt.model.leg import Leg
+
+NAME = "variant"
+HELP = "derive a URDF with scaled thigh/shank lengths and masses (and its actuator file)"
+
+SCALES = (
+    ("thigh_length_scale", "thigh length (hip-pitch axis to knee axis)"),
+    ("shank_length_scale", "shank length (knee axis to foot)"),
+    ("thigh_mass_scale", "thigh mass"),
+    ("shank_mass_scale", "shank mass"),
+    ("trunk_mass_scale", "trunk mass and inertia"),
+)
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
+    add_robot(parser)
+    for field, what in SCALES:
+        parser.add_argument(
+            f"--{field.replace('_', '-')}",
+            dest=field,
+            type=float,
+            default=1.0,
+            metavar="S",
+            help=f"scale the {what} (default 1)",
+        )
+    parser.add_argument(
+        "--out", type=Path, required=True, help="the variant's URDF (its files go beside it)"
+    )
+
+
+def run(args: argparse.Namespace) -> int:  # noqa: D103
+    from scalf_opt.locomotion.scaling import default_gait_for
+    from scalf_opt.robots.loading import load_robot as load_path
+    from scalf_opt.robots.variants import VariantScales, derive_variant
+
+    scales = VariantScales(**{field: getattr(args, field) for field, _ in SCALES})
+    robot = load_robot(args)
+    variant = derive_variant(robot, scales, args.out)
+    derived = load_path(urdf=variant.urdf_path)
+    print(
+        f"variant of {robot.name} ({robot.urdf_path.name}): "
+        + ", ".join(
+            f"{field.removesuffix('_scale').replace('_', ' ')} x{getattr(scales, field):g}"
+            for field, _ in SCALES
+        )
+    )
+    print("leg   link    length [m]            mass [kg]")
+    for leg in ("RF", "LH"):
+        old, new = robot.leg(leg), derived.leg(leg)
+        for label, a, b, ma, mb in (
+            ("thigh", old.thigh_length_m, new.thigh_length_m, *_link_masses(old, new, 0)),
+            ("shank", old.shank_length_m, new.shank_length_m, *_link_masses(old, new, 1)),
+        ):
+            print(f"{leg:5s} {label:6s}  {a:.5f} -> {b:.5f}    {ma:.4f} -> {mb:.4f}")
+    print(
+        f"total mass {robot.total_mass_kg:.3f} -> {derived.total_mass_kg:.3f} kg; default stance "
+        f"height {default_gait_for(robot).stance_height_m:.4f} -> "
+        f"{default_gait_for(derived).stance_height_m:.4f} m"
+    )
+    print("wrote " + ", ".join(str(p) for p in variant.written))
+    return 0
+
+
+def _link_masses(old: Leg, new: Leg, joint: int) -> tuple[float, float]:
+    """Mass moved by the hip-pitch (0) or knee (1) joint, before and after [kg]."""
+    return float(old.model.inertias[joint + 1].mass), float(new.model.inertias[joint + 1].mass)

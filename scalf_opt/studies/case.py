@@ -1,0 +1,183 @@
+"""One case of a study: evaluate the reference swing, optimize, and report one row of results.
+
+:func:`run_case` is what a worker runs (a local process or a Dask worker): it takes a
+:class:`~scalf_opt.studies.study_file.Case` (plain data) and returns a plain dict, never raises
+for a case that fails (the row records the error), and writes nothing but temporary files (a
+variant's URDF, in a temporary folder it removes).
+
+:func:`case_key` is the hash a finished case is cached under: the case's inputs, the contents of
+every file they read (URDF, actuator and legs files) and scalf-opt's version, so a changed input
+never picks up an old result.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import tempfile
+import traceback
+from dataclasses import asdict, replace
+from pathlib import Path
+from typing import Any
+
+from scalf_opt import __version__
+from scalf_opt.actuators.sidecar import robot_sidecar_path
+from scalf_opt.energy.cycle import RobotCycle, change_percent
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import ScalfError
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.scaling import default_gait_for
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.model.naming import legs_file_for
+from scalf_opt.model.robot import Robot
+from scalf_opt.optimize.problem import SwingProblem
+from scalf_opt.optimize.solve import optimize
+from scalf_opt.robots.loading import load_robot
+from scalf_opt.robots.variants import VariantScales, derive_variant
+from scalf_opt.studies.study_file import Case
+from scalf_opt.types import FIRST_PAIR, LEG_NAMES
+
+STATUS_OK = "ok"
+STATUS_NOT_SOLVED = "not solved"
+STATUS_ERROR = "error"
+
+RESULT_COLUMNS = (
+    "status",
+    "robot",
+    "speed_m_s",
+    "total_mass_kg",
+    "thigh_length_m",
+    "shank_length_m",
+    "thigh_to_shank",
+    "reference_energy_j",
+    "optimized_energy_j",
+    "saving_pct",
+    "reference_power_w",
+    "optimized_power_w",
+    "cost_of_transport_reference",
+    "cost_of_transport_optimized",
+    *(f"{leg}_{kind}_j" for leg in LEG_NAMES for kind in ("reference", "optimized")),
+    "error",
+)
+"""The columns of a case's row after its swept values (energies per gait cycle; geometry of the
+RF leg)."""
+
+
+def _robot(case: Case, folder: Path) -> Robot:
+    robot = load_robot(name=case.robot, urdf=case.urdf, legs=case.legs, actuators=case.actuators)
+    scales = VariantScales.from_mapping(dict(case.variant))
+    if scales.is_identity:
+        return robot
+    variant = derive_variant(robot, scales, folder / f"{robot.name}_variant.urdf")
+    return load_robot(urdf=variant.urdf_path, actuators=case.actuators)
+
+
+def _gait(case: Case, robot: Robot) -> Gait:
+    """The robot's default trot with the case's gait fields (a field out of range: GaitError)."""
+    return replace(default_gait_for(robot), **case.gait)
+
+
+def _legs(optimize_choice: str) -> tuple[str, ...]:
+    if optimize_choice == "pair":
+        return FIRST_PAIR
+    if optimize_choice == "all":
+        return LEG_NAMES
+    return (optimize_choice,)
+
+
+def _energies(row: dict[str, Any], cycle: RobotCycle, kind: str) -> None:
+    row[f"{kind}_energy_j"] = cycle.energy_j
+    row[f"{kind}_power_w"] = cycle.average_power_w
+    row[f"cost_of_transport_{kind}"] = cycle.cost_of_transport
+    for leg, result in cycle.legs.items():
+        row[f"{leg}_{kind}_j"] = result.energy_j
+
+
+def run_case(case: Case) -> dict[str, Any]:
+    """Run one case: the row of ``results.csv`` (every column of :data:`RESULT_COLUMNS`).
+
+    ``status`` is ``ok``, ``not solved`` (an optimizer did not converge: no optimized energy) or
+    ``error`` (the case could not be set up or run; ``error`` says why, with the exception's
+    type when it is not one of scalf-opt's own errors, which are the input's fault). The row has
+    ``unexpected = True`` in that last case (a bug, not an input): the runner does not cache it.
+    """
+    row: dict[str, Any] = {"case": case.index, **case.swept}
+    row.update(dict.fromkeys(RESULT_COLUMNS, None))
+    row["robot"] = case.robot or Path(case.urdf or "").stem
+    row["error"] = ""
+    try:
+        with tempfile.TemporaryDirectory(prefix="scalf-opt-case-") as folder:
+            robot = _robot(case, Path(folder))
+            gait = _gait(case, robot)
+            row["speed_m_s"] = gait.speed_m_s
+            rf = robot.leg("RF")
+            row["total_mass_kg"] = robot.total_mass_kg
+            row["thigh_length_m"] = rf.thigh_length_m
+            row["shank_length_m"] = rf.shank_length_m
+            row["thigh_to_shank"] = rf.thigh_length_m / rf.shank_length_m
+            pipeline = EnergyPipeline(robot, gait, case.accounting)  # type: ignore[arg-type]
+            _energies(row, pipeline.robot_cycle(make_family("reference")), "reference")
+            family = make_family(case.family)
+            method = case.method
+            optima = {
+                leg: optimize(SwingProblem(pipeline, leg, family), method)  # type: ignore[arg-type]
+                for leg in _legs(case.optimize)
+            }
+            failed = [f"{o.leg}: {o.status}" for o in optima.values() if not o.success]
+            if failed:
+                row["status"] = STATUS_NOT_SOLVED
+                row["error"] = "; ".join(failed)
+                return row
+            cycle = pipeline.robot_cycle(family, {leg: o.theta for leg, o in optima.items()})
+            _energies(row, cycle, "optimized")
+            row["saving_pct"] = -change_percent(cycle.energy_j, row["reference_energy_j"])
+            row["status"] = STATUS_OK
+    except ScalfError as exc:
+        row["status"], row["error"] = STATUS_ERROR, str(exc)
+    except Exception as exc:  # a bug: recorded so the other cases go on, never cached
+        last = traceback.extract_tb(exc.__traceback__)[-1]
+        row["status"] = STATUS_ERROR
+        row["error"] = f"{type(exc).__name__}: {exc} ({Path(last.filename).name}:{last.lineno})"
+        row["unexpected"] = True
+    return row
+
+
+def _digest(path: str | Path | None) -> str | None:
+    if path is None:
+        return None
+    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+
+
+def _input_files(case: Case) -> dict[str, str | None]:
+    """Hashes of every file the case's robot is read from (URDF, actuator and legs files)."""
+    robot = load_robot(name=case.robot, urdf=case.urdf, legs=case.legs, actuators=case.actuators)
+    beside = legs_file_for(robot.urdf_path)
+    legs_path = case.legs or (str(beside) if beside.is_file() else None)
+    return {
+        "urdf": _digest(robot.urdf_path),
+        "actuators": _digest(robot_sidecar_path(robot)),
+        "legs": _digest(legs_path),
+    }
+
+
+def case_key(case: Case, memo: dict[tuple[Any, ...], dict[str, str | None]] | None = None) -> str:
+    """The hash a case's result is cached under (inputs, input files' contents, version).
+
+    Args:
+        case: The case.
+        memo: Hashes of robots' files already read in this run (keyed by robot, URDF, legs and
+            actuator paths), filled as needed.
+
+    Raises:
+        ScalfError: The case's robot cannot be loaded (the case will fail the same way).
+    """
+    memo = {} if memo is None else memo
+    robot_key = (case.robot, case.urdf, case.legs, case.actuators)
+    if robot_key not in memo:
+        memo[robot_key] = _input_files(case)
+    inputs = asdict(case)
+    inputs.pop("index")  # the same case at another place in a study is the same case
+    inputs["files"] = memo[robot_key]
+    inputs["version"] = __version__
+    text = json.dumps(inputs, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode("utf-8")).hexdigest()[:32]

@@ -1,0 +1,49 @@
+"""A one-line progress bar for a study, drawn on a terminal only (never into a log or a pipe)."""
+
+from __future__ import annotations
+
+import sys
+import time
+from typing import TextIO
+
+
+class Progress:
+    """Counts finished cases and redraws ``[#####.....] 5/10 cases, 1 failed, 12 s``.
+
+    Args:
+        total: Number of cases to run.
+        stream: Where to draw (default stderr).
+        enabled: Draw at all; ``None``: only when ``stream`` is a terminal.
+    """
+
+    WIDTH = 30
+
+    def __init__(self, total: int, stream: TextIO | None = None, enabled: bool | None = None):
+        self.total = total
+        self.stream = stream or sys.stderr
+        self.enabled = self.stream.isatty() if enabled is None else enabled
+        self.done = 0
+        self.failed = 0
+        self.start = time.monotonic()
+
+    def update(self, ok: bool) -> None:
+        """One more case finished (``ok`` or not)."""
+        self.done += 1
+        self.failed += 0 if ok else 1
+        self._draw()
+
+    def _draw(self) -> None:
+        if not self.enabled or self.total == 0:
+            return
+        filled = round(self.WIDTH * self.done / self.total)
+        bar = "#" * filled + "." * (self.WIDTH - filled)
+        failed = f", {self.failed} not ok" if self.failed else ""
+        elapsed = time.monotonic() - self.start
+        self.stream.write(f"\r[{bar}] {self.done}/{self.total} cases{failed}, {elapsed:.0f} s")
+        self.stream.flush()
+
+    def close(self) -> None:
+        """End the line the bar was drawn on."""
+        if self.enabled and self.total:
+            self.stream.write("\n")
+            self.stream.flush()

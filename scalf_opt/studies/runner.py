@@ -1,0 +1,209 @@
+"""Run a study's cases: in this process, on a local process pool, or on a Dask cluster.
+
+Every case is independent (:func:`~scalf_opt.studies.case.run_case`). A finished case is written
+at once to ``<out>/cache/<key>.json`` (its key hashes its inputs, see
+:func:`~scalf_opt.studies.case.case_key`), so a rerun, or a run that was killed half-way, runs
+only the cases not yet there. A case that fails is a row with its error; the others go on. When
+every case has a row, ``results.csv`` (one row per case, in the study's order) and the figure
+``study.png`` are written; the rows do not depend on where or in which order the cases ran.
+
+Backends: ``workers == 1`` runs the cases here, one after the other; ``workers > 1`` on a pool of
+that many local processes (default: one per CPU); ``scheduler`` sends them to a Dask cluster
+(``tcp://host:port``; every worker needs scalf-opt installed).
+"""
+
+from __future__ import annotations
+
+import json
+import multiprocessing
+import os
+from collections.abc import Callable, Iterator
+from concurrent.futures import ProcessPoolExecutor, as_completed
+from concurrent.futures.process import BrokenProcessPool
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from scalf_opt.errors import ConfigError, ScalfError
+from scalf_opt.files import write_atomic
+from scalf_opt.io.results import rows_csv_text, to_json
+from scalf_opt.studies.case import RESULT_COLUMNS, STATUS_ERROR, STATUS_OK, case_key, run_case
+from scalf_opt.studies.progress import Progress
+from scalf_opt.studies.study_file import Case, Study
+from scalf_opt.viz.figures import save_atomic
+from scalf_opt.viz.study_figures import study_figure
+
+RESULTS_FILE = "results.csv"
+FIGURE_FILE = "study.png"
+CACHE_DIR = "cache"
+
+Runner = Callable[[list[Case]], Iterator[tuple[Case, dict[str, Any]]]]
+
+
+@dataclass(frozen=True)
+class StudyRun:
+    """What a study run produced.
+
+    Attributes:
+        rows: One row per case, in the study's order.
+        columns: The columns of ``results.csv``.
+        results_path: ``results.csv``.
+        figure_path: The figure.
+        cached: Cases taken from the cache (not run again).
+    """
+
+    rows: list[dict[str, Any]]
+    columns: list[str]
+    results_path: Path
+    figure_path: Path
+    cached: int
+
+    @property
+    def failed(self) -> list[dict[str, Any]]:
+        """Rows whose status is not ``ok``."""
+        return [r for r in self.rows if r["status"] != STATUS_OK]
+
+
+def _failure(case: Case, message: str) -> dict[str, Any]:
+    """The row of a case whose worker died (not cached: a rerun runs it again)."""
+    row: dict[str, Any] = {"case": case.index, **case.swept, **dict.fromkeys(RESULT_COLUMNS)}
+    row.update(status=STATUS_ERROR, error=message, unexpected=True)
+    row["robot"] = case.robot or Path(case.urdf or "").stem
+    return row
+
+
+def _serial(cases: list[Case]) -> Iterator[tuple[Case, dict[str, Any]]]:
+    for case in cases:
+        yield case, run_case(case)
+
+
+def _pool(workers: int) -> Runner:
+    def run(cases: list[Case]) -> Iterator[tuple[Case, dict[str, Any]]]:
+        # spawn: a fresh interpreter per worker, no fork of this process's CasADi/Pinocchio state
+        context = multiprocessing.get_context("spawn")
+        with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+            futures = {pool.submit(run_case, case): case for case in cases}
+            try:
+                for future in as_completed(futures):
+                    case = futures[future]
+                    try:
+                        yield case, future.result()
+                    except BrokenProcessPool as exc:
+                        yield case, _failure(case, f"worker process died ({exc})")
+            finally:
+                pool.shutdown(wait=True, cancel_futures=True)
+
+    return run
+
+
+def _dask(address: str) -> Runner:
+    try:
+        from dask.distributed import Client
+        from dask.distributed import as_completed as dask_completed
+    except ImportError as exc:
+        raise ConfigError(
+            f"--scheduler {address}: needs dask.distributed (pip install 'scalf-opt[sweep]')"
+        ) from exc
+
+    def run(cases: list[Case]) -> Iterator[tuple[Case, dict[str, Any]]]:
+        try:
+            client = Client(address, timeout="10s")
+        except (OSError, TimeoutError, ValueError) as exc:
+            raise ConfigError(
+                f"--scheduler {address}: cannot reach the Dask scheduler ({exc})"
+            ) from exc
+        try:
+            futures = {client.submit(run_case, case, pure=False): case for case in cases}
+            for future in dask_completed(list(futures)):
+                case = futures[future]
+                try:
+                    yield case, future.result()
+                except Exception as exc:  # the worker died or lost the task
+                    yield case, _failure(case, f"Dask worker failed: {type(exc).__name__}: {exc}")
+        finally:
+            client.close()
+
+    return run
+
+
+def choose_runner(workers: int | None = None, scheduler: str | None = None) -> Runner:
+    """The backend: Dask with a scheduler address, else a pool of ``workers`` processes.
+
+    Raises:
+        ConfigError: ``workers`` is below 1, or Dask is missing.
+    """
+    if scheduler is not None:
+        return _dask(scheduler)
+    n = (os.cpu_count() or 1) if workers is None else workers
+    if n < 1:
+        raise ConfigError(f"--workers must be at least 1, got {workers}")
+    return _serial if n == 1 else _pool(n)
+
+
+def _cached(path: Path, case: Case) -> dict[str, Any] | None:
+    try:
+        row = json.loads(path.read_text(encoding="utf-8"))
+    except (OSError, ValueError):
+        return None  # missing, or damaged: run the case again
+    if not isinstance(row, dict):
+        return None
+    row.update({"case": case.index, **case.swept})
+    return row
+
+
+def _columns(study: Study) -> list[str]:
+    swept = list(dict.fromkeys(f for case in study.cases for f in case.swept))
+    return ["case", *swept, *[c for c in RESULT_COLUMNS if c not in swept]]
+
+
+def run_study(
+    study: Study,
+    out: str | Path,
+    runner: Runner | None = None,
+    progress: Progress | None = None,
+) -> StudyRun:
+    """Run every case not yet cached under ``out``, then write ``results.csv`` and the figure.
+
+    Args:
+        study: The study.
+        out: Output folder (the cache lives in ``out/cache``).
+        runner: The backend (:func:`choose_runner`; default: one process per CPU).
+        progress: Progress display (default: a bar on a terminal).
+
+    Raises:
+        ConfigError: The output folder cannot be written; the Dask scheduler cannot be reached.
+    """
+    out = Path(out)
+    cache = out / CACHE_DIR
+    runner = runner or choose_runner()
+    rows: dict[int, dict[str, Any]] = {}
+    keys: dict[int, str | None] = {}
+    memo: dict[tuple[Any, ...], dict[str, str | None]] = {}
+    todo = []
+    for case in study.cases:
+        try:
+            keys[case.index] = case_key(case, memo)
+        except ScalfError:
+            keys[case.index] = None  # the case fails the same way when it runs: not cached
+        key = keys[case.index]
+        row = _cached(cache / f"{key}.json", case) if key else None
+        if row is None:
+            todo.append(case)
+        else:
+            rows[case.index] = row
+    cached = len(rows)
+    progress = progress or Progress(len(todo))
+    try:
+        for case, row in runner(todo):
+            key = keys[case.index]
+            if key and not row.get("unexpected"):
+                write_atomic(cache / f"{key}.json", to_json(row))
+            rows[case.index] = row
+            progress.update(row["status"] == STATUS_OK)
+    finally:
+        progress.close()
+    columns = _columns(study)
+    ordered = [{c: rows[i].get(c) for c in columns} for i in sorted(rows)]
+    results = write_atomic(out / RESULTS_FILE, rows_csv_text(ordered))
+    figure = save_atomic(study_figure(ordered, study.plot_x, study.name), out / FIGURE_FILE)
+    return StudyRun(ordered, columns, results, figure, cached)

@@ -1,0 +1,306 @@
+"""Study files: a declared sweep over gait fields, variant scales, robots, families and methods.
+
+A study file is TOML::
+
+    [study]
+    name = "speed"            # figure title (default: the file's stem)
+    robot = "scalf"           # a catalog robot, or
+    urdf = "my_robot.urdf"    # a URDF (paths are relative to the study file), with optional
+    legs = "my_legs.toml"     #   legs file and
+    actuators = "act.toml"    #   actuator file
+    family = "joint-4"        # swing family (default joint-6)
+    method = "ipopt"          # ipopt (default) or pattern
+    accounting = "paper"      # paper (default), positive or regenerative
+    optimize = "pair"         # legs optimized: pair (default; LF, RH by symmetry), all, RF, ...
+
+    [gait]                    # gait fields of every case, over the robot's default gait
+    clearance_m = 0.08
+
+    [variant]                 # variant scales of every case (a derived URDF; needs a robot)
+    trunk_mass_scale = 1.0
+
+    [sweep]                   # the axes: the cases are the cartesian product of their values
+    "gait.period_s" = [0.4, 0.5, 0.6]
+    "variant.thigh_length_scale" = [0.9, 1.1]
+    "robot" = ["scalf", "hyq"]                # also family, method, accounting
+    "gait.period_s + gait.step_length_m" = [[0.6, 0.15], [0.5, 0.25]]  # fields set together
+
+    [plot]
+    x = "speed_m_s"           # the figure's x axis: a swept key or a results.csv column
+
+Every key is checked here, before any case runs; an error names the file and the key.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from scalf_opt.errors import ConfigError
+from scalf_opt.files import read_toml
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.robots.catalog import robot_names
+from scalf_opt.robots.variants import VariantScales
+from scalf_opt.types import LEG_NAMES, Accounting, Method, check_choice
+
+SETTINGS = ("robot", "family", "method", "accounting")
+"""Study settings that a sweep may vary."""
+
+OPTIMIZE_CHOICES = ("pair", "all", *LEG_NAMES)
+
+_STUDY_KEYS = ("name", "urdf", "legs", "actuators", "optimize", *SETTINGS)
+_TOP_KEYS = ("study", "gait", "variant", "sweep", "plot")
+
+
+@dataclass(frozen=True)
+class Case:
+    """One case of a study: everything needed to run it, as plain data.
+
+    Attributes:
+        index: Position in the study (0-based).
+        swept: The swept keys and this case's values, in axis order.
+        robot: Catalog robot, or ``None`` with ``urdf``.
+        urdf: URDF path (absolute), or ``None``.
+        legs: Legs file (absolute), or ``None``.
+        actuators: Actuator file (absolute), or ``None``.
+        family: Swing family.
+        method: Optimizer.
+        accounting: Power accounting.
+        optimize: Legs optimized (``pair``, ``all`` or a leg).
+        gait: Gait fields set over the robot's default gait.
+        variant: Variant scales (empty: the robot itself).
+    """
+
+    index: int
+    swept: dict[str, Any]
+    robot: str | None
+    urdf: str | None
+    legs: str | None
+    actuators: str | None
+    family: str
+    method: str
+    accounting: str
+    optimize: str
+    gait: dict[str, Any] = field(default_factory=dict)
+    variant: dict[str, Any] = field(default_factory=dict)
+
+
+@dataclass(frozen=True)
+class Study:
+    """A parsed study file.
+
+    Attributes:
+        path: The file.
+        name: Its name (title of the figure).
+        cases: The cases, in order (the last axis varies fastest).
+        axes: The sweep's keys, in order (a combined axis is one key, ``"a + b"``).
+        plot_x: The figure's x axis (a results.csv column).
+    """
+
+    path: Path
+    name: str
+    cases: tuple[Case, ...]
+    axes: tuple[str, ...]
+    plot_x: str
+
+
+def _text(path: Path, table: dict[str, Any], key: str, where: str) -> str | None:
+    value = table.get(key)
+    if value is None:
+        return None
+    if not isinstance(value, str) or not value:
+        raise ConfigError(f"{path}: {where}.{key} must be a text, got {value!r}")
+    return value
+
+
+def _file(path: Path, table: dict[str, Any], key: str) -> str | None:
+    value = _text(path, table, key, "study")
+    if value is None:
+        return None
+    resolved = (path.parent / value).resolve()
+    if not resolved.is_file():
+        raise ConfigError(f"{path}: study.{key} = {value!r}: {resolved} not found")
+    return str(resolved)
+
+
+def _number(path: Path, key: str, value: Any) -> float | int:
+    ok = isinstance(value, int | float) and not isinstance(value, bool)
+    if not ok or not math.isfinite(value):
+        raise ConfigError(f"{path}: {key} must be a number, got {value!r}")
+    return value
+
+
+def _check_setting(path: Path, key: str, value: Any, label: str | None = None) -> str:
+    label = label or key
+    if not isinstance(value, str):
+        raise ConfigError(f"{path}: {label} must be a text, got {value!r}")
+    try:
+        if key == "robot":
+            if value not in robot_names():
+                raise ConfigError(
+                    f"unknown robot {value!r}: choose one of {', '.join(robot_names())}"
+                )
+        elif key == "family":
+            if make_family(value).n_params == 0:
+                raise ConfigError(f"family {value!r} has no free parameter to optimize")
+        elif key == "method":
+            check_choice(value, Method, "method")
+        else:
+            check_choice(value, Accounting, "accounting")
+    except ConfigError as exc:
+        raise ConfigError(f"{path}: {label}: {exc}") from exc
+    return value
+
+
+def _check_field(path: Path, key: str, value: Any) -> Any:
+    """A swept or fixed value of ``key`` (``gait.x``, ``variant.x`` or a setting), checked."""
+    if key in SETTINGS:
+        return _check_setting(path, key, value)
+    kind, _, name = key.partition(".")
+    if kind == "gait":
+        if name not in Gait.field_names():
+            raise ConfigError(
+                f"{path}: unknown gait field {name!r} in {key!r} "
+                f"(known: {', '.join(Gait.field_names())})"
+            )
+        if name == "cycles" and (isinstance(value, bool) or not isinstance(value, int)):
+            raise ConfigError(f"{path}: {key} must be an integer, got {value!r}")
+        return _number(path, key, value)
+    if kind == "variant":
+        if name not in VariantScales.field_names():
+            raise ConfigError(
+                f"{path}: unknown variant field {name!r} in {key!r} "
+                f"(known: {', '.join(VariantScales.field_names())})"
+            )
+        value = _number(path, key, value)
+        try:
+            VariantScales.from_mapping({name: value}, str(path))
+        except ConfigError as exc:
+            raise ConfigError(f"{path}: {exc}") from exc
+        return value
+    raise ConfigError(
+        f"{path}: unknown sweep key {key!r} (use gait.<field>, variant.<field>, "
+        f"{', '.join(SETTINGS)})"
+    )
+
+
+def _axes(path: Path, sweep: dict[str, Any]) -> list[tuple[str, list[str], list[tuple[Any, ...]]]]:
+    """Each axis: its key, the fields it sets and its values (one tuple per point)."""
+    out = []
+    for key, values in sweep.items():
+        fields_ = [part.strip() for part in key.split("+")]
+        if not isinstance(values, list) or not values:
+            raise ConfigError(f"{path}: sweep.{key!r} must be a non-empty list")
+        points = []
+        for value in values:
+            point = tuple(value) if len(fields_) > 1 and isinstance(value, list) else (value,)
+            if len(point) != len(fields_):
+                raise ConfigError(
+                    f"{path}: sweep.{key!r}: each value must be a list of {len(fields_)} "
+                    f"({', '.join(fields_)}), got {value!r}"
+                )
+            points.append(
+                tuple(_check_field(path, f, v) for f, v in zip(fields_, point, strict=True))
+            )
+        out.append((key, fields_, points))
+    seen: set[str] = set()
+    for key, fields_, _ in out:
+        for f in fields_:
+            if f in seen:
+                raise ConfigError(f"{path}: sweep sets {f} twice ({key!r})")
+            seen.add(f)
+    return out
+
+
+def read_study(path: str | Path) -> Study:
+    """Read and check a study file and expand its cases.
+
+    Raises:
+        ConfigError: Unreadable file, unknown or invalid key or value (the message names the
+            file and the key).
+    """
+    path = Path(path)
+    data = read_toml(path, "study")
+    extra = sorted(set(data) - set(_TOP_KEYS))
+    if extra:
+        raise ConfigError(f"{path}: unknown table [{extra[0]}] (known: {', '.join(_TOP_KEYS)})")
+    tables = {}
+    for key in _TOP_KEYS:
+        value = data.get(key, {})
+        if not isinstance(value, dict):
+            raise ConfigError(f"{path}: {key} must be a table, got {value!r}")
+        tables[key] = value
+    study = tables["study"]
+    unknown = sorted(set(study) - set(_STUDY_KEYS))
+    if unknown:
+        raise ConfigError(
+            f"{path}: unknown key study.{unknown[0]} (known: {', '.join(_STUDY_KEYS)})"
+        )
+    urdf = _file(path, study, "urdf")
+    if urdf is not None and "robot" in study:
+        raise ConfigError(f"{path}: give study.robot or study.urdf, not both")
+    legs = _file(path, study, "legs")
+    if legs is not None and urdf is None:
+        raise ConfigError(f"{path}: study.legs goes with study.urdf")
+    settings = {
+        "robot": None if urdf else "scalf",
+        "family": DEFAULT_FAMILY,
+        "method": "ipopt",
+        "accounting": "paper",
+    }
+    for key in SETTINGS:
+        if key in study:
+            settings[key] = _check_setting(path, key, study[key], f"study.{key}")
+    optimize = _text(path, study, "optimize", "study") or "pair"
+    if optimize not in OPTIMIZE_CHOICES:
+        raise ConfigError(
+            f"{path}: study.optimize = {optimize!r} is not one of {', '.join(OPTIMIZE_CHOICES)}"
+        )
+    fixed_gait = {k: _check_field(path, f"gait.{k}", v) for k, v in tables["gait"].items()}
+    fixed_variant = {k: _check_field(path, f"variant.{k}", v) for k, v in tables["variant"].items()}
+    axes = _axes(path, tables["sweep"])
+    if urdf is not None and any("robot" in fields_ for _, fields_, _ in axes):
+        raise ConfigError(f"{path}: sweep.robot needs study.robot, not study.urdf")
+    cases = []
+    for index, combo in enumerate(itertools.product(*(points for _, _, points in axes))):
+        values = dict(settings)
+        gait, variant = dict(fixed_gait), dict(fixed_variant)
+        swept: dict[str, Any] = {}
+        for (_, fields_, _), point in zip(axes, combo, strict=True):
+            for f, v in zip(fields_, point, strict=True):
+                swept[f] = v
+                if f in SETTINGS:
+                    values[f] = v
+                elif f.startswith("gait."):
+                    gait[f.removeprefix("gait.")] = v
+                else:
+                    variant[f.removeprefix("variant.")] = v
+        cases.append(
+            Case(
+                index=index,
+                swept=swept,
+                robot=values["robot"],
+                urdf=urdf,
+                legs=legs,
+                actuators=_file(path, study, "actuators"),
+                family=str(values["family"]),
+                method=str(values["method"]),
+                accounting=str(values["accounting"]),
+                optimize=optimize,
+                gait=gait,
+                variant=variant,
+            )
+        )
+    plot = tables["plot"]
+    swept_fields = [f for _, fields_, _ in axes for f in fields_]
+    plot_x = _text(path, plot, "x", "plot") or (swept_fields[0] if swept_fields else "case")
+    extra = sorted(set(plot) - {"x"})
+    if extra:
+        raise ConfigError(f"{path}: unknown key plot.{extra[0]} (known: x)")
+    name = _text(path, study, "name", "study") or path.stem
+    return Study(path, name, tuple(cases), tuple(key for key, _, _ in axes), plot_x)

@@ -1,0 +1,156 @@
+"""The figure of a study: energy before and after optimization, and the saving, over its cases.
+
+Numeric x (a swept gait field, a scale, the speed): lines, one per combination of the other swept
+values. Text x (robots, families): grouped bars. Top: energy per gait cycle, reference (dashed)
+and optimized (solid); middle: the saving in percent; bottom: the cost of transport. A case that
+did not succeed is left out of the lines and marked ``x`` on the x axis.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only: no display needed
+
+import matplotlib.pyplot as plt
+import numpy as np
+from matplotlib.figure import Figure
+
+_RESULT_KEYS = {
+    "case",
+    "status",
+    "robot",
+    "speed_m_s",
+    "total_mass_kg",
+    "thigh_length_m",
+    "shank_length_m",
+    "thigh_to_shank",
+    "error",
+}
+
+
+def _is_number(value: Any) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+
+
+def _groups(rows: Sequence[dict[str, Any]], x: str) -> dict[str, list[dict[str, Any]]]:
+    """Rows grouped by the swept values other than ``x`` (label -> rows, in order)."""
+    swept = [
+        k
+        for k in rows[0]
+        if k not in _RESULT_KEYS
+        and k != x
+        and not k.endswith(("_j", "_w", "_pct"))
+        and not k.startswith("cost_of_transport")
+    ]
+
+    def follows_x(key: str) -> bool:  # set together with x (a combined axis): not a group
+        seen: dict[str, str] = {}
+        return all(seen.setdefault(str(r.get(x)), str(r.get(key))) == str(r.get(key)) for r in rows)
+
+    varying = [k for k in swept if len({str(r.get(k)) for r in rows}) > 1 and not follows_x(k)]
+    out: dict[str, list[dict[str, Any]]] = {}
+    for row in rows:
+        label = ", ".join(f"{k.split('.')[-1]} {row.get(k)}" for k in varying) or "all cases"
+        out.setdefault(label, []).append(row)
+    return out
+
+
+def study_figure(rows: Sequence[dict[str, Any]], x: str, title: str) -> Figure:
+    """Energies, saving and cost of transport of a study's rows against column ``x``."""
+    fig, axes = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
+    ax_e, ax_s, ax_c = axes
+    if not rows:
+        ax_e.text(0.5, 0.5, "no cases", ha="center", transform=ax_e.transAxes)
+        return fig
+    ok = [r for r in rows if r.get("status") == "ok"]
+    numeric = all(_is_number(r.get(x)) for r in rows)
+    if numeric:
+        for (label, group), color in zip(
+            _groups(rows, x).items(),
+            plt.rcParams["axes.prop_cycle"].by_key()["color"] * 10,
+            strict=False,
+        ):
+            good = sorted((r for r in group if r.get("status") == "ok"), key=lambda r: r[x])
+            xs = [r[x] for r in good]
+            ax_e.plot(xs, [r["reference_energy_j"] for r in good], "--o", ms=3, color=color)
+            ax_e.plot(
+                xs, [r["optimized_energy_j"] for r in good], "-o", ms=3, color=color, label=label
+            )
+            ax_s.plot(xs, [r["saving_pct"] for r in good], "-o", ms=3, color=color, label=label)
+            ax_c.plot(
+                xs, [r["cost_of_transport_reference"] for r in good], "--o", ms=3, color=color
+            )
+            ax_c.plot(xs, [r["cost_of_transport_optimized"] for r in good], "-o", ms=3, color=color)
+        bad = [r[x] for r in rows if r.get("status") != "ok"]
+        for ax in axes:
+            if bad:
+                ax.plot(bad, [0.0] * len(bad), "x", color="red", transform=ax.get_xaxis_transform())
+    else:
+        labels = [str(r.get(x)) for r in rows]
+        pos = np.arange(len(rows))
+        ref = [r["reference_energy_j"] if r.get("status") == "ok" else 0.0 for r in rows]
+        opt = [r["optimized_energy_j"] if r.get("status") == "ok" else 0.0 for r in rows]
+        ax_e.bar(pos - 0.2, ref, 0.4, label="reference", color="0.7")
+        ax_e.bar(pos + 0.2, opt, 0.4, label="optimized", color="C0")
+        ax_e.set_yscale("log")
+        ax_s.bar(pos, [r["saving_pct"] if r.get("status") == "ok" else 0.0 for r in rows], 0.5)
+        cot = [
+            (r["cost_of_transport_reference"], r["cost_of_transport_optimized"])
+            if r.get("status") == "ok"
+            else (0.0, 0.0)
+            for r in rows
+        ]
+        ax_c.bar(pos - 0.2, [c[0] for c in cot], 0.4, color="0.7", label="reference")
+        ax_c.bar(pos + 0.2, [c[1] for c in cot], 0.4, color="C0", label="optimized")
+        ax_c.set_xticks(pos, labels, rotation=20)
+    ax_e.set_ylabel(
+        "energy per cycle [J]\n(dashed: reference)" if numeric else "energy per cycle [J]"
+    )
+    ax_s.set_ylabel("saving [%]")
+    ax_c.set_ylabel("cost of transport")
+    ax_c.set_xlabel(x)
+    ax_e.set_title(f"{title}: {len(ok)} of {len(rows)} cases solved")
+    for ax in axes:
+        ax.grid(True, alpha=0.3)
+    handles, _ = ax_e.get_legend_handles_labels()
+    if handles:
+        ax_e.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
+
+
+def scan_figure(
+    x: Sequence[float],
+    y: Sequence[float],
+    labels: tuple[str, str, str],
+    target: tuple[float, str] | None = None,
+    marks: Sequence[tuple[float, float, str]] = (),
+) -> Figure:
+    """One curve ``y(x)`` with an optional horizontal target line and labelled points.
+
+    Args:
+        x: Abscissae.
+        y: Values.
+        labels: (x label, y label, title).
+        target: (value, label) of a horizontal line.
+        marks: (x, y, label) of points to mark.
+    """
+    fig, ax = plt.subplots(figsize=(7, 4.2))
+    ax.plot(x, y, "-o", ms=3, color="C0")
+    if target is not None:
+        ax.axhline(target[0], color="C3", ls="--", lw=1, label=target[1])
+    for (mx, my, label), color in zip(marks, ("C1", "C2", "C4", "C5"), strict=False):
+        ax.plot([mx], [my], "s", ms=7, color=color, label=label)
+    ax.set_xlabel(labels[0])
+    ax.set_ylabel(labels[1])
+    ax.set_title(labels[2])
+    ax.grid(True, alpha=0.3)
+    if target is not None or marks:
+        ax.legend(fontsize=8)
+    fig.tight_layout()
+    return fig
