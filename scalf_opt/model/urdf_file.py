@@ -16,7 +16,7 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
-from xml.etree.ElementTree import Element, ParseError
+from xml.etree.ElementTree import Element, ParseError, tostring
 
 import defusedxml
 from defusedxml.ElementTree import fromstring
@@ -115,3 +115,60 @@ def read_urdf_text(path: str | Path) -> str:
     _check_links(path, root)
     _check_joints(path, root)
     return text
+
+
+PACKAGE_PREFIX = "package://"
+
+
+def with_resolved_meshes(urdf: Path, text: str, package_roots: list[Path]) -> str:
+    """The URDF text with every ``<mesh filename>`` replaced by the absolute path it resolves to.
+
+    Each reference is checked by :func:`resolve_mesh`; a mesh loader given the result reads no
+    file outside the robot's description, whatever its own ``package://`` lookup would do.
+
+    Raises:
+        ModelError: A reference leaves its folder or names no file.
+    """
+    root = fromstring(text.encode("utf-8"), forbid_dtd=True)
+    for mesh in root.iter("mesh"):
+        mesh.set("filename", str(resolve_mesh(urdf, mesh.get("filename", ""), package_roots)))
+    return tostring(root, encoding="unicode")
+
+
+def resolve_mesh(urdf: Path, filename: str, package_roots: list[Path]) -> Path:
+    """The file a mesh reference names, which must stay inside the robot's description.
+
+    A ``package://NAME/rest`` reference resolves to ``rest`` inside a folder ``NAME`` that is
+    one of the URDF's ancestors or sits in one of ``package_roots``, and must stay inside that
+    folder; any other reference is a path relative to the URDF's folder and must stay inside it.
+    Absolute paths and other URI schemes are refused, and ``..`` or symbolic links may not lead
+    out: a URDF from the internet must not make scalf-opt read (and embed in a page) a file
+    elsewhere on the disk.
+
+    Raises:
+        ModelError: The reference leaves its folder, or is of another kind.
+    """
+    here = urdf.resolve().parent
+    if filename.startswith(PACKAGE_PREFIX):
+        package, _, rest = filename[len(PACKAGE_PREFIX) :].partition("/")
+        candidates = [p for p in (here, *here.parents) if p.name == package]
+        candidates += [root / package for root in package_roots if (root / package).is_dir()]
+        for folder in candidates:
+            target = (folder / rest).resolve()
+            if target.is_relative_to(folder.resolve()) and target.is_file():
+                return target
+        raise ModelError(
+            f"{urdf}: mesh {filename!r} is not a file inside a package folder {package!r} "
+            "above the URDF or among the known robot descriptions"
+        )
+    if "://" in filename or Path(filename).is_absolute():
+        raise ModelError(
+            f"{urdf}: mesh {filename!r}: only paths relative to the URDF's folder and "
+            "package:// references are allowed"
+        )
+    target = (here / filename).resolve()
+    if not target.is_relative_to(here):
+        raise ModelError(f"{urdf}: mesh {filename!r} leads out of the URDF's folder {here}")
+    if not target.is_file():
+        raise ModelError(f"{urdf}: mesh {filename!r}: no such file ({target})")
+    return target

@@ -18,6 +18,7 @@ import pinocchio as pin
 
 from scalf_opt.errors import ModelError, ScalfError
 from scalf_opt.model.robot import Robot
+from scalf_opt.model.urdf_file import read_urdf_text, with_resolved_meshes
 
 Shape = Literal["box", "cylinder", "sphere", "ellipsoid", "mesh"]
 
@@ -49,32 +50,30 @@ class Visual:
     rgba: tuple[float, float, float, float]
 
 
-def package_dirs(urdf: Path) -> list[str]:
-    """Where ``package://NAME/...`` may point: example-robot-data's share, the URDF's ancestors."""
-    dirs = []
+def package_roots() -> list[Path]:
+    """Folders whose subfolders are ROS packages: example-robot-data's robot descriptions."""
     try:
         from scalf_opt.robots.example_robot_data import example_robot_data_dir
 
-        dirs.append(str(example_robot_data_dir().parents[1]))
+        return [example_robot_data_dir()]
     except ScalfError:
-        pass  # not installed: only the URDF's own tree
-    dirs += [str(p) for p in Path(urdf).resolve().parents]
-    return dirs
+        return []  # not installed: only the URDF's own tree
 
 
 def visual_model(robot: Robot) -> pin.GeometryModel:
-    """Pinocchio's visual geometry model of ``robot``.
+    """Pinocchio's visual geometry model of ``robot``, from the URDF text that passed the checks.
+
+    Every mesh reference must stay inside the robot's description
+    (:func:`~scalf_opt.model.urdf_file.resolve_mesh`); Pinocchio is then given the checked
+    text with every mesh reference replaced by the absolute path it was checked to resolve to.
 
     Raises:
-        ModelError: A mesh file cannot be found or read (the message names the URDF).
+        ModelError: A mesh leaves its folder, or cannot be found or read (the message names the
+            URDF).
     """
+    text = with_resolved_meshes(robot.urdf_path, read_urdf_text(robot.urdf_path), package_roots())
     try:
-        return pin.buildGeomFromUrdf(
-            robot.model,
-            str(robot.urdf_path),
-            pin.GeometryType.VISUAL,
-            package_dirs=package_dirs(robot.urdf_path),
-        )
+        return pin.buildGeomFromUrdfString(robot.model, text, pin.GeometryType.VISUAL)
     except (RuntimeError, ValueError, OSError) as exc:
         first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
         raise ModelError(f"{robot.urdf_path}: cannot load its visual geometry ({first})") from exc
