@@ -8,8 +8,11 @@ file or field); 3 an optimizer did not converge (the command says which); 130 in
 from __future__ import annotations
 
 import argparse
+import difflib
+import re
 import sys
 from collections.abc import Sequence
+from typing import NoReturn
 
 from scalf_opt import __version__
 from scalf_opt.cli.commands import COMMANDS
@@ -17,8 +20,30 @@ from scalf_opt.cli.console import Console
 from scalf_opt.errors import ScalfError
 
 
-def _common_options(with_json: bool) -> argparse.ArgumentParser:
-    common = argparse.ArgumentParser(add_help=False)
+class Parser(argparse.ArgumentParser):
+    """argparse with its errors on one line: what is wrong, a close match, where help is."""
+
+    def error(self, message: str) -> NoReturn:
+        """Print ``scalf-opt: error: ...`` on one line and exit with code 2."""
+        hint = ""
+        choice = re.search(r"invalid choice: '([^']*)' \(choose from (.*)\)", message)
+        unknown = re.match(r"unrecognized arguments: (\S+)", message)
+        if choice:
+            hint = _close(choice.group(1), re.findall(r"'([^']*)'", choice.group(2)))
+        elif unknown:
+            options = [o for action in self._actions for o in action.option_strings]
+            hint = _close(unknown.group(1), options)
+        sys.stderr.write(f"scalf-opt: error: {message}{hint} (see {self.prog} --help)\n")
+        sys.exit(2)
+
+
+def _close(word: str, candidates: list[str]) -> str:
+    close = difflib.get_close_matches(word, candidates, n=1)
+    return f"; did you mean {close[0]!r}?" if close else ""
+
+
+def _common_options(with_json: bool) -> Parser:
+    common = Parser(add_help=False)
     group = common.add_argument_group("output")
     if with_json:
         group.add_argument(
@@ -40,12 +65,13 @@ def _common_options(with_json: bool) -> argparse.ArgumentParser:
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser of every command."""
-    parser = argparse.ArgumentParser(
+    parser = Parser(
         prog="scalf-opt",
         description="Energy-efficient swing-foot trajectories for legged robots (SCalf paper).",
     )
     parser.add_argument("--version", action="version", version=f"scalf-opt {__version__}")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    parser.set_defaults(commands={})
     for command in COMMANDS:
         p = sub.add_parser(
             command.NAME,
@@ -55,13 +81,17 @@ def build_parser() -> argparse.ArgumentParser:
         )
         command.add_arguments(p)
         p.set_defaults(run=command.run)
+        parser.get_default("commands")[command.NAME] = p
     return parser
 
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Entry point of the ``scalf-opt`` console script."""
     argv = list(sys.argv[1:] if argv is None else argv)
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args, extra = parser.parse_known_args(argv)
+    if extra:  # reported by the command's own parser, which knows its options
+        args.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")
     args.argv = ["scalf-opt", *argv]
     console = Console(quiet=args.quiet, json_output=getattr(args, "json", False))
     args.console = console

@@ -158,3 +158,20 @@ def test_the_api_gives_the_command_line_s_numbers(tmp_path, capsys):
         for key in [k for k in record["solver_stats"] if k.startswith("t_")]:
             record["solver_stats"].pop(key)
     assert api == cli
+
+
+@pytest.mark.parametrize(
+    ("argv", "expected"),
+    [
+        (["evalute"], "invalid choice: 'evalute'"),
+        (["evaluate", "--robot", "hyqq"], "did you mean 'hyq'?"),
+        (["evaluate", "--perid", "0.4"], "did you mean '--period'?"),
+        (["evaluate", "--period", "x"], "argument --period: invalid float value: 'x'"),
+    ],
+)
+def test_a_typo_is_one_line_with_a_suggestion(argv, expected, capsys):
+    with pytest.raises(SystemExit) as info:
+        main(argv)
+    err = capsys.readouterr().err
+    assert info.value.code == 2 and err.count("\n") == 1
+    assert err.startswith("scalf-opt: error: ") and expected in err and "--help" in err
