@@ -59,6 +59,9 @@ Progress = Callable[[str], None]
 """Called with a short label as each step of a long computation starts."""
 
 VERBOSE_IPOPT = {"print_level": 5}
+
+MAX_SIM_CYCLES = 200
+"""Most gait cycles one simulation may run (about 10 minutes of MuJoCo on one core)."""
 """Ipopt's own iteration log (``-v`` on the command line)."""
 
 
@@ -380,9 +383,10 @@ def simulate(
     from scalf_opt.sim.plan import REFERENCE_SWINGS
     from scalf_opt.sim.settings import SimSettings
 
-    if isinstance(cycles, bool) or not isinstance(cycles, int) or cycles < 2:
+    if isinstance(cycles, bool) or not isinstance(cycles, int) or not 2 <= cycles <= MAX_SIM_CYCLES:
         raise ConfigError(
-            f"cycles must be an integer >= 2 (the first is the start-up), got {cycles!r}",
+            f"cycles must be an integer in 2..{MAX_SIM_CYCLES} (the first is the start-up), got "
+            f"{cycles!r}",
             field="cycles",
         )
     if swings_from is not None and gait is not None:

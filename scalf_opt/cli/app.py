@@ -37,6 +37,17 @@ class Parser(argparse.ArgumentParser):
         sys.exit(2)
 
 
+def _naming_the_option(exc: ScalfError, parser: argparse.ArgumentParser, argv: list[str]) -> str:
+    """The error's message, led by the option the user gave for the field it is about."""
+    message = str(exc)
+    if exc.field is None or message.startswith("--"):
+        return message
+    option = "--" + exc.field.replace("_", "-")
+    given = any(a == option or a.startswith(option + "=") for a in argv)
+    known = any(option in action.option_strings for action in parser._actions)
+    return f"{option}: {message}" if given and known else message
+
+
 def _close(word: str, candidates: list[str]) -> str:
     close = difflib.get_close_matches(word, candidates, n=1)
     return f"; did you mean {close[0]!r}?" if close else ""
@@ -98,7 +109,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     try:
         return int(args.run(args))
     except ScalfError as exc:
-        console.error(str(exc))
+        console.error(_naming_the_option(exc, args.commands[args.command], argv))
         return 2
     except KeyboardInterrupt:
         console.error("interrupted")

@@ -36,6 +36,9 @@ FORCE_COLUMNS: tuple[str, str] = tuple(f"{j}_force_n" for j in JOINT_ROLES)  # t
 REQUIRED_COLUMNS: tuple[str, ...] = (TIME, LEG, *LENGTH_COLUMNS, *FORCE_COLUMNS)
 ALL_COLUMNS: tuple[str, ...] = (*REQUIRED_COLUMNS, CONTACT)
 
+MAX_LOG_BYTES = 200 * 1024 * 1024
+"""Largest log read [bytes]: about 50 hours of the robot's 80 Hz four-leg log."""
+
 
 @dataclass(frozen=True)
 class LegLog:
@@ -161,6 +164,12 @@ def read_log(path: str | Path) -> CylinderLog:
     """
     path = Path(path)
     try:
+        size = path.stat().st_size
+        if size > MAX_LOG_BYTES:
+            raise LogError(
+                f"{path}: a log of {size} bytes is larger than the {MAX_LOG_BYTES} allowed "
+                "(split it into shorter runs)"
+            )
         text = path.read_text(encoding="utf-8")
     except OSError as exc:
         raise LogError(f"{path}: cannot read the log ({exc.strerror})") from exc

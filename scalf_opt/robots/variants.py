@@ -78,7 +78,9 @@ class VariantScales:
         for name, value in asdict(self).items():
             ok = isinstance(value, int | float) and not isinstance(value, bool)
             if not (ok and math.isfinite(value) and value > 0):
-                raise ConfigError(f"variant field {name} = {value!r} must be a finite number > 0")
+                raise ConfigError(
+                    f"variant field {name} = {value!r} must be a finite number > 0", field=name
+                )
 
     @classmethod
     def field_names(cls) -> tuple[str, ...]:

@@ -56,6 +56,9 @@ OPTIMIZE_CHOICES = ("pair", "all", *LEG_NAMES)
 _STUDY_KEYS = ("name", "urdf", "legs", "actuators", "optimize", *SETTINGS)
 _TOP_KEYS = ("study", "gait", "variant", "sweep", "plot")
 
+MAX_CASES = 10_000
+"""Most cases a study may declare: about a week of 1-minute cases on one worker."""
+
 
 @dataclass(frozen=True)
 class Case:
@@ -266,6 +269,12 @@ def read_study(path: str | Path) -> Study:
     axes = _axes(path, tables["sweep"])
     if urdf is not None and any("robot" in fields_ for _, fields_, _ in axes):
         raise ConfigError(f"{path}: sweep.robot needs study.robot, not study.urdf")
+    count = math.prod(len(points) for _, _, points in axes)
+    if count > MAX_CASES:
+        raise ConfigError(
+            f"{path}: [sweep] makes {count} cases, more than the {MAX_CASES} a study may have "
+            "(split it into several studies)"
+        )
     cases = []
     for index, combo in enumerate(itertools.product(*(points for _, _, points in axes))):
         values = dict(settings)

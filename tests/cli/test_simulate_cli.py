@@ -98,7 +98,7 @@ def test_simulate_another_robot(tmp_path, capsys):
 @pytest.mark.parametrize(
     ("argv", "message"),
     [
-        (["--cycles", "1"], "--cycles must be at least 2"),
+        (["--cycles", "1"], "--cycles: cycles must be an integer in 2..200"),
         (["--from", "nowhere"], "nowhere/summary.json: not found"),
         (["--from", "nowhere", "--gait", "g.toml"], "with --from DIR the gait is DIR's"),
         (["--from", "nowhere", "--period", "0.6"], "with --from DIR the gait is DIR's"),

@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import argparse
-from collections.abc import Iterator
-from contextlib import contextmanager
 from pathlib import Path
 
 from scalf_opt.cli.options import (
@@ -15,7 +13,6 @@ from scalf_opt.cli.options import (
     load_gait,
     load_robot,
 )
-from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES, Method, choices
 
@@ -51,17 +48,6 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument("--out", type=Path, help="write summary.json and samples.csv here")
 
 
-@contextmanager
-def as_option() -> Iterator[None]:
-    """Name the option in an error about a setting of the optimizer (``--precision``)."""
-    try:
-        yield
-    except ConfigError as exc:
-        if exc.field in ("precision", "family", "method"):
-            raise ConfigError(f"--{exc.field}: {exc}", field=exc.field) from exc
-        raise
-
-
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when every leg is solved, 3 when an optimizer fails."""
     from scalf_opt.api import optimize_swing
@@ -72,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
     robot = load_robot(args)
     gait = load_gait(args, robot)
     legs = FIRST_PAIR if args.leg == "PAIR" else (args.leg,)
-    with ProgressBar(len(legs), "optimize", enabled=not args.quiet) as bar, as_option():
+    with ProgressBar(len(legs), "optimize", enabled=not args.quiet) as bar:
         result = optimize_swing(
             robot,
             gait,

@@ -65,10 +65,6 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.api import simulate
     from scalf_opt.sim.report import simulation_report
 
-    if args.cycles < 2:
-        raise ConfigError(
-            f"--cycles must be at least 2 (the first is the start-up), got {args.cycles}"
-        )
     check_output_dir(args.out)
     check_output_file(args.log, "--log")
     if args.source is not None and (args.gait is not None or gait_overrides(args)):
