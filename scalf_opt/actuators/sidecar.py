@@ -360,7 +360,8 @@ def drives_for(robot: Robot) -> dict[str, Drive]:
     drives = load_sidecar(path)
     for joint in drives:
         if not robot.model.existJointName(joint):
-            raise ConfigError(f"{path}: joint {joint} names no joint of {robot.urdf_path}")
+            table = "electric" if drives[joint].kind == "electric" else "cylinders"
+            raise ConfigError(f"{path}: {table}.{joint} names no joint of {robot.urdf_path}")
     return drives
 
 
