@@ -184,3 +184,30 @@ def test_command_line(serial, capsys):
     assert "2 of 4 cases did not succeed" in captured.err and captured.err.count("\n") == 1
     assert main(["study", str(study.path), "--workers", "0", "--out", str(out)]) == 2
     assert "--workers must be at least 1" in capsys.readouterr().err
+
+
+def test_a_study_process_killed_mid_run_keeps_its_cache_and_the_rerun_completes(serial, tmp_path):
+    """SIGKILL the command while it works: no cleanup runs, yet what it wrote stays consistent."""
+    import json
+    import signal
+    import subprocess
+    import sys
+    import time
+
+    study_file = write(tmp_path, STUDY)
+    out = tmp_path / "out"
+    command = [sys.executable, "-m", "scalf_opt", "study", str(study_file), "--workers", "1"]
+    proc = subprocess.Popen([*command, "--out", str(out)], stderr=subprocess.DEVNULL)
+    deadline = time.monotonic() + 120
+    while not list((out / "cache").glob("*.json")) and time.monotonic() < deadline:
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGKILL)
+    proc.wait()
+    finished = sorted((out / "cache").glob("*.json"))
+    assert 1 <= len(finished) < 4 and not (out / "results.csv").exists()
+    for path in finished:  # every finished case is whole: an atomic rename, never a torn write
+        json.loads(path.read_text())
+    rerun = subprocess.run([*command, "--out", str(out)], capture_output=True, text=True)
+    assert rerun.returncode in (0, 3), rerun.stderr  # 3: the study's impossible cases
+    _, serial_result = serial
+    assert (out / "results.csv").read_text() == serial_result.results_path.read_text()
