@@ -4,8 +4,9 @@
 ``[friction.extend]`` and a ``[friction.retract]`` table (keys ``viscous_n_s_per_m``,
 ``static_n``, ``coulomb_n``, ``stribeck_velocity_m_s``, all > 0) shared by every cylinder, and
 one ``[cylinders.<joint>]`` table per joint driven by a hydraulic cylinder (``a_mm``, ``b_mm``,
-``stroke_mm`` > 0; ``phi_offset_deg`` any number; ``angle_sign`` +1 or -1). Millimetres and
-degrees are converted to SI here. A joint the file does not name has an ideal drive; a robot
+``stroke_mm`` > 0; ``phi_offset_deg`` any number; ``angle_sign`` +1 or -1; optional limits
+``max_force_n`` and ``max_speed_m_s`` > 0, none when left out). Millimetres and degrees are
+converted to SI here. A joint the file does not name has an ideal drive; a robot
 without a sidecar has ideal drives only.
 """
 
@@ -24,6 +25,7 @@ from scalf_opt.model.robot import Robot
 
 _BRANCH_KEYS = ("viscous_n_s_per_m", "static_n", "coulomb_n", "stribeck_velocity_m_s")
 _CYLINDER_KEYS = ("a_mm", "b_mm", "phi_offset_deg", "angle_sign", "stroke_mm")
+_CYLINDER_LIMIT_KEYS = ("max_force_n", "max_speed_m_s")
 _TOP_KEYS = ("friction", "cylinders")
 _FRICTION_KEYS = ("extend", "retract")
 
@@ -69,7 +71,7 @@ def _cylinder(path: Path, joint: str, table: Any, friction: StribeckFriction) ->
     prefix = f"cylinders.{joint}"
     if not isinstance(table, dict):
         raise ConfigError(f"{path}: {prefix} must be a table, got {table!r}")
-    _no_extra(path, table, _CYLINDER_KEYS, prefix)
+    _no_extra(path, table, _CYLINDER_KEYS + _CYLINDER_LIMIT_KEYS, prefix)
     for field in _CYLINDER_KEYS:
         if field not in table:
             raise ConfigError(f"{path}: missing key {prefix}.{field}")
@@ -77,6 +79,11 @@ def _cylinder(path: Path, joint: str, table: Any, friction: StribeckFriction) ->
     if isinstance(sign, bool) or not isinstance(sign, int) or sign not in (1, -1):
         raise ConfigError(f"{path}: {prefix}.angle_sign must be +1 or -1, got {sign!r}")
     offset_deg = _number(path, f"{prefix}.phi_offset_deg", table["phi_offset_deg"], positive=False)
+    limits = {
+        key: _number(path, f"{prefix}.{key}", table[key])
+        for key in _CYLINDER_LIMIT_KEYS
+        if key in table
+    }
     return HydraulicCylinder(
         joint_name=joint,
         a_m=_number(path, f"{prefix}.a_mm", table["a_mm"]) * 1e-3,
@@ -85,6 +92,7 @@ def _cylinder(path: Path, joint: str, table: Any, friction: StribeckFriction) ->
         angle_sign=sign,
         stroke_m=_number(path, f"{prefix}.stroke_mm", table["stroke_mm"]) * 1e-3,
         friction=friction,
+        **limits,
     )
 
 

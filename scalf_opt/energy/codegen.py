@@ -58,13 +58,29 @@ def _is_intact(library: Path) -> bool:
 
 def compile_function(fn: ca.Function) -> ca.Function:
     """Return a natively compiled copy of ``fn`` (cached), or ``fn`` itself if that fails."""
+    library = compile_library(fn.name(), [fn])
+    return fn if library is None else ca.external(fn.name(), str(library))
+
+
+def compile_library(name: str, functions: list[ca.Function]) -> Path | None:
+    """Compile ``functions`` into one shared library (cached); ``None`` if that is impossible.
+
+    Load a function from it with ``casadi.external(fn.name(), str(path))``. A library that
+    also holds a function's derivative functions under CasADi's names (``jac_f``, ``adj1_f``,
+    ``jac_adj1_f``, ...) gives the loaded function those derivatives, so that it can be
+    differentiated inside an expression graph (the NLP maps its per-sample function this way).
+
+    Args:
+        name: Stem of the library's file name and of its C source.
+        functions: The functions, each under its own name.
+    """
     compiler = _compiler()
     if compiler is None:
-        return fn
-    name = fn.name()
+        return None
     with tempfile.TemporaryDirectory() as tmp:
         gen = ca.CodeGenerator(f"{name}.c", {"with_header": False})
-        gen.add(fn)
+        for fn in functions:
+            gen.add(fn)
         gen.generate(tmp + os.sep)
         source_path = Path(tmp, f"{name}.c")
         # the library depends on the source, the flags, the compiler, the machine and CasADi
@@ -90,5 +106,5 @@ def compile_function(fn: ca.Function) -> ca.Function:
                         staged.write_text(str(text))
                     os.replace(staged, dst)
             except (OSError, subprocess.CalledProcessError):
-                return fn
-    return ca.external(name, str(target))
+                return None
+    return target

@@ -50,6 +50,16 @@ class EnergyPipeline:
         if self.drives is None:
             object.__setattr__(self, "drives", drives_for(self.robot))
 
+    def with_gait(self, gait: Gait) -> EnergyPipeline:
+        """The same robot, drives and accounting with another gait, sharing the legs' physics.
+
+        The physics does not depend on the gait, so the per-leg CasADi functions (and the
+        optimizers' compiled kernels keyed on them) are built once for every gait.
+        """
+        other = EnergyPipeline(self.robot, gait, self.accounting, self.drives)
+        other.__dict__["_physics"] = self._physics
+        return other
+
     def physics(self, leg: str) -> LegPhysics:
         """The leg's :class:`LegPhysics` (built once)."""
         if leg not in self._physics:

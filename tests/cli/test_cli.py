@@ -149,7 +149,7 @@ def test_optimize_bad_arguments(capsys):
 
 
 def test_paper_writes_report_json_and_csv(tmp_path, capsys):
-    code, out, _ = run(["paper", "--out", str(tmp_path)], capsys)
+    code, out, _ = run(["paper", "--no-bound", "--out", str(tmp_path)], capsys)
     assert code == 0
     assert "Table 5" in out and "-33.76" in out and "671.52 -> 617.68" in out
     for name in ("report.md", "paper.json", "table5.csv", "table6.csv"):
