@@ -83,9 +83,9 @@ class EnergyPipeline:
         return self.gait.phase_times_s("stance")
 
     @cached_property
-    def stance_path(self) -> np.ndarray:
-        """Stance foot samples (3, 2, n) in the leg frame (the same for every leg)."""
-        return stance_path(self.gait, self.stance_times_s)
+    def stance_paths(self) -> dict[str, np.ndarray]:
+        """Each leg's stance foot samples (3, 2, n) in its leg frame."""
+        return {leg: stance_path(self.gait, self.stance_times_s, leg) for leg in LEG_NAMES}
 
     @cached_property
     def stance_forces(self) -> dict[str, np.ndarray]:
@@ -103,11 +103,12 @@ class EnergyPipeline:
         Raises:
             GaitError: The stance path leaves the leg's reach or joint limits.
         """
-        check_workspace(self.kinematics(leg), self.gait, "foot", self.stance_path, "stance")
+        path = self.stance_paths[leg]
+        check_workspace(self.kinematics(leg), self.gait, "foot", path, "stance")
         samples = PhaseSamples(
             phase="stance",
             space="foot",
-            path=self.stance_path,
+            path=path,
             grf_n=self.stance_forces[leg],
             t_phase_s=self.stance_times_s,
             start_s=stance_start_s(self.gait, leg),

@@ -51,7 +51,13 @@ def check_workspace(
     except InfeasibleError as exc:
         if phase == "swing":
             raise
+        offsets = ""
+        if gait.stance_x_offset_front_m or gait.stance_x_offset_hind_m:
+            offsets = (
+                f", stance_x_offset_front_m = {gait.stance_x_offset_front_m:g}, "
+                f"stance_x_offset_hind_m = {gait.stance_x_offset_hind_m:g}"
+            )
         raise GaitError(
             f"gait fields stance_height_m = {gait.stance_height_m:g} and step_length_m = "
-            f"{gait.step_length_m:g} are impossible for this robot: {exc}"
+            f"{gait.step_length_m:g}{offsets} are impossible for this robot: {exc}"
         ) from exc

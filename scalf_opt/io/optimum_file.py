@@ -29,8 +29,11 @@ TIMING_FIELDS: tuple[str, ...] = (
     "step_length_m",
     "clearance_m",
     "stance_height_m",
+    "stance_x_offset_front_m",
+    "stance_x_offset_hind_m",
 )
-"""Gait fields an optimum belongs to: a gait that differs in one of them is another problem."""
+"""Gait fields an optimum belongs to (its timing and stance): a gait that differs in one of them
+is another problem."""
 
 TIMING_RTOL = 1e-9
 """Relative difference allowed between a file's timing field and the gait's (round-off)."""
@@ -128,9 +131,13 @@ def check_timing(saved: SavedOptimum, gait: Gait) -> None:
         ConfigError: A timing field differs (the message names it and both values).
     """
     for name in TIMING_FIELDS:
-        if name not in saved.gait:
+        if name not in saved.gait and name.startswith("stance_x_offset"):
+            theirs = 0.0  # files from before the stance offsets: the foot under the hip
+        elif name not in saved.gait:
             raise ConfigError(f"{saved.path}: missing field gait.{name}: not an optimum file")
-        theirs, ours = saved.gait[name], getattr(gait, name)
+        else:
+            theirs = saved.gait[name]
+        ours = getattr(gait, name)
         if not isinstance(theirs, int | float) or not math.isclose(
             float(theirs), float(ours), rel_tol=TIMING_RTOL
         ):

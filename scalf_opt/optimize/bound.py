@@ -87,6 +87,17 @@ class FreeBound:
     remaining_j: float = float("inf")
 
     @property
+    def spans(self) -> int:
+        """Spans of the level the bound comes from."""
+        assert isinstance(self.family, BSplineFamily)
+        return self.family.spans
+
+    @property
+    def sample_rate_hz(self) -> float:
+        """The rate of the level the bound comes from [Hz]."""
+        return next(lv.sample_rate_hz for lv in self.levels if lv.spans == self.spans)
+
+    @property
     def swing_energy_j(self) -> float:
         """The bound at its optimization's rate [J]."""
         return self.result.best.swing_energy_j
@@ -112,7 +123,7 @@ class FreeBound:
             "family": self.family.name,
             "swing_energy_j": self.swing_energy_j,
             "check_energy_j": self.check_energy_j,
-            "sample_rate_hz": self.levels[-1].sample_rate_hz if self.levels else None,
+            "sample_rate_hz": self.sample_rate_hz,
             "converged": self.converged,
             "remaining_estimate_j": self.remaining_j,
             "success": self.success,
@@ -126,6 +137,7 @@ def bound_for(
     leg: str,
     seeds: list[tuple[SwingFamily, np.ndarray]] | None = None,
     tolerance: float = BOUND_TOLERANCE,
+    spans: tuple[int, ...] = SPANS,
 ) -> FreeBound:
     """The free-trajectory bound of ``leg``, its first level started from each seed swing.
 
@@ -134,14 +146,15 @@ def bound_for(
         leg: The leg.
         seeds: Swings ``(family, theta)`` to start from besides the reference (e.g. the
             optima of the families being compared).
-        tolerance: Relative change of the energy between levels that counts as converged.
+        tolerance: Energy still to gain, relative, that counts as converged.
+        spans: The refinement levels.
     """
     levels: list[BoundLevel] = []
     previous: tuple[SwingFamily, np.ndarray] | None = None
     result: tuple[SwingFamily, LegResult] | None = None
     converged = False
-    for spans in SPANS:
-        family = BSplineFamily(spans)
+    for count in spans:
+        family = BSplineFamily(count)
         start = time.perf_counter()
         if previous is None:
             candidates = _seed_starts(pipeline, leg, family, seeds or [])
@@ -160,7 +173,7 @@ def bound_for(
         assert best is not None
         levels.append(
             BoundLevel(
-                spans,
+                count,
                 best.best.swing_energy_j,
                 best.check_energy_j,
                 rate,
@@ -179,7 +192,7 @@ def bound_for(
     solved = [lv.check_energy_j for lv in levels if lv.success]
     if result is None:  # even the coarsest level failed: report it
         assert best is not None
-        return FreeBound(leg, BSplineFamily(SPANS[0]), best, levels, False)
+        return FreeBound(leg, BSplineFamily(spans[0]), best, levels, False)
     return FreeBound(leg, result[0], result[1], levels, converged, remaining_estimate(solved))
 
 
@@ -239,8 +252,8 @@ def bound_cycle_inputs(
     coarser one exactly (nested), so each leg's swing is carried over to it, and the cycle is
     sampled at the finest rate.
     """
-    spans = max(b.levels[-1].spans for b in bounds.values())
-    rate = max(b.levels[-1].sample_rate_hz for b in bounds.values())
+    spans = max(b.spans for b in bounds.values())
+    rate = max(b.sample_rate_hz for b in bounds.values())
     at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
     family = BSplineFamily(spans)
     thetas = {

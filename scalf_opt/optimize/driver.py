@@ -21,7 +21,7 @@ import numpy as np
 
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.pipeline import EnergyPipeline
-from scalf_opt.errors import ConfigError
+from scalf_opt.errors import ConfigError, InfeasibleError
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
@@ -100,7 +100,8 @@ class LegResult:
         leg: Leg name.
         best: The best converged start (else the first start).
         starts: Every start, in order.
-        reference_swing_energy_j: The reference swing's energy at the same rate [J].
+        reference_swing_energy_j: The reference swing's energy at the same rate [J] (NaN when
+            the reference leaves the joint range at this gait).
         check_energy_j: The best optimum's swing energy at ten times the rate [J].
         sampling_error: Relative difference of the two energies.
         bound_check_energy_j: The free-trajectory bound at ten times its rate, when computed
@@ -236,6 +237,14 @@ def check_bounded(pipeline: EnergyPipeline, legs: tuple[str, ...]) -> None:
             )
 
 
+def reference_swing_energy_j(pipeline: EnergyPipeline, leg: str) -> float:
+    """The reference swing's energy [J]; NaN when it leaves the joint range at this gait."""
+    try:
+        return float(pipeline.swing(leg, make_family("reference")).energy_j.sum())
+    except InfeasibleError:
+        return math.nan
+
+
 def _solve_leg(
     pipeline: EnergyPipeline,
     leg: str,
@@ -323,12 +332,11 @@ def optimize_swings(
             runs.append(StartResult(label, other, other_check, other_ok))
         good = [r for r in runs if r.converged]
         best = min(good, key=lambda r: r.optimum.swing_energy_j) if good else runs[0]
-        reference = at_rate.swing(leg, make_family("reference"))
         results[leg] = LegResult(
             leg=leg,
             best=best.optimum,
             starts=runs,
-            reference_swing_energy_j=float(reference.energy_j.sum()),
+            reference_swing_energy_j=reference_swing_energy_j(at_rate, leg),
             check_energy_j=best.check_energy_j,
             sampling_error=relative_difference(best.optimum.swing_energy_j, best.check_energy_j),
         )

@@ -7,6 +7,7 @@ import math
 from scalf_opt.energy.peaks import CycleViolation, Peak
 from scalf_opt.optimize.bound import FreeBound
 from scalf_opt.optimize.driver import LegResult, SwingOptimization
+from scalf_opt.optimize.free_stance import FreeStance
 from scalf_opt.optimize.sampling import CHECK_FACTOR
 
 UNITS = {
@@ -45,7 +46,7 @@ def peaks_table(peaks: list[Peak], reference: list[Peak] | None = None) -> str:
         for q, u in columns
     ]
     width = 22 if reference else 16
-    note = "; the reference swing's in brackets" if reference else ""
+    note = "; the reference trajectory's in brackets" if reference else ""
     lines = [
         f"peaks over the cycle (* = beyond its limit{note}):",
         "leg   joint " + "".join(f"{h:>{width}s}" for h in heads),
@@ -103,11 +104,15 @@ def _leg_lines(result: LegResult, method: str, family: str) -> list[str]:
     if not math.isfinite(o.swing_energy_j):
         stats = ", ".join(f"{k}={v}" for k, v in sorted(o.stats.items()))
         return [*lines, f"  solver statistics: {stats}"]
+    if math.isfinite(result.reference_swing_energy_j):
+        against = (
+            f"vs reference {result.reference_swing_energy_j:.4f} J ({result.change_percent:+.2f} %)"
+        )
+    else:
+        against = "(the reference swing leaves the joint range at this gait)"
     lines.append(
-        f"  swing energy {o.swing_energy_j:.4f} J vs reference "
-        f"{result.reference_swing_energy_j:.4f} J ({result.change_percent:+.2f} %); "
-        f"at {CHECK_FACTOR}x the rate {result.check_energy_j:.4f} J "
-        f"({100 * result.sampling_error:.3f} % apart)"
+        f"  swing energy {o.swing_energy_j:.4f} J {against}; at {CHECK_FACTOR}x the rate "
+        f"{result.check_energy_j:.4f} J ({100 * result.sampling_error:.3f} % apart)"
     )
     gap = result.gap_to_bound_percent
     if gap is not None and result.bound_check_energy_j is not None:
@@ -177,3 +182,30 @@ def bound_report(bounds: dict[str, FreeBound]) -> str:
             f"  refinement: {steps}",
         ]
     return "\n".join(lines)
+
+
+def free_stance_report(result: FreeStance) -> str:
+    """The stance found, and where the saving comes from."""
+    g, n = result.best.gait, result.nominal.gait
+    split = result.split_j()
+    ref = result.reference.energy_j
+    best = result.cycle().energy_j
+
+    def pct(x: float) -> str:
+        return f"{100 * x / ref:.1f} %"
+
+    return "\n".join(
+        [
+            f"free stance: z0 = {g.stance_height_m:.4f} m (was {n.stance_height_m:g}), stance "
+            f"x-offset front {1000 * g.stance_x_offset_front_m:+.1f} mm, hind "
+            f"{1000 * g.stance_x_offset_hind_m:+.1f} mm ({result.iterations} pattern-search "
+            f"iterations, {result.evaluations} stances tried, {result.wall_time_s:.1f} s)",
+            f"  energy per cycle: reference {ref:.3f} J -> optimized swing "
+            f"{result.nominal_cycle().energy_j:.3f} J -> free stance {best:.3f} J",
+            f"  saving {split['total']:.3f} J/cycle ({pct(split['total'])} of the reference): "
+            f"{split['stance']:.3f} J ({pct(split['stance'])}) from the stance, "
+            f"{split['swing']:.3f} J ({pct(split['swing'])}) from the swing",
+            f"  (the swing optimization alone saves {split['swing_only']:.3f} J; freeing the "
+            f"stance adds {split['from_freeing_the_stance']:.3f} J)",
+        ]
+    )

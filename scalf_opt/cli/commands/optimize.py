@@ -63,6 +63,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         action="store_true",
         help="also compute the free-trajectory bound and report each optimum's gap to it",
     )
+    parser.add_argument(
+        "--free-stance",
+        action="store_true",
+        help="beyond the paper: also optimize the stance height z0 and the stance x-offsets "
+        "(front and hind) within the joint limits, reach, stroke and clearance; reports how "
+        "much of the saving comes from the stance and how much from the swing",
+    )
     parser.add_argument("--out", type=Path, help="write summary.json and samples.csv here")
 
 
@@ -103,6 +110,13 @@ def run(args: argparse.Namespace) -> int:
     robot = load_robot(args)
     pipeline = EnergyPipeline(robot, load_gait(args, robot), args.accounting)
     data: dict[str, Any] = {}
+    if args.free_stance:
+        if args.method == "free" or args.leg != "pair":
+            raise ConfigError(
+                "--free-stance optimizes the diagonal pair's swings with a family: use it with "
+                "--leg pair and --method ipopt or pattern"
+            )
+        return _free_stance(args, pipeline, family, settings)
     if args.method == "free":
         check_bounded(pipeline, legs)
         bounds = {leg: bound_for(pipeline, leg) for leg in legs}
@@ -152,6 +166,42 @@ def run(args: argparse.Namespace) -> int:
     print()
     print(evaluate_report(cycle, robot.name, title=title))
     _finish(args, at_rate, cycle, reference, data)
+    return 0
+
+
+def _free_stance(args: argparse.Namespace, pipeline: Any, family: Any, settings: Any) -> int:
+    from scalf_opt.optimize.free_stance import optimize_stance
+    from scalf_opt.viz.optimization_report import (
+        free_stance_report,
+        optimization_report,
+        optimization_warnings,
+    )
+    from scalf_opt.viz.report import evaluate_report
+
+    result = optimize_stance(pipeline, family, settings)
+    run = result.best.run
+    if run is None or not result.success:
+        print(
+            f"scalf-opt: error: the stance search did not converge ({result.best.reason})",
+            file=sys.stderr,
+        )
+        return 3
+    print(optimization_report(run))
+    for line in optimization_warnings(run):
+        print(line)
+    print()
+    print(free_stance_report(result))
+    cycle = result.cycle()
+    print()
+    print(evaluate_report(cycle, pipeline.robot.name, title=f"free stance ({family.name})"))
+    from scalf_opt.io.optimum_file import optimization_record
+
+    data = {
+        "optimization": {leg: r.as_dict() for leg, r in run.legs.items()},
+        "optimization_run": optimization_record(run),
+        "free_stance": result.as_dict(),
+    }
+    _finish(args, run.pipeline, cycle, result.reference, data)
     return 0
 
 

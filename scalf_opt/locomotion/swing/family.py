@@ -103,7 +103,9 @@ class SwingFamily(ABC):
 
     def boundary(self, gait: Gait, kin: LegKinematics) -> SwingBoundary:
         """Boundary conditions of this family's space."""
-        return joint_boundary(gait, kin) if self.space == "joint" else foot_boundary(gait)
+        if self.space == "joint":
+            return joint_boundary(gait, kin)
+        return foot_boundary(gait, kin.leg.name)
 
     @abstractmethod
     def path(self, gait: Gait, kin: LegKinematics) -> AffinePath:
