@@ -7,7 +7,9 @@ the slacks of the energy's absolute values. The affine path is a linear equality
 the constraint Jacobian is block-sparse and the Lagrangian Hessian block-diagonal (6 x 6 per
 sample), which Ipopt's sparse linear algebra factorizes several times faster than the condensed
 problem, where every sample depends on every parameter (measured: ``joint-10`` at 500 Hz, 2.4 s
-instead of 7.0 s; ``joint-6`` at 300 Hz, 0.27 s instead of 0.50 s).
+instead of 7.0 s; ``joint-6`` at 300 Hz, 0.16 s instead of 0.63 s). Families with at most
+:data:`CONDENSED_MAX_PARAMS` parameters (the paper family) keep the condensed form, ``Y``
+eliminated, which is faster for them.
 
 Parameters ``p = (Y_0, B, trapezoidal weights)``, so that one built NLP serves every problem of
 the same shape (leg, space, number of samples and parameters, accounting, constraint pattern):
@@ -28,7 +30,8 @@ The non-smooth energy is made smooth without changing its value at an optimum:
 
 A joint whose drive does not charge its mechanical power gets no slack. Constraints: every
 constraint row of the kernel at the samples where it applies (:attr:`SwingProblem
-.constraint_index`), given to Ipopt as exact bounds on ``g`` (``bound_relax_factor = 0``).
+.constraint_index`), given to Ipopt as exact bounds on ``g`` (``bound_relax_factor = 0``);
+in joint space the bounds on the joint angles and rates are bounds on ``Y`` itself.
 """
 
 from __future__ import annotations
@@ -58,7 +61,19 @@ IPOPT_DEFAULTS: dict[str, Any] = {
     # judges feasibility at 1e-9
     "bound_relax_factor": 0.0,
     "constr_viol_tol": 1e-10,
+    # approximate minimum degree ordering: MUMPS's automatic choice took 1.5x longer here
+    "mumps_pivot_order": 0,
 }
+
+CONDENSED_MAX_PARAMS = 2
+"""Families with at most this many parameters get the condensed NLP (``Y`` eliminated): with
+so few parameters the lifted variables cost more than they save (paper family, 200 Hz: 33 ms
+condensed, 40 ms lifted; ``joint-6``, 300 Hz: 0.63 s condensed, 0.16 s lifted)."""
+
+CONDENSED_OPTIONS: dict[str, Any] = {"mu_oracle": "probing"}
+"""Ipopt options of the condensed NLP: Mehrotra's probing for the barrier parameter (paper
+family: 20 iterations instead of 29; on the lifted NLP it took more, 79 instead of 52 for
+``joint-6``)."""
 
 SPARSE_BASIS_DENSITY = 0.25
 """A family's basis with fewer nonzeros than this fraction is built into the NLP as a sparse
@@ -73,6 +88,7 @@ class BuiltNlp:
 
     Attributes:
         solver: The CasADi Ipopt solver.
+        lifted: The samples ``Y`` are variables (else eliminated: the condensed NLP).
         n_theta: Number of family parameters.
         n_samples: Number of swing samples.
         charged: Joints whose mechanical power is charged (they carry the slacks).
@@ -82,6 +98,7 @@ class BuiltNlp:
     """
 
     solver: ca.Function
+    lifted: bool
     n_theta: int
     n_samples: int
     charged: tuple[int, ...]
@@ -107,20 +124,34 @@ def _basis_matrix(problem: SwingProblem) -> np.ndarray:
     return problem.samples_basis.transpose(1, 0, 2).reshape(6 * problem.n_samples, -1)
 
 
+def constraint_index(problem: SwingProblem, lifted: bool) -> np.ndarray:
+    """Flat (column-major) indices of the entries of the kernel's ``c`` the NLP constrains.
+
+    Every entry that carries a bound; in the lifted NLP except the bounds on the samples' own
+    coordinates (:attr:`SwingProblem.input_rows`), which bound ``Y`` directly.
+    """
+    mask = problem.constraint_mask.copy()
+    if lifted:
+        mask[list(problem.input_rows)] = False
+    return np.flatnonzero(mask.ravel(order="F"))
+
+
 def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None) -> BuiltNlp:
     """The NLP of ``problem``'s shape: built on first use, then taken from the kernel's cache."""
-    options = {**IPOPT_DEFAULTS, **(ipopt_options or {})}
+    lifted = problem.n_params > CONDENSED_MAX_PARAMS
+    options = {**IPOPT_DEFAULTS, **({} if lifted else CONDENSED_OPTIONS), **(ipopt_options or {})}
     kernel = problem.kernel
     charged = tuple(
         i for i, drive in enumerate(problem.physics.drives) if drive.charges_joint_power
     )
     accounting = problem.pipeline.accounting
-    index = problem.constraint_index
+    index = constraint_index(problem, lifted)
     basis = _basis_matrix(problem)
     constant = bool(basis.size) and bool(
         np.count_nonzero(basis) < SPARSE_BASIS_DENSITY * basis.size
     )
     key = (
+        lifted,
         problem.n_samples,
         problem.n_params,
         charged,
@@ -131,9 +162,12 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
     )
     if key not in kernel.nlps:
         start = time.perf_counter()
-        solver = _build(problem, charged, accounting, basis if constant else None, options)
+        solver = _build(
+            problem, lifted, index, charged, accounting, basis if constant else None, options
+        )
         kernel.nlps[key] = BuiltNlp(
             solver,
+            lifted,
             problem.n_params,
             problem.n_samples,
             charged,
@@ -148,6 +182,8 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
 
 def _build(
     problem: SwingProblem,
+    lifted: bool,
+    index: np.ndarray,
     charged: tuple[int, ...],
     accounting: Accounting,
     constant_basis: np.ndarray | None,
@@ -156,7 +192,6 @@ def _build(
     kernel = problem.kernel
     n, n_theta = problem.n_samples, problem.n_params
     theta = ca.MX.sym("theta", n_theta)
-    lifted = ca.MX.sym("Y", 6 * n)
     base = ca.MX.sym("base", 6 * n)
     weights = ca.MX.sym("weights", n)
     parameters = [base]
@@ -167,12 +202,16 @@ def _build(
         parameters.append(basis)
         affine = base + ca.mtimes(ca.reshape(basis, 6 * n, n_theta), theta) if n_theta else base
     parameters.append(weights)
-    out = kernel.smooth().map(n, "serial")(ca.reshape(lifted, 6, n))
+    variables, constraints = [theta], []
+    samples = affine
+    if lifted:
+        samples = ca.MX.sym("Y", 6 * n)
+        variables.append(samples)
+        constraints.append(samples - affine)
+    out = kernel.smooth().map(n, "serial")(ca.reshape(samples, 6, n))
     p_mech, loss, c = out[0:2, :], out[2, :], out[3:, :]
     w = weights.T
     cost = ca.mtimes(loss, weights)
-    variables = [theta, lifted]
-    constraints = [lifted - affine]
     k = len(charged)
     if k:
         power = ca.vertcat(*(p_mech[i, :] for i in charged))  # k x n
@@ -188,7 +227,7 @@ def _build(
             cost += ca.sum2(ca.sum1(u) * w)
         else:
             cost += ca.sum2(ca.sum1(power) * w)
-    constraints.append(ca.vec(c)[problem.constraint_index.tolist()])
+    constraints.append(ca.vec(c)[index.tolist()])
     return ca.nlpsol(
         casadi_name(kernel.physics.leg.name, kernel.space, accounting, f"n{n}", f"p{n_theta}"),
         "ipopt",
@@ -198,7 +237,9 @@ def _build(
             "f": cost,
             "g": ca.vertcat(*constraints),
         },
-        {"ipopt": options, "print_time": False},
+        # a trial step outside a foot-space leg's reach evaluates to NaN: Ipopt backtracks, which
+        # is expected and needs no warning on the console
+        {"ipopt": options, "print_time": False, "show_eval_warnings": False},
     )
 
 
@@ -236,20 +277,27 @@ def solve_nlp(built: BuiltNlp, problem: SwingProblem, theta0: np.ndarray) -> Nlp
         "positive": [np.maximum(p_mech, 0.0)],
         "regenerative": [],
     }[built.accounting]
+    y_lo, y_hi = problem.input_bounds
+    m = 6 * n if built.lifted else 0  # lifted samples and their linear equalities
     x0 = np.concatenate(
-        [theta0, problem.samples(theta0).ravel(order="F"), *(s.ravel(order="F") for s in slacks)]
+        [
+            theta0,
+            problem.samples(theta0).ravel(order="F")[:m],
+            *(s.ravel(order="F") for s in slacks),
+        ]
     )
-    n_free = built.n_theta + 6 * n
-    lbx = np.concatenate([np.full(n_free, -np.inf), np.zeros(built.n_slacks)])
-    ubx = np.full(x0.size, np.inf)
+    lbx = np.concatenate(
+        [np.full(built.n_theta, -np.inf), y_lo.ravel(order="F")[:m], np.zeros(built.n_slacks)]
+    )
+    ubx = np.concatenate(
+        [np.full(built.n_theta, np.inf), y_hi.ravel(order="F")[:m], np.full(built.n_slacks, np.inf)]
+    )
     c_lo, c_hi = problem.constraint_bounds
-    index = problem.constraint_index
+    index = constraint_index(problem, built.lifted)
     slack_hi = 0.0 if built.accounting == "paper" else np.inf
-    lbg = np.concatenate(
-        [np.zeros(6 * n), np.zeros(built.n_slack_rows), c_lo.ravel(order="F")[index]]
-    )
+    lbg = np.concatenate([np.zeros(m), np.zeros(built.n_slack_rows), c_lo.ravel(order="F")[index]])
     ubg = np.concatenate(
-        [np.zeros(6 * n), np.full(built.n_slack_rows, slack_hi), c_hi.ravel(order="F")[index]]
+        [np.zeros(m), np.full(built.n_slack_rows, slack_hi), c_hi.ravel(order="F")[index]]
     )
     params = [problem.samples_base.ravel(order="F")]
     if not built.constant_basis:

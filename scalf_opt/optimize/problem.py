@@ -151,15 +151,45 @@ class SwingProblem:
         return lower, upper
 
     @cached_property
-    def constraint_index(self) -> np.ndarray:
-        """Flat (column-major) indices of the (row, sample) pairs that carry a bound.
+    def input_rows(self) -> dict[int, int]:
+        """Constraint rows that are kernel inputs themselves: row of ``c`` -> row of ``Y``.
 
-        The NLP constrains exactly these entries of the kernel's ``c`` (m, n); the pattern
-        depends only on the kernel and the number of samples.
+        In joint space the joint angles and rates are the samples' own coordinates, so their
+        bounds (joint range, URDF velocity limit) bound the NLP's lifted variables directly,
+        which Ipopt handles more cheaply than constraints.
+        """
+        if self.family.space != "joint":
+            return {}
+        inputs = {"q": 0, "qd": 2}
+        return {
+            i: inputs[b.output] + int(b.row or 0)
+            for i, b in enumerate(self.bounds)
+            if b.output in inputs
+        }
+
+    @cached_property
+    def constraint_mask(self) -> np.ndarray:
+        """Which entries of the kernel's ``c`` (m, n) carry a bound.
+
+        The pattern depends only on the kernel and the number of samples.
         """
         lower, upper = self.constraint_bounds
-        mask = np.isfinite(lower) | np.isfinite(upper)
-        return np.flatnonzero(mask.ravel(order="F"))
+        return np.isfinite(lower) | np.isfinite(upper)
+
+    @cached_property
+    def constraint_index(self) -> np.ndarray:
+        """Flat (column-major) indices of the entries of ``c`` that carry a bound."""
+        return np.flatnonzero(self.constraint_mask.ravel(order="F"))
+
+    @cached_property
+    def input_bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """Bounds on the kernel inputs ``Y`` (6, n) from :attr:`input_rows` (else infinite)."""
+        lower = np.full((6, self.n_samples), -np.inf)
+        upper = np.full((6, self.n_samples), np.inf)
+        c_lo, c_hi = self.constraint_bounds
+        for row, y_row in self.input_rows.items():
+            lower[y_row], upper[y_row] = c_lo[row], c_hi[row]
+        return lower, upper
 
     @cached_property
     def constraint_tolerance(self) -> np.ndarray:

@@ -183,9 +183,16 @@ def test_build_nlp_has_the_constraints_and_is_built_once(model):
     problem = SwingProblem(model, "LH", make_family("paper"))
     built = build_nlp(problem)
     n, m = problem.n_samples, len(problem.bounds)
-    # lifted samples 6n, slack equalities 2n, bounds m n, ground n - 2, foot acceleration 2
-    assert built.solver.size_out("g")[0] == 6 * n + 2 * n + m * n + (n - 2) + 2
-    assert built.solver.size_in("x0")[0] == 2 + 6 * n + 4 * n
+    # condensed (2 parameters): slack equalities 2n, bounds m n, ground n - 2, foot acceleration 2
+    assert not built.lifted
+    assert built.solver.size_out("g")[0] == 2 * n + m * n + (n - 2) + 2
+    assert built.solver.size_in("x0")[0] == 2 + 4 * n
+    # lifted: samples 6n and their equalities; the joint range and velocity bound Y itself
+    rich = SwingProblem(model, "LH", make_family("joint-3"))
+    lifted = build_nlp(rich)
+    assert lifted.lifted and len(rich.input_rows) == 4  # q and qd of both joints
+    assert lifted.solver.size_out("g")[0] == 6 * n + 2 * n + (m - 4) * n + (n - 2) + 2
+    assert lifted.solver.size_in("x0")[0] == 6 + 6 * n + 4 * n
     # the same shape is never built twice, whatever family of that size or gait
     other = SwingProblem(model.with_gait(Gait(step_length_m=0.2)), "LH", make_family("paper"))
     assert build_nlp(other) is built
