@@ -32,3 +32,17 @@ def test_paper_reproduction_study(tmp_path, capsys):
     assert load("paper_reproduction").main(["--out", str(tmp_path)]) == 0
     assert (tmp_path / "report.md").exists()
     capsys.readouterr()
+
+
+def test_bound_gaps_study(tmp_path, capsys):
+    import csv
+
+    assert load("bound_gaps").main(["--quick", "--out", str(tmp_path / "gaps.csv")]) == 0
+    with (tmp_path / "gaps.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert [r["family"] for r in rows] == ["paper", "joint-4", "free-trajectory bound"]
+    # every family's optimum lies above the bound, the richer one closer
+    for row in rows[:2]:
+        assert float(row["RF_gap_pct"]) > 0 and float(row["LH_gap_pct"]) > 0
+    assert float(rows[1]["RF_gap_pct"]) < float(rows[0]["RF_gap_pct"])
+    assert "bound" in capsys.readouterr().out
