@@ -56,7 +56,7 @@ class Reproduction:
     """Everything the paper report shows.
 
     Attributes:
-        gait: The gait.
+        pipeline: Robot, gait and accounting of the reproduction.
         reference: Robot cycle with the reference swing on every leg, at the gait's rate.
         runs: Run key -> the optimization (RF and LH).
         optima: Run key -> leg -> best optimizer answer.
@@ -67,7 +67,7 @@ class Reproduction:
         wall_time_s: Time of the whole reproduction [s].
     """
 
-    gait: Gait
+    pipeline: EnergyPipeline
     reference: RobotCycle
     runs: dict[str, SwingOptimization] = field(default_factory=dict)
     optima: dict[str, dict[str, SwingOptimum]] = field(default_factory=dict)
@@ -76,6 +76,11 @@ class Reproduction:
     bounds: dict[str, FreeBound] = field(default_factory=dict)
     free_stance: FreeStance | None = None
     wall_time_s: float = 0.0
+
+    @property
+    def gait(self) -> Gait:
+        """The gait."""
+        return self.pipeline.gait
 
     @property
     def all_solved(self) -> bool:
@@ -99,7 +104,7 @@ def reproduce(pipeline: EnergyPipeline, beyond: bool = True) -> Reproduction:
             default family with a free stance.
     """
     start = time.perf_counter()
-    out = Reproduction(pipeline.gait, pipeline.robot_cycle(make_family("reference")))
+    out = Reproduction(pipeline, pipeline.robot_cycle(make_family("reference")))
     for key, (family_name, _, settings) in RUNS.items():
         run = optimize_swings(pipeline, PAIR, make_family(family_name), settings)
         out.runs[key] = run

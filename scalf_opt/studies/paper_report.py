@@ -9,6 +9,7 @@ from scalf_opt.files import write_atomic
 from scalf_opt.io.results import rows_csv_text, to_json
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.model.robot import Robot
+from scalf_opt.optimize.bound import bound_cycle_inputs
 from scalf_opt.studies import paper_data
 from scalf_opt.studies.paper import (
     PAIR,
@@ -218,6 +219,9 @@ def write_paper_outputs(rep: Reproduction, robot: Robot, out: Path) -> list[Path
     trajectories += [
         (RUNS[k][1], rep.cycles[k]) for k in ("ipopt", "ipopt_rich") if k in rep.cycles
     ]
+    if rep.bounds:
+        at_rate, family, thetas = bound_cycle_inputs(rep.pipeline, rep.bounds)
+        trajectories.append(("free-trajectory bound", at_rate.robot_cycle(family, thetas)))
     return [
         write_atomic(out / "report.md", paper_markdown(rep, robot)),
         write_atomic(out / "paper.json", to_json(summary(rep))),
