@@ -27,7 +27,7 @@ from scalf_opt.optimize.driver import optimize_swings
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.types import FIRST_PAIR
 
-FAMILIES = ("paper", "joint-2", "joint-4", "joint-6", "joint-8")
+FAMILIES = ("paper", "joint-2", "joint-4", "joint-6", "joint-8", "joint-12")
 
 
 def gaps(quick: bool) -> tuple[list[dict[str, object]], dict[str, object]]:
