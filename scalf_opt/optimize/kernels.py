@@ -89,11 +89,12 @@ class Kernel:
         return self.rows.index(name)
 
     @cached_property
-    def _symbols(self) -> tuple[ca.SX, dict[str, ca.SX]]:
-        return ca.SX.sym("y", 6), {}
+    def _y(self) -> ca.SX:
+        """The sample's symbols: value, rate and acceleration of the two coordinates."""
+        return ca.SX.sym("y", 6)
 
     def _expressions(self, accounting: Accounting, heat_eps: float | None) -> dict[str, ca.SX]:
-        y = self._symbols[0]
+        y = self._y
         fn = self.physics.sample_function(self.space, accounting, heat_eps)
         out = dict(
             zip(
@@ -124,7 +125,7 @@ class Kernel:
             e = self._expressions("paper", HEAT_SMOOTHING_EPS_M_S)
             name = casadi_name(self.physics.leg.name, self.space, "nlp_sample")
             fn = ca.Function(
-                name, [self._symbols[0]], [ca.vertcat(e["p_mech"], ca.sum1(e["p_loss"]), e["c"])]
+                name, [self._y], [ca.vertcat(e["p_mech"], ca.sum1(e["p_loss"]), e["c"])]
             )
             adjoint = fn.reverse(1)
             library = compile_library(
@@ -142,7 +143,7 @@ class Kernel:
             e = self._expressions(accounting, None)
             name = casadi_name(self.physics.leg.name, self.space, accounting, "exact_sample")
             fn = ca.Function(
-                name, [self._symbols[0]], [ca.vertcat(e["power"], e["p_mech"], e["c"])]
+                name, [self._y], [ca.vertcat(e["power"], e["p_mech"], e["c"])]
             )
             library = compile_library(name, [fn])
             if library is not None:

@@ -15,6 +15,8 @@ from scalf_opt.types import FIRST_PAIR, LEG_NAMES, Method, choices
 if TYPE_CHECKING:
     from scalf_opt.energy.cycle import RobotCycle
     from scalf_opt.energy.pipeline import EnergyPipeline
+    from scalf_opt.locomotion.swing.family import SwingFamily
+    from scalf_opt.optimize.driver import Settings
 
 NAME = "optimize"
 HELP = "optimize the swing of one or more legs"
@@ -73,7 +75,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument("--out", type=Path, help="write summary.json and samples.csv here")
 
 
-def _settings(args: argparse.Namespace) -> Any:
+def _settings(args: argparse.Namespace) -> Settings:
     from scalf_opt.optimize.driver import Settings
     from scalf_opt.optimize.pattern_search import PatternSearchOptions
 
@@ -91,14 +93,6 @@ def run(args: argparse.Namespace) -> int:
     from scalf_opt.energy.pipeline import EnergyPipeline
     from scalf_opt.locomotion.swing.names import parse_bspline_name
     from scalf_opt.locomotion.swing.registry import make_family
-    from scalf_opt.optimize.bound import bound_cycle_inputs, bound_for
-    from scalf_opt.optimize.driver import check_bounded, optimize_swings
-    from scalf_opt.viz.optimization_report import (
-        bound_report,
-        optimization_report,
-        optimization_warnings,
-    )
-    from scalf_opt.viz.report import evaluate_report
 
     legs = LEG_CHOICES[args.leg]
     settings = _settings(args)
@@ -107,69 +101,114 @@ def run(args: argparse.Namespace) -> int:
     family = make_family(args.family)
     if family.n_params == 0:
         raise ConfigError(f"--family {args.family}: has no free parameter to optimize")
+    if args.free_stance and (args.method == "free" or args.leg != "pair"):
+        raise ConfigError(
+            "--free-stance optimizes the diagonal pair's swings with a family: use it with "
+            "--leg pair and --method ipopt or pattern"
+        )
     robot = load_robot(args)
     pipeline = EnergyPipeline(robot, load_gait(args, robot), args.accounting)
-    data: dict[str, Any] = {}
     if args.free_stance:
-        if args.method == "free" or args.leg != "pair":
-            raise ConfigError(
-                "--free-stance optimizes the diagonal pair's swings with a family: use it with "
-                "--leg pair and --method ipopt or pattern"
-            )
-        return _free_stance(args, pipeline, family, settings)
-    if args.method == "free":
-        check_bounded(pipeline, legs)
-        bounds = {leg: bound_for(pipeline, leg) for leg in legs}
-        print(bound_report(bounds))
-        if not all(b.success for b in bounds.values()):
-            print("scalf-opt: error: the free-trajectory bound did not converge", file=sys.stderr)
-            return 3
-        at_rate, family, thetas = bound_cycle_inputs(pipeline, bounds)
-        data["optimization"] = {
+        outcome = _free_stance(pipeline, family, settings)
+    elif args.method == "free":
+        outcome = _free_method(pipeline, legs)
+    else:
+        outcome = _family_method(args, pipeline, legs, family, settings)
+    if outcome is None:
+        return 3
+    _finish(args, *outcome)
+    return 0
+
+
+Outcome = tuple["EnergyPipeline", "RobotCycle", "RobotCycle", dict[str, Any]]
+"""What :func:`_finish` reports and writes: the pipeline at the result's rate, the optimized
+cycle, the reference cycle, and the records for ``summary.json``."""
+
+
+def _family_method(
+    args: argparse.Namespace,
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    family: SwingFamily,
+    settings: Settings,
+) -> Outcome | None:
+    """Pattern search or Ipopt on a family (and the bound with ``--bound``)."""
+    from scalf_opt.io.optimum_file import optimization_record
+    from scalf_opt.optimize.bound import bound_for
+    from scalf_opt.optimize.driver import optimize_swings
+    from scalf_opt.viz.optimization_report import optimization_report, optimization_warnings
+    from scalf_opt.viz.report import evaluate_report
+
+    run = optimize_swings(pipeline, legs, family, settings)
+    data: dict[str, Any] = {}
+    if args.bound and run.success:
+        data["free_bound"] = {}
+        for leg, result in run.legs.items():
+            bound = bound_for(pipeline, leg, [(family, result.best.theta)])
+            result.bound_check_energy_j = bound.check_energy_j
+            data["free_bound"][leg] = bound.as_dict()
+    print(optimization_report(run))
+    for line in optimization_warnings(run):
+        print(line)
+    if not run.success:
+        failed = [f"{r.leg} ({r.best.status})" for r in run.legs.values() if not r.success]
+        if not run.converged_sampling:
+            failed.append(f"the sampling did not converge by {run.rate_hz:g} Hz")
+        print(
+            f"scalf-opt: error: not solved: {', '.join(failed)}; no optimum is reported",
+            file=sys.stderr,
+        )
+        return None
+    data["optimization"] = {leg: r.as_dict() for leg, r in run.legs.items()}
+    data["optimization_run"] = optimization_record(run)
+    cycle = run.cycle()
+    print()
+    title = f"optimized ({family.name}, {settings.method})"
+    print(evaluate_report(cycle, pipeline.robot.name, title=title))
+    return run.pipeline, cycle, run.reference_cycle(), data
+
+
+def _free_method(pipeline: EnergyPipeline, legs: tuple[str, ...]) -> Outcome | None:
+    """The free-trajectory bound of each leg, reported as an optimum."""
+    from scalf_opt.locomotion.swing.registry import make_family
+    from scalf_opt.optimize.bound import bound_cycle_inputs, bound_for
+    from scalf_opt.optimize.driver import check_bounded
+    from scalf_opt.viz.optimization_report import bound_report
+    from scalf_opt.viz.report import evaluate_report
+
+    check_bounded(pipeline, legs)
+    bounds = {leg: bound_for(pipeline, leg) for leg in legs}
+    print(bound_report(bounds))
+    if not all(b.success for b in bounds.values()):
+        print("scalf-opt: error: the free-trajectory bound did not converge", file=sys.stderr)
+        return None
+    at_rate, family, thetas = bound_cycle_inputs(pipeline, bounds)
+    data: dict[str, Any] = {
+        "optimization": {
             leg: {
                 **b.result.as_dict(),
                 "family": family.name,
+                "method": "free",
                 "parameters": dict(
                     zip(family.parameter_names, map(float, thetas[leg]), strict=True)
                 ),
             }
             for leg, b in bounds.items()
-        }
-        data["free_bound"] = {leg: b.as_dict() for leg, b in bounds.items()}
-        title = f"free-trajectory bound ({family.name})"
-    else:
-        run_ = optimize_swings(pipeline, legs, family, settings)
-        if args.bound and run_.success:
-            for leg, result in run_.legs.items():
-                bound = bound_for(pipeline, leg, [(family, result.best.theta)])
-                result.bound_check_energy_j = bound.check_energy_j
-                data.setdefault("free_bound", {})[leg] = bound.as_dict()
-        print(optimization_report(run_))
-        for line in optimization_warnings(run_):
-            print(line)
-        if not run_.success:
-            names = ", ".join(
-                f"{r.leg} ({r.best.status})" for r in run_.legs.values() if not r.success
-            )
-            if run_.converged_sampling or not names:
-                names = names or "the sampling did not converge"
-            print(f"scalf-opt: error: not solved: {names}; no optimum is reported", file=sys.stderr)
-            return 3
-        at_rate, thetas = run_.pipeline, run_.thetas
-        data["optimization"] = {leg: r.as_dict() for leg, r in run_.legs.items()}
-        from scalf_opt.io.optimum_file import optimization_record
-
-        data["optimization_run"] = optimization_record(run_)
-        title = f"optimized ({family.name}, {args.method})"
+        },
+        "free_bound": {leg: b.as_dict() for leg, b in bounds.items()},
+    }
     cycle = at_rate.robot_cycle(family, thetas)
-    reference = at_rate.robot_cycle(make_family("reference"))
     print()
-    print(evaluate_report(cycle, robot.name, title=title))
-    _finish(args, at_rate, cycle, reference, data)
-    return 0
+    title = f"free-trajectory bound ({family.name})"
+    print(evaluate_report(cycle, pipeline.robot.name, title=title))
+    return at_rate, cycle, at_rate.robot_cycle(make_family("reference")), data
 
 
-def _free_stance(args: argparse.Namespace, pipeline: Any, family: Any, settings: Any) -> int:
+def _free_stance(
+    pipeline: EnergyPipeline, family: SwingFamily, settings: Settings
+) -> Outcome | None:
+    """The stance height and x-offsets optimized together with the swings."""
+    from scalf_opt.io.optimum_file import optimization_record
     from scalf_opt.optimize.free_stance import optimize_stance
     from scalf_opt.viz.optimization_report import (
         free_stance_report,
@@ -185,7 +224,7 @@ def _free_stance(args: argparse.Namespace, pipeline: Any, family: Any, settings:
             f"scalf-opt: error: the stance search did not converge ({result.best.reason})",
             file=sys.stderr,
         )
-        return 3
+        return None
     print(optimization_report(run))
     for line in optimization_warnings(run):
         print(line)
@@ -193,16 +232,14 @@ def _free_stance(args: argparse.Namespace, pipeline: Any, family: Any, settings:
     print(free_stance_report(result))
     cycle = result.cycle()
     print()
-    print(evaluate_report(cycle, pipeline.robot.name, title=f"free stance ({family.name})"))
-    from scalf_opt.io.optimum_file import optimization_record
-
-    data = {
+    title = f"free stance ({family.name}, {settings.method})"
+    print(evaluate_report(cycle, pipeline.robot.name, title=title))
+    data: dict[str, Any] = {
         "optimization": {leg: r.as_dict() for leg, r in run.legs.items()},
         "optimization_run": optimization_record(run),
         "free_stance": result.as_dict(),
     }
-    _finish(args, run.pipeline, cycle, result.reference, data)
-    return 0
+    return run.pipeline, cycle, result.reference, data
 
 
 def _finish(
