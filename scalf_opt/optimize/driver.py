@@ -281,11 +281,14 @@ def optimize_swings(
 
     Raises:
         ConfigError: The family has no free parameter, or the accounting cannot be optimized.
+        GaitError: The gait's stance leaves a leg's reach or joint range.
     """
     settings = settings or Settings()
     if family.n_params == 0:
         raise ConfigError(f"--family {family.name}: has no free parameter to optimize")
     check_bounded(pipeline, legs)
+    for leg in legs:  # a stance the gait makes impossible is the gait's error: name its fields
+        pipeline.stance(leg)
     start = time.perf_counter()
     rate = initial_rate_hz(pipeline.gait, family)
     rates: list[float] = []

@@ -142,9 +142,7 @@ class Kernel:
         if accounting not in self._exact:
             e = self._expressions(accounting, None)
             name = casadi_name(self.physics.leg.name, self.space, accounting, "exact_sample")
-            fn = ca.Function(
-                name, [self._y], [ca.vertcat(e["power"], e["p_mech"], e["c"])]
-            )
+            fn = ca.Function(name, [self._y], [ca.vertcat(e["power"], e["p_mech"], e["c"])])
             library = compile_library(name, [fn])
             if library is not None:
                 fn = ca.external(name, str(library))

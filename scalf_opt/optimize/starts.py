@@ -14,8 +14,8 @@
   within 0.15 % of the exact fit's.
 * **More starts**: the member closest to the reference (if it was not the first), then that
   member plus deterministic pseudo-random offsets (standard deviation :data:`START_SPREAD`
-  parameter units, seeded by the start's number), so that ``--starts N`` gives the same answer
-  on every run and machine.
+  parameter units, seeded by the start's number; halved until a foot-space start is inside the
+  reach), so that ``--starts N`` gives the same answer on every run and machine.
 """
 
 from __future__ import annotations
@@ -83,6 +83,12 @@ def starts(problem: SwingProblem, method: Method, count: int) -> list[tuple[str,
         assert closest is not None
         rng = np.random.default_rng(seed)
         offset = START_SPREAD * rng.standard_normal(problem.n_params)
+        # a foot-space start must be inside the reach (an IK beyond it has no joint angles for
+        # Ipopt to start from): halve the offset until it is
+        for _ in range(20):
+            if np.all(np.isfinite(problem.outputs(closest + offset)["c"])):
+                break
+            offset = offset / 2
         out.append((f"closest + random offset (seed {seed})", closest + offset))
         seed += 1
     return out[:count]

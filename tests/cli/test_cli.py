@@ -305,3 +305,18 @@ def test_paper_writes_report_json_and_csv(tmp_path, capsys):
     assert data["all_solved"]
     for leg in ("RF", "LH"):
         assert abs(data["validation"][leg]["gap_at_fine_precision_pct"]) < 0.1
+
+
+def test_output_into_a_closed_pipe_ends_quietly():
+    # the reader goes away before scalf-opt writes (as `| head -2` does with a long output)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "scalf_opt.cli", "evaluate"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    proc.stdout.close()
+    err = proc.stderr.read()
+    proc.wait()
+    assert proc.returncode == 141
+    assert "Traceback" not in err and "BrokenPipe" not in err and "Exception" not in err
