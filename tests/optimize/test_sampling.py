@@ -80,16 +80,18 @@ def test_the_first_rate_resolves_the_highest_harmonic():
     assert initial_rate_hz(Gait(sample_rate_hz=1000), make_family("joint-12")) == 1000.0
 
 
-def test_a_coarse_grid_would_be_exploited(scalf):
-    # why the refinement exists: joint-8's optimum at the gait's 200 Hz is not its energy
-    pipeline = EnergyPipeline(scalf, Gait())
-    family = make_family("joint-8")
+@pytest.mark.parametrize(("name", "sign"), [("joint-6", 1), ("joint-8", -1)])
+def test_a_coarse_grid_would_be_exploited(scalf, name, sign):
+    # why the refinement exists: an optimum at the gait's 200 Hz is not its energy (measured:
+    # joint-6 1.7 % above its energy at 2000 Hz, joint-8 2.1 % below)
     from scalf_opt.optimize.solve import run_ipopt
 
+    pipeline = EnergyPipeline(scalf, Gait())
+    family = make_family(name)
     optimum = run_ipopt(SwingProblem(pipeline, "RF", family))
     fine = pipeline.with_gait(with_rate(pipeline.gait, 2000.0))
     true_energy = SwingProblem(fine, "RF", family).energy_j(optimum.theta)
-    assert abs(optimum.swing_energy_j / true_energy - 1) > SAMPLING_TOLERANCE
+    assert sign * (optimum.swing_energy_j / true_energy - 1) > 0.01
 
 
 @pytest.mark.slow
