@@ -143,6 +143,6 @@ def check_timing(saved: SavedOptimum, gait: Gait) -> None:
         ):
             raise ConfigError(
                 f"{saved.path}: the optimum was found for gait field {name} = {theirs!r}, the "
-                f"gait has {ours!r}: its timing must match (only the rate and the accounting may "
-                "differ)"
+                f"gait has {ours!r}: its timing and stance must match (only the rate and the "
+                "accounting may differ)"
             )
