@@ -42,7 +42,7 @@ def main() -> None:
     model = EnergyPipeline(load_robot("scalf"), Gait())
     family = make_family("reference")
     legs = ("RF", "LH")
-    stance, tau_stance = model.stance_path, model.stance_times_s
+    stance, tau_stance = model.stance_paths["RF"], model.stance_times_s
     swing = {leg: model.swing_path(leg, family) for leg in legs}
     leg_models = {leg: model.physics(leg).leg for leg in legs}
 

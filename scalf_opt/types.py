@@ -41,8 +41,9 @@ Accounting = Literal["paper", "positive", "regenerative"]
 """How signed joint power ``tau qd`` is charged: ``paper`` ``|tau qd|`` (decision 9, default),
 ``positive`` ``max(tau qd, 0)``, ``regenerative`` ``tau qd``."""
 
-Method = Literal["pattern", "ipopt"]
-"""Swing optimizer: the paper's Hooke-Jeeves pattern search, or the Ipopt NLP."""
+Method = Literal["pattern", "ipopt", "free"]
+"""Swing optimizer: the paper's Hooke-Jeeves pattern search or the Ipopt NLP on a family, or
+``free``: the free-trajectory bound (Ipopt on dense B-splines refined until converged)."""
 
 JOINT_ROLES: tuple[str, str] = ("hip", "knee")
 """The two joints of the sagittal leg, in vector order (hip pitch first)."""

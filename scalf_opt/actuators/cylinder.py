@@ -19,7 +19,7 @@ through the accounting (decision 9).
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import ClassVar
 
 import casadi as ca
@@ -42,6 +42,9 @@ class HydraulicCylinder(Drive):
         angle_sign: +1 or -1: ``phi = phi_offset + angle_sign * theta``.
         stroke_m: Piston stroke [m].
         friction: Friction law of the cylinder.
+        max_force_n: Largest force the cylinder may carry, pushing or pulling [N] (inf: no
+            limit). Keyword-only, like ``max_speed_m_s``, so that subclasses can add fields.
+        max_speed_m_s: Largest piston speed, extending or retracting [m/s] (inf: no limit).
     """
 
     a_m: float
@@ -50,6 +53,8 @@ class HydraulicCylinder(Drive):
     angle_sign: int
     stroke_m: float
     friction: StribeckFriction
+    max_force_n: float = field(default=math.inf, kw_only=True)
+    max_speed_m_s: float = field(default=math.inf, kw_only=True)
 
     kind: ClassVar[str] = "cylinder"
     channels: ClassVar[tuple[Channel, ...]] = (
@@ -103,8 +108,13 @@ class HydraulicCylinder(Drive):
         return self.friction.heat_rate_w(self.velocity_m_s(q, qd), max_fn)
 
     def output_bounds(self, q_lower: float, q_upper: float) -> dict[str, tuple[float, float]]:
-        """The cylinder length stays inside its stroke (decision 14)."""
-        return {"cyl_len": self.stroke_limits_m(q_lower, q_upper)}
+        """The length inside the stroke (decision 14); force and speed inside their limits."""
+        bounds = {"cyl_len": self.stroke_limits_m(q_lower, q_upper)}
+        if math.isfinite(self.max_force_n):
+            bounds["cyl_force"] = (-self.max_force_n, self.max_force_n)
+        if math.isfinite(self.max_speed_m_s):
+            bounds["cyl_vel"] = (-self.max_speed_m_s, self.max_speed_m_s)
+        return bounds
 
     def stroke_limits_m(self, theta_lower: float, theta_upper: float) -> tuple[float, float]:
         """Cylinder length range allowed by the stroke [m] (decision 14).

@@ -9,7 +9,8 @@ robot may name its own file) chooses a drive per joint. Its tables, every one op
     supply (the paper's cylinder model charges its friction heat).
 ``[cylinders.<joint>]``
     A hydraulic cylinder's mounting (``a_mm``, ``b_mm``, ``stroke_mm`` > 0; ``phi_offset_deg``
-    any number; ``angle_sign`` +1 or -1). Alone: SCalf's model, ``|tau qd|`` plus friction
+    any number; ``angle_sign`` +1 or -1; optional limits ``max_force_n`` and ``max_speed_m_s``
+    > 0, none when left out). Alone: SCalf's model, ``|tau qd|`` plus friction
     heat (:class:`~scalf_opt.actuators.cylinder.HydraulicCylinder`).
 ``[supplies.<name>]``
     A valve-controlled constant-pressure supply (``pressure_bar``, ``bore_mm``, ``rod_mm`` with
@@ -59,6 +60,7 @@ _ELECTRIC_REQUIRED = (
 )
 _ELECTRIC_OPTIONAL = ("coulomb_friction_nm", "viscous_friction_nm_s_per_rad", "regenerative")
 _TOP_KEYS = ("friction", "cylinders", "supplies", "electric", "sources")
+_CYLINDER_LIMIT_KEYS = ("max_force_n", "max_speed_m_s")
 _FRICTION_KEYS = ("extend", "retract")
 _BAR_TO_PA = 1e5
 
@@ -154,12 +156,17 @@ def _cylinder(path: Path, joint: str, table: Any, friction: StribeckFriction) ->
     prefix = f"cylinders.{joint}"
     if not isinstance(table, dict):
         raise ConfigError(f"{path}: {prefix} must be a table, got {table!r}")
-    _no_extra(path, table, _CYLINDER_KEYS, prefix)
+    _no_extra(path, table, _CYLINDER_KEYS + _CYLINDER_LIMIT_KEYS, prefix)
     _require(path, table, _CYLINDER_KEYS, prefix)
     sign = table["angle_sign"]
     if isinstance(sign, bool) or not isinstance(sign, int) or sign not in (1, -1):
         raise ConfigError(f"{path}: {prefix}.angle_sign must be +1 or -1, got {sign!r}")
     offset_deg = _number(path, f"{prefix}.phi_offset_deg", table["phi_offset_deg"], positive=False)
+    limits = {
+        key: _number(path, f"{prefix}.{key}", table[key])
+        for key in _CYLINDER_LIMIT_KEYS
+        if key in table
+    }
     return HydraulicCylinder(
         joint_name=joint,
         a_m=_number(path, f"{prefix}.a_mm", table["a_mm"]) * 1e-3,
@@ -168,6 +175,7 @@ def _cylinder(path: Path, joint: str, table: Any, friction: StribeckFriction) ->
         angle_sign=sign,
         stroke_m=_number(path, f"{prefix}.stroke_mm", table["stroke_mm"]) * 1e-3,
         friction=friction,
+        **limits,
     )
 
 

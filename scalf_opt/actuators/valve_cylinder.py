@@ -88,6 +88,8 @@ class ValveControlledCylinder(HydraulicCylinder):
             angle_sign=cylinder.angle_sign,
             stroke_m=cylinder.stroke_m,
             friction=cylinder.friction,
+            max_force_n=cylinder.max_force_n,
+            max_speed_m_s=cylinder.max_speed_m_s,
             supply_pressure_pa=pressure_pa,
             piston_area_m2=piston,
             annulus_area_m2=piston - math.pi * rod_m**2 / 4.0,

@@ -2,13 +2,17 @@
 
 Exit codes: 0 success; 1 an unexpected failure (a bug: one line and a hint, ``--debug`` shows the
 traceback); 2 bad input (:class:`~scalf_opt.errors.ScalfError`: one line on stderr naming the
-file or field); 3 an optimizer did not converge (the command says which); 130 interrupted.
+file or field); 3 an optimizer did not converge (the command says which); 130 interrupted
+(Ctrl-C); 143 terminated (SIGTERM; both remove the temporary files first); 141 the reader of the
+output went away where a command could not go on without it (normally a closed pipe only drops
+the rest of the output: the command finishes and writes its files).
 """
 
 from __future__ import annotations
 
 import argparse
 import difflib
+import os
 import re
 import sys
 from collections.abc import Sequence
@@ -18,6 +22,7 @@ from scalf_opt import __version__
 from scalf_opt.cli.commands import COMMANDS
 from scalf_opt.cli.console import Console
 from scalf_opt.errors import ScalfError
+from scalf_opt.interrupts import raise_if_stopped, stop_on_signals
 
 
 class Parser(argparse.ArgumentParser):
@@ -106,14 +111,27 @@ def main(argv: Sequence[str] | None = None) -> int:
     args.argv = ["scalf-opt", *argv]
     console = Console(quiet=args.quiet, json_output=getattr(args, "json", False))
     args.console = console
+    with stop_on_signals():
+        return _run(args, argv, console)
+
+
+def _run(args: argparse.Namespace, argv: list[str], console: Console) -> int:
     try:
-        return int(args.run(args))
+        code = int(args.run(args))
+        raise_if_stopped()  # a signal some library swallowed: the run's end is no success
+        sys.stdout.flush()  # inside the try: a closed pipe surfaces here, not at exit
+        return code
     except ScalfError as exc:
         console.error(_naming_the_option(exc, args.commands[args.command], argv))
         return 2
     except KeyboardInterrupt:
         console.error("interrupted")
         return 130
+    except BrokenPipeError:
+        # the reader closed the pipe (`scalf-opt optimize | head`): stop quietly; point stdout at
+        # /dev/null so that Python's own flush at exit does not fail again
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 141
     except Exception as exc:
         if args.debug:
             raise

@@ -43,11 +43,11 @@ class Console:
             self._write(sys.stdout, text)
 
     def json(self, data: Any) -> None:
-        """Machine-readable output on stdout (only with ``--json``)."""
+        """Machine-readable output on stdout (only with ``--json``), without run times."""
         if self.json_output:
-            from scalf_opt.io.results import to_json
+            from scalf_opt.io.results import split_timings, to_json
 
-            self._write(sys.stdout, to_json(data).rstrip("\n"))
+            self._write(sys.stdout, to_json(split_timings(data)[0]).rstrip("\n"))
 
     def note(self, text: str) -> None:
         """A remark for the user on stderr (not with ``--quiet``)."""

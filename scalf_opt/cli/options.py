@@ -80,8 +80,8 @@ def gait_overrides(args: argparse.Namespace) -> dict[str, float]:
     return {f: getattr(args, f) for f in GAIT_OPTIONS if getattr(args, f, None) is not None}
 
 
-def load_gait(args: argparse.Namespace, robot: Robot) -> Gait:
-    """The robot's default gait, under ``--gait``'s fields, under the gait options.
+def load_gait(args: argparse.Namespace, robot: Robot, base: Gait | None = None) -> Gait:
+    """The robot's default gait (or ``base``), under ``--gait``'s fields, under the gait options.
 
     Raises:
         GaitError: A value is out of range; the message names the option or the file's field.
@@ -90,7 +90,7 @@ def load_gait(args: argparse.Namespace, robot: Robot) -> Gait:
 
     overrides = gait_overrides(args)
     try:
-        return read_gait(args.gait, robot, **overrides)
+        return read_gait(args.gait, robot, base, **overrides)
     except GaitError as exc:
         if exc.field in overrides:
             option = GAIT_OPTIONS[exc.field][0]

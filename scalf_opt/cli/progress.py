@@ -11,12 +11,12 @@ class ProgressBar:
     """A context manager with ``step(label)``, a no-op in pipes, CI or ``--quiet``.
 
     Args:
-        total: Number of steps.
+        total: Number of steps (``None`` when not known beforehand: a count).
         what: What is being done (the bar's prefix).
         enabled: False to draw nothing whatever the terminal.
     """
 
-    def __init__(self, total: int, what: str, enabled: bool = True) -> None:
+    def __init__(self, total: int | None, what: str, enabled: bool = True) -> None:
         self._bar = None
         if enabled and progress_enabled():
             from tqdm import tqdm

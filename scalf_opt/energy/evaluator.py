@@ -97,7 +97,7 @@ class CycleEvaluator:
         pipeline = self.pipeline
         phases = {}
         for leg in self.legs:
-            phases[(leg, "stance")] = (pipeline.stance_path, pipeline.stance_forces[leg])
+            phases[(leg, "stance")] = (pipeline.stance_paths[leg], pipeline.stance_forces[leg])
             path = pipeline.swing_path(leg, family)
             theta = (thetas or {}).get(leg)
             phases[(leg, "swing")] = (path.values(theta), np.zeros((2, path.t_s.size)))

@@ -50,6 +50,16 @@ class EnergyPipeline:
         if self.drives is None:
             object.__setattr__(self, "drives", drives_for(self.robot))
 
+    def with_gait(self, gait: Gait) -> EnergyPipeline:
+        """The same robot, drives and accounting with another gait, sharing the legs' physics.
+
+        The physics does not depend on the gait, so the per-leg CasADi functions (and the
+        optimizers' compiled kernels keyed on them) are built once for every gait.
+        """
+        other = EnergyPipeline(self.robot, gait, self.accounting, self.drives)
+        other.__dict__["_physics"] = self._physics
+        return other
+
     def physics(self, leg: str) -> LegPhysics:
         """The leg's :class:`LegPhysics` (built once)."""
         if leg not in self._physics:
@@ -73,9 +83,9 @@ class EnergyPipeline:
         return self.gait.phase_times_s("stance")
 
     @cached_property
-    def stance_path(self) -> np.ndarray:
-        """Stance foot samples (3, 2, n) in the leg frame (the same for every leg)."""
-        return stance_path(self.gait, self.stance_times_s)
+    def stance_paths(self) -> dict[str, np.ndarray]:
+        """Each leg's stance foot samples (3, 2, n) in its leg frame."""
+        return {leg: stance_path(self.gait, self.stance_times_s, leg) for leg in LEG_NAMES}
 
     @cached_property
     def stance_forces(self) -> dict[str, np.ndarray]:
@@ -93,18 +103,19 @@ class EnergyPipeline:
         Raises:
             GaitError: The stance path leaves the leg's reach or joint limits.
         """
+        path = self.stance_paths[leg]
         check_workspace(
             self.kinematics(leg),
             self.gait,
             "foot",
-            self.stance_path,
+            path,
             "stance",
             ("stance_height_m", "step_length_m"),
         )
         samples = PhaseSamples(
             phase="stance",
             space="foot",
-            path=self.stance_path,
+            path=path,
             grf_n=self.stance_forces[leg],
             t_phase_s=self.stance_times_s,
             start_s=stance_start_s(self.gait, leg),

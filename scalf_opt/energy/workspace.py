@@ -65,7 +65,10 @@ def check_workspace(
     except InfeasibleError as exc:
         if not gait_fields:
             raise
-        values = ", ".join(f"{f} = {getattr(gait, f):g}" for f in gait_fields)
+        names = list(gait_fields)
+        if gait.stance_x_offset_front_m or gait.stance_x_offset_hind_m:
+            names += ["stance_x_offset_front_m", "stance_x_offset_hind_m"]
+        values = ", ".join(f"{f} = {getattr(gait, f):g}" for f in names)
         raise GaitError(
             f"gait fields {values} are impossible for this robot: {exc}", field=gait_fields[0]
         ) from exc

@@ -10,11 +10,16 @@ import csv
 import io
 import json
 import math
+from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.peaks import cycle_peaks, cycle_violations, peaks_summary
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.files import write_atomic
+from scalf_opt.optimize.driver import SwingOptimization
 from scalf_opt.types import JOINT_ROLES
 
 _PAIRED: tuple[tuple[str, str, tuple[str, str]], ...] = (
@@ -104,6 +109,80 @@ def cycle_summary(cycle: RobotCycle) -> dict[str, Any]:
         "total_mass_kg": cycle.total_mass_kg,
         "symmetry_error": cycle.symmetry_error,
     }
+
+
+def checked_summary(cycle: RobotCycle, pipeline: EnergyPipeline) -> dict[str, Any]:
+    """:func:`cycle_summary` with the peaks per joint and every limit a sample exceeds."""
+    physics = {leg: pipeline.physics(leg) for leg in cycle.legs}
+    return {
+        **cycle_summary(cycle),
+        "peaks": peaks_summary(cycle_peaks(cycle, physics)),
+        "limit_violations": [v.message() for v in cycle_violations(cycle, physics)],
+    }
+
+
+def optimization_record(run: SwingOptimization) -> dict[str, Any]:
+    """The ``optimization_run`` record of ``summary.json``: the rate, the rates tried, settings."""
+    return {
+        "family": run.family.name,
+        "method": run.settings.method,
+        "starts": run.settings.starts,
+        "sample_rate_hz": run.rate_hz,
+        "rates_tried_hz": list(run.rates_hz),
+        "sampling_tolerance": run.settings.sampling_tolerance,
+        "converged_sampling": run.converged_sampling,
+        "success": run.success,
+        "any_worse_than_reference": any(r.worse_than_reference for r in run.legs.values()),
+        "wall_time_s": run.wall_time_s,
+    }
+
+
+TIMINGS_FILE = "timings.json"
+"""Where the run times of an output folder's result file go, so that the results repeat byte
+for byte (a run's times never do)."""
+
+_TIMING_KEYS = frozenset({"wall_time_s", "solver_time_s", "build_time_s"})
+_TIMING_PREFIXES = ("t_proc_", "t_wall_")  # Ipopt's per-callback times in solver_stats
+
+
+def is_timing_key(key: object) -> bool:
+    """Whether a record's key holds a run time rather than a result."""
+    return isinstance(key, str) and (key in _TIMING_KEYS or key.startswith(_TIMING_PREFIXES))
+
+
+def split_timings(data: Any) -> tuple[Any, dict[str, Any]]:
+    """``data`` without its run times, and the run times at the same paths.
+
+    Dictionaries keep their other keys in order; a list's timings are keyed by the item's index.
+    Sub-records left with no timing are left out of the timings.
+    """
+    if isinstance(data, dict):
+        results: dict[Any, Any] = {}
+        timings: dict[str, Any] = {}
+        for key, value in data.items():
+            if is_timing_key(key):
+                timings[key] = value
+                continue
+            results[key], inner = split_timings(value)
+            if inner:
+                timings[str(key)] = inner
+        return results, timings
+    if isinstance(data, list | tuple):
+        pairs = [split_timings(value) for value in data]
+        return [r for r, _ in pairs], {str(i): t for i, (_, t) in enumerate(pairs) if t}
+    return data, {}
+
+
+def write_results_json(path: Path, data: Any) -> list[Path]:
+    """Write ``data`` without its run times to ``path``, and the times to ``timings.json`` beside.
+
+    Both atomically; ``timings.json`` only when there are times. Returns the paths written.
+    """
+    results, timings = split_timings(data)
+    written = [write_atomic(path, to_json(results))]
+    if timings:
+        written.append(write_atomic(path.parent / TIMINGS_FILE, to_json({path.name: timings})))
+    return written
 
 
 def to_json(data: Any) -> str:

@@ -2,7 +2,11 @@
 
 A summary records, per leg, the swing family and its parameters, and the gait and accounting it
 was evaluated with: enough to rebuild every sample of the cycle with the energy pipeline, so the
-view and the figures show exactly what ``optimize`` found.
+view, the figures, the simulation and ``evaluate --swing`` use exactly what ``optimize`` found.
+The one reader of the file: it checks every field it uses, names the one that is wrong, and
+refuses swings of another robot (:meth:`SavedSwings.check_robot`), a file that holds no optimum
+(:meth:`SavedSwings.require_optimum`) and a gait of other timing
+(:meth:`SavedSwings.check_timing`).
 """
 
 from __future__ import annotations
@@ -27,6 +31,24 @@ SUMMARY_FILE = "summary.json"
 MASS_TOLERANCE = 1e-9
 """Relative difference of total masses that still counts as the same robot."""
 
+TIMING_FIELDS: tuple[str, ...] = (
+    "period_s",
+    "duty_cycle",
+    "step_length_m",
+    "clearance_m",
+    "stance_height_m",
+    "stance_x_offset_front_m",
+    "stance_x_offset_hind_m",
+)
+"""Gait fields an optimum belongs to (its timing and stance): a gait that differs in one of them
+is another problem; only the rate and the accounting may change."""
+
+TIMING_RTOL = 1e-9
+"""Relative difference allowed between a file's timing field and the gait's (round-off)."""
+
+OPTIONAL_GAIT_FIELDS = {"stance_x_offset_front_m": 0.0, "stance_x_offset_hind_m": 0.0}
+"""Gait fields older files lack, with the value they then had (the foot under the hip)."""
+
 
 @dataclass(frozen=True)
 class SavedSwings:
@@ -43,6 +65,8 @@ class SavedSwings:
         urdf_sha256: The SHA-256 of the URDF it was computed on, when recorded.
         total_mass_kg: The robot's mass the file records, when it does (files written before
             the provenance record still have it).
+        optimization: The ``optimization`` records per optimized leg (``optimize``'s files).
+        rate_hz: The rate the optimization converged at, when recorded [Hz].
     """
 
     source: Path
@@ -54,6 +78,41 @@ class SavedSwings:
     robot: str | None = None
     urdf_sha256: str | None = None
     total_mass_kg: float | None = None
+    optimization: dict[str, Any] | None = None
+    rate_hz: float | None = None
+
+    def require_optimum(self) -> None:
+        """Refuse a file that holds no solved optimum (an ``evaluate`` result, a failed run).
+
+        Raises:
+            ConfigError: ``optimization`` is missing or empty, or a leg's record is not solved.
+        """
+        if not self.optimization:
+            raise ConfigError(
+                f"{self.source}: missing field optimization: not an optimum written by optimize"
+            )
+        for leg, record in self.optimization.items():
+            if not isinstance(record, dict) or record.get("success") is not True:
+                raise ConfigError(
+                    f"{self.source}: field optimization.{leg}.success is not true: the file "
+                    "holds no optimum"
+                )
+
+    def check_timing(self, gait: Gait) -> None:
+        """Refuse a gait whose timing or stance differs from the file's.
+
+        Raises:
+            ConfigError: A timing field differs (the message names it and both values).
+        """
+        for name in TIMING_FIELDS:
+            theirs, ours = getattr(self.gait, name), getattr(gait, name)
+            if not math.isclose(theirs, ours, rel_tol=TIMING_RTOL, abs_tol=1e-12):
+                raise ConfigError(
+                    f"{self.source}: the swings were found for gait field {name} = {theirs!r}, "
+                    f"the gait has {ours!r}: its timing and stance must match (only the rate and "
+                    "the accounting may differ)",
+                    field=name,
+                )
 
     @property
     def swings(self) -> dict[str, tuple[str, np.ndarray]]:
@@ -175,6 +234,9 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
         for leg, record in (data.get("optimization") or {}).items()
         if isinstance(record, dict) and "method" in record
     }
+    optimization = data.get("optimization")
+    run = data.get("optimization_run")
+    rate = run.get("sample_rate_hz") if isinstance(run, dict) else None
     record = data.get("provenance")
     source: dict[str, Any] = record if isinstance(record, dict) else {}
     robot, sha = source.get("robot"), source.get("urdf_sha256")
@@ -189,6 +251,8 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
         robot if isinstance(robot, str) else None,
         sha if isinstance(sha, str) else None,
         float(mass) if isinstance(mass, int | float) and not isinstance(mass, bool) else None,
+        optimization if isinstance(optimization, dict) else None,
+        float(rate) if isinstance(rate, int | float) and not isinstance(rate, bool) else None,
     )
 
 
@@ -202,8 +266,8 @@ def _field(path: Path, data: dict[str, Any], key: str, kind: type, name: str | N
 
 
 def _gait(path: Path, record: dict[str, Any]) -> Gait:
-    values = {k: record[k] for k in Gait.field_names() if k in record}
-    missing = [k for k in Gait.field_names() if k not in record]
+    values = {**OPTIONAL_GAIT_FIELDS, **{k: record[k] for k in Gait.field_names() if k in record}}
+    missing = [k for k in Gait.field_names() if k not in values]
     if missing:
         raise ConfigError(f"{path}: gait lacks {', '.join(missing)}")
     try:

@@ -15,6 +15,9 @@ import numpy as np
 from scalf_opt.errors import GaitError
 from scalf_opt.types import Phase, check_choice
 
+FRONT_LEGS: tuple[str, ...] = ("RF", "LF")
+"""The legs whose stance takes ``stance_x_offset_front_m`` (the others are hind legs)."""
+
 MIN_SAMPLES_PER_PHASE = 4
 """The coarsest grid a phase may have (intervals)."""
 
@@ -38,6 +41,10 @@ class Gait:
         stance_height_m: Height z0 of the pitching hip above the ground [m].
         sample_rate_hz: Sampling rate of the time grid [Hz].
         cycles: Number of cycles the reported energies are averaged over (the paper: 10).
+        stance_x_offset_front_m: Where the front feet (RF, LF) stand relative to their pitching
+            hip at mid-stance, forward positive [m] (the paper: 0, the foot passes under the
+            hip; ``scalf-opt optimize --free-stance`` optimizes it).
+        stance_x_offset_hind_m: The same for the hind feet (LH, RH) [m].
     """
 
     period_s: float = 0.5
@@ -47,11 +54,18 @@ class Gait:
     stance_height_m: float = 0.75
     sample_rate_hz: float = 200.0
     cycles: int = 10
+    stance_x_offset_front_m: float = 0.0
+    stance_x_offset_hind_m: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("period_s", "step_length_m", "clearance_m", "stance_height_m"):
             _positive(name, getattr(self, name))
         _positive("sample_rate_hz", self.sample_rate_hz)
+        for name in ("stance_x_offset_front_m", "stance_x_offset_hind_m"):
+            value = getattr(self, name)
+            ok = isinstance(value, int | float) and not isinstance(value, bool)
+            if not (ok and math.isfinite(value)):
+                raise GaitError(f"gait field {name} = {value!r} must be a finite number")
         if not (isinstance(self.duty_cycle, int | float) and 0.5 <= self.duty_cycle < 1.0):
             raise GaitError(
                 f"gait field duty_cycle = {self.duty_cycle!r} must be in [0.5, 1): below 0.5 a "
@@ -102,6 +116,10 @@ class Gait:
     def swing_duration_s(self) -> float:
         """Duration of the swing phase [s]."""
         return (1.0 - self.duty_cycle) * self.period_s
+
+    def stance_x_offset_m(self, leg: str) -> float:
+        """Mid-stance foot x relative to the hip of ``leg`` (front or hind offset) [m]."""
+        return self.stance_x_offset_front_m if leg in FRONT_LEGS else self.stance_x_offset_hind_m
 
     @property
     def speed_m_s(self) -> float:

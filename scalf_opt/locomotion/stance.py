@@ -3,10 +3,12 @@
 Stance path (in the leg frame, origin at the pitching hip): the foot stays on the ground while
 the trunk moves forward at constant speed ``v = S / T_stance``::
 
-    x(t) = S/2 - v t,   z(t) = -z0,   t in [0, T_stance]
+    x(t) = d + S/2 - v t,   z(t) = -z0,   t in [0, T_stance]
 
-which is the unique cubic meeting the four boundary conditions of Table 3 (positions +-S/2,
-velocities -v at both ends). The trunk's acceleration is ``-x''(t) = 0``.
+which is the unique cubic meeting the four boundary conditions of Table 3 (positions
+``d +- S/2``, velocities -v at both ends). ``d`` is the gait's stance x-offset of the leg's pair
+(front or hind; the paper's 0: the foot passes under the hip at mid-stance). The trunk's
+acceleration is ``-x''(t) = 0``.
 
 Foot forces: at every stance sample the feet on the ground share the trunk's load by the
 minimum-norm distribution (:mod:`scalf_opt.locomotion.forces`, decision 11).
@@ -26,23 +28,25 @@ from scalf_opt.locomotion.trot import (
 )
 
 
-def stance_path(gait: Gait, t_s: np.ndarray) -> np.ndarray:
+def stance_path(gait: Gait, t_s: np.ndarray, leg: str) -> np.ndarray:
     """Stance foot position, velocity and acceleration in the leg frame, shape (3, 2, n).
 
     Args:
         gait: The gait.
         t_s: Times since touch-down [s], shape (n,).
+        leg: The leg (its pair's stance x-offset applies).
     """
     t = np.asarray(t_s, dtype=float)
     v = gait.speed_m_s
-    p = np.vstack([0.5 * gait.step_length_m - v * t, np.full_like(t, -gait.stance_height_m)])
+    x = gait.stance_x_offset_m(leg) + 0.5 * gait.step_length_m - v * t
+    p = np.vstack([x, np.full_like(t, -gait.stance_height_m)])
     pd = np.vstack([np.full_like(t, -v), np.zeros_like(t)])
     return np.array([p, pd, np.zeros((2, t.size))])
 
 
 def trunk_acceleration_m_s2(gait: Gait, t_s: np.ndarray) -> np.ndarray:
     """Forward acceleration of the trunk during stance [m/s^2], shape (n,): ``-x''(t)``."""
-    return -stance_path(gait, t_s)[2, 0]
+    return -stance_path(gait, t_s, "RF")[2, 0]  # the same for every leg
 
 
 def stance_forces(
@@ -69,7 +73,8 @@ def stance_forces(
                     if other in (leg, DIAGONAL_PARTNER[leg])
                     else time_since_touchdown_s(gait, cycle_time, other)
                 )
-                feet.append(stance_path(gait, np.array([local]))[0, :, 0] + hips_xz_m[other])
+                foot = stance_path(gait, np.array([local]), other)[0, :, 0]
+                feet.append(foot + hips_xz_m[other])
             f_leg[:, j] = min_norm_foot_forces(np.array(feet).T, trunk_mass_kg, accel[j])[:, 0]
         forces[leg] = f_leg
     return forces

@@ -97,7 +97,7 @@ def energy_landscape(
             else:
                 # an infeasible motion still has an energy (it shapes the contours), unless
                 # the foot target is out of reach
-                raw = float(np.asarray(problem.exact_function(theta)[0]).item())
+                raw = problem.energy_j(theta)
                 energy[j, i] = raw if np.isfinite(raw) else np.nan
     names = problem.family.parameter_names
     return EnergyLandscape(

@@ -1,25 +1,42 @@
-"""The swing optimization as a smooth NLP, built with CasADi and solved by Ipopt.
+"""The swing optimization as a smooth NLP, built once with CasADi and solved by Ipopt.
 
-Built from :meth:`SwingProblem.graph` (the evaluator's own expressions), with two smooth
-reformulations of the non-smooth energy:
+Lifted formulation. Variables ``x = (theta, Y, slacks)``: the family's parameters, the kernel
+inputs of every sample ``Y`` (6 x n: value, rate and acceleration of the two coordinates) and
+the slacks of the energy's absolute values. The affine path is a linear equality,
+``Y = Y_0 + B theta``, so that everything nonlinear is a function of one sample's six inputs:
+the constraint Jacobian is block-sparse and the Lagrangian Hessian block-diagonal (6 x 6 per
+sample), which Ipopt's sparse linear algebra factorizes several times faster than the condensed
+problem, where every sample depends on every parameter (measured: ``joint-10`` at 500 Hz, 2.4 s
+instead of 7.0 s; ``joint-6`` at 300 Hz, 0.16 s instead of 0.63 s). Families with at most
+:data:`CONDENSED_MAX_PARAMS` parameters (the paper family) keep the condensed form, ``Y``
+eliminated, which is faster for them.
 
-* ``|tau_i qd_i|`` at every sample becomes a slack pair: ``s+ - s- = tau qd``, ``s+, s- >= 0``,
-  and the objective charges ``s+ + s-``; at an optimum one of the two is zero, so the objective
-  equals the exact mechanical energy (only for joints whose drive charges its mechanical power;
-  a drive that meters its own input power, valve-controlled or electric, has no slacks);
-* the drives' losses (SCalf: the friction heat) take ``max(v, 0)`` as
-  ``(v + sqrt(v^2 + eps^2)) / 2`` with
-  ``eps = HEAT_SMOOTHING_EPS_M_S``.
+Parameters ``p = (Y_0, B, trapezoidal weights)``, so that one built NLP serves every problem of
+the same shape (leg, space, number of samples and parameters, accounting, constraint pattern):
+other gaits, other families of the same size, the stance refinement. A family whose basis is
+sparse (the B-splines of the free-trajectory bound: each sample depends on four control
+points) keeps ``B`` as a sparse constant instead. The per-sample physics is the leg's compiled
+kernel (:mod:`scalf_opt.optimize.kernels`) mapped over the samples; CasADi differentiates
+through it (exact gradient, constraint Jacobian and Lagrangian Hessian).
 
-Constraints at every swing sample: joint limits, bounded drive outputs (SCalf: the cylinder
-stroke), foot at or above the ground
-(interior samples; lift-off and touch-down are on the ground by construction), the IK reach in
-foot space, and the mid-swing clearance. Derivatives (gradient, constraint Jacobian, Lagrangian
-Hessian) are exact, from CasADi's automatic differentiation.
+The non-smooth energy is made smooth without changing its value at an optimum:
+
+* ``paper`` accounting, ``|tau_i qd_i|`` at every sample: a slack pair ``s+ - s- = tau qd``,
+  ``s+, s- >= 0``, cost ``s+ + s-`` (at an optimum one of the two is zero);
+* ``positive``, ``max(tau qd, 0)``: a slack ``u >= 0``, ``u >= tau qd``, cost ``u``;
+* ``regenerative``, ``tau qd``: charged as it is;
+* the drives' losses take ``max(v, 0)`` as ``(v + sqrt(v^2 + eps^2)) / 2``
+  (:data:`~scalf_opt.optimize.kernels.HEAT_SMOOTHING_EPS_M_S`).
+
+A joint whose drive does not charge its mechanical power gets no slack. Constraints: every
+constraint row of the kernel at the samples where it applies (:attr:`SwingProblem
+.constraint_index`), given to Ipopt as exact bounds on ``g`` (``bound_relax_factor = 0``);
+in joint space the bounds on the joint angles and rates are bounds on ``Y`` itself.
 """
 
 from __future__ import annotations
 
+import hashlib
 import time
 from dataclasses import dataclass
 from typing import Any
@@ -27,13 +44,16 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
-from scalf_opt.energy.physics import mechanical_power, trapezoid_weights
-from scalf_opt.optimize.problem import HEAT_SMOOTHING_EPS_M_S, SwingProblem, casadi_name
-from scalf_opt.types import Expr
+from scalf_opt.interrupts import interruptible
+from scalf_opt.optimize.kernels import casadi_name
+from scalf_opt.optimize.problem import SwingProblem
+from scalf_opt.types import Accounting
 
 IPOPT_DEFAULTS: dict[str, Any] = {
-    "tol": 1e-10,
-    "acceptable_tol": 1e-8,
+    # 1e-8 (Ipopt's default): at 1e-10 rich families stalled for a hundred iterations on
+    # round-off after the energy had converged to 1e-9
+    "tol": 1e-8,
+    "acceptable_tol": 1e-6,
     "max_iter": 3000,
     "print_level": 0,
     "sb": "yes",
@@ -42,96 +62,185 @@ IPOPT_DEFAULTS: dict[str, Any] = {
     # judges feasibility at 1e-9
     "bound_relax_factor": 0.0,
     "constr_viol_tol": 1e-10,
+    # approximate minimum degree ordering: MUMPS's automatic choice took 1.5x longer here
+    "mumps_pivot_order": 0,
 }
+
+CONDENSED_MAX_PARAMS = 2
+"""Families with at most this many parameters get the condensed NLP (``Y`` eliminated): with
+so few parameters the lifted variables cost more than they save (paper family, 200 Hz: 33 ms
+condensed, 40 ms lifted; ``joint-6``, 300 Hz: 0.63 s condensed, 0.16 s lifted)."""
+
+CONDENSED_OPTIONS: dict[str, Any] = {"mu_oracle": "probing"}
+"""Ipopt options of the condensed NLP: Mehrotra's probing for the barrier parameter (paper
+family: 20 iterations instead of 29; on the lifted NLP it took more, 79 instead of 52 for
+``joint-6``)."""
+
+SPARSE_BASIS_DENSITY = 0.25
+"""A family's basis with fewer nonzeros than this fraction is built into the NLP as a sparse
+constant (B-splines) instead of a dense parameter (Fourier families)."""
+
+SLACKS_PER_JOINT_SAMPLE: dict[str, int] = {"paper": 2, "positive": 1, "regenerative": 0}
 
 
 @dataclass
-class NlpBuild:
-    """A built NLP: the CasADi solver and the bounds and layout it needs."""
+class BuiltNlp:
+    """An NLP built for one shape of problem.
+
+    Attributes:
+        solver: The CasADi Ipopt solver.
+        lifted: The samples ``Y`` are variables (else eliminated: the condensed NLP).
+        n_theta: Number of family parameters.
+        n_samples: Number of swing samples.
+        charged: Joints whose mechanical power is charged (they carry the slacks).
+        accounting: Power accounting.
+        constant_basis: ``B`` is built in (sparse family) rather than a parameter.
+        build_time_s: Time spent building it [s].
+    """
 
     solver: ca.Function
-    lbx: np.ndarray
-    ubx: np.ndarray
-    lbg: np.ndarray
-    ubg: np.ndarray
+    lifted: bool
     n_theta: int
     n_samples: int
-    p_mech: ca.Function  # theta -> signed mechanical power of the slack rows, for initial guesses
+    charged: tuple[int, ...]
+    accounting: Accounting
+    constant_basis: bool
+    build_time_s: float
+
+    @property
+    def n_slack_rows(self) -> int:
+        """Slack constraints in ``g`` (one per charged joint and sample, unless regenerative)."""
+        if self.accounting == "regenerative":
+            return 0
+        return len(self.charged) * self.n_samples
+
+    @property
+    def n_slacks(self) -> int:
+        """Slack variables after ``theta`` and ``Y``."""
+        return SLACKS_PER_JOINT_SAMPLE[self.accounting] * len(self.charged) * self.n_samples
 
 
-def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None) -> NlpBuild:
-    """Build the NLP of ``problem`` (no solving)."""
-    n_theta = problem.n_params
-    n = problem.path.t_s.size
-    theta = ca.SX.sym("theta", n_theta)
-    g = problem.graph(theta, HEAT_SMOOTHING_EPS_M_S)
-    weights = np.tile(trapezoid_weights(problem.path.t_s), 2)
-    w = ca.DM(weights)
-    p_mech = ca.reshape(g["p_mech"].T, 2 * n, 1)  # column-major: all hip samples, then knee
-    loss = ca.reshape(g["p_loss"].T, 2 * n, 1)
-    # 1 where the joint's drive charges its mechanical power, 0 where it does not (a drive that
-    # meters its own input power: its loss rate is all it draws)
-    charged_rows = np.repeat([d.charges_joint_power for d in problem.physics.drives], n)
-    charged = ca.DM(charged_rows.astype(float))
+def _basis_matrix(problem: SwingProblem) -> np.ndarray:
+    """``B``, shape (6n, n_theta): row ``6 k + i`` is kernel input ``i`` of sample ``k``."""
+    return problem.samples_basis.transpose(1, 0, 2).reshape(6 * problem.n_samples, -1)
+
+
+def constraint_index(problem: SwingProblem, lifted: bool) -> np.ndarray:
+    """Flat (column-major) indices of the entries of the kernel's ``c`` the NLP constrains.
+
+    Every entry that carries a bound; in the lifted NLP except the bounds on the samples' own
+    coordinates (:attr:`SwingProblem.input_rows`), which bound ``Y`` directly.
+    """
+    mask = problem.constraint_mask.copy()
+    if lifted:
+        mask[list(problem.input_rows)] = False
+    return np.flatnonzero(mask.ravel(order="F"))
+
+
+def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None) -> BuiltNlp:
+    """The NLP of ``problem``'s shape: built on first use, then taken from the kernel's cache."""
+    lifted = problem.n_params > CONDENSED_MAX_PARAMS
+    options = {**IPOPT_DEFAULTS, **({} if lifted else CONDENSED_OPTIONS), **(ipopt_options or {})}
+    kernel = problem.kernel
+    charged = tuple(
+        i for i, drive in enumerate(problem.physics.drives) if drive.charges_joint_power
+    )
     accounting = problem.pipeline.accounting
-    # the slack pair is the paper's |tau qd|, for the charged rows only (a slack without a cost
-    # would leave Ipopt a free direction); the other accountings need no slacks
-    paper = accounting == "paper"
-    rows = np.flatnonzero(charged_rows).tolist() if paper else []
-    s_pos = ca.SX.sym("s_pos", len(rows))
-    s_neg = ca.SX.sym("s_neg", len(rows))
-    p_slack = p_mech[rows] if rows else ca.SX(0, 1)
-    if paper:
-        objective = ca.dot(ca.DM(weights[rows]), s_pos + s_neg) + ca.dot(w, loss)
+    index = constraint_index(problem, lifted)
+    basis = _basis_matrix(problem)
+    constant = bool(basis.size) and bool(
+        np.count_nonzero(basis) < SPARSE_BASIS_DENSITY * basis.size
+    )
+    key = (
+        lifted,
+        problem.n_samples,
+        problem.n_params,
+        charged,
+        accounting,
+        hashlib.sha256(index.tobytes()).hexdigest(),
+        hashlib.sha256(basis.tobytes()).hexdigest() if constant else None,
+        tuple(sorted(options.items())),
+    )
+    if key not in kernel.nlps:
+        start = time.perf_counter()
+        solver = _build(
+            problem, lifted, index, charged, accounting, basis if constant else None, options
+        )
+        kernel.nlps[key] = BuiltNlp(
+            solver,
+            lifted,
+            problem.n_params,
+            problem.n_samples,
+            charged,
+            accounting,
+            constant,
+            time.perf_counter() - start,
+        )
+    built = kernel.nlps[key]
+    assert isinstance(built, BuiltNlp)
+    return built
+
+
+def _build(
+    problem: SwingProblem,
+    lifted: bool,
+    index: np.ndarray,
+    charged: tuple[int, ...],
+    accounting: Accounting,
+    constant_basis: np.ndarray | None,
+    options: dict[str, Any],
+) -> ca.Function:
+    kernel = problem.kernel
+    n, n_theta = problem.n_samples, problem.n_params
+    theta = ca.MX.sym("theta", n_theta)
+    base = ca.MX.sym("base", 6 * n)
+    weights = ca.MX.sym("weights", n)
+    parameters = [base]
+    if constant_basis is not None:
+        affine = base + ca.mtimes(ca.DM(ca.sparsify(ca.DM(constant_basis))), theta)
     else:
-        objective = ca.dot(w, charged * mechanical_power(p_mech, accounting) + loss)
-
-    constraints, lower, upper = [], [], []
-
-    def add(expr: Expr, lo: np.ndarray | float, hi: np.ndarray | float) -> None:
-        size = expr.numel()
-        constraints.append(ca.reshape(expr, size, 1))
-        lower.append(np.broadcast_to(np.asarray(lo, dtype=float), (size,)).ravel())
-        upper.append(np.broadcast_to(np.asarray(hi, dtype=float), (size,)).ravel())
-
-    if rows:
-        add(s_pos - s_neg - p_slack, 0.0, 0.0)
-    q_lo, q_hi = problem.joint_bounds
-    add(
-        g["q"],
-        np.repeat(q_lo, n, axis=1).ravel(order="F"),
-        np.repeat(q_hi, n, axis=1).ravel(order="F"),
-    )
-    for name, (lo, hi) in problem.output_bounds.items():
-        add(g[name], lo, hi)
-    add(g["foot"][1, 1:-1], problem.ground_z_m, np.inf)
-    if "reach" in g:
-        add(g["reach"], -1.0, 1.0)
-    add(g["foot"][1, problem.mid_index], problem.clearance_z_m, np.inf)
-
-    x = ca.vertcat(theta, s_pos, s_neg)
-    options: dict[str, Any] = {
-        "ipopt": {**IPOPT_DEFAULTS, **(ipopt_options or {})},
-        "print_time": False,
-    }
-    solver = ca.nlpsol(
-        casadi_name(problem.leg, problem.family.name, "nlp"),
+        basis = ca.MX.sym("basis", 6 * n * n_theta)
+        parameters.append(basis)
+        affine = base + ca.mtimes(ca.reshape(basis, 6 * n, n_theta), theta) if n_theta else base
+    parameters.append(weights)
+    variables, constraints = [theta], []
+    samples = affine
+    if lifted:
+        samples = ca.MX.sym("Y", 6 * n)
+        variables.append(samples)
+        constraints.append(samples - affine)
+    out = kernel.smooth().map(n, "serial")(ca.reshape(samples, 6, n))
+    p_mech, loss, c = out[0:2, :], out[2, :], out[3:, :]
+    w = weights.T
+    cost = ca.mtimes(loss, weights)
+    k = len(charged)
+    if k:
+        power = ca.vertcat(*(p_mech[i, :] for i in charged))  # k x n
+        if accounting == "paper":
+            s_pos, s_neg = ca.MX.sym("s_pos", k, n), ca.MX.sym("s_neg", k, n)
+            variables += [ca.vec(s_pos), ca.vec(s_neg)]
+            constraints.append(ca.vec(s_pos - s_neg - power))
+            cost += ca.sum2(ca.sum1(s_pos + s_neg) * w)
+        elif accounting == "positive":
+            u = ca.MX.sym("u", k, n)
+            variables.append(ca.vec(u))
+            constraints.append(ca.vec(u - power))
+            cost += ca.sum2(ca.sum1(u) * w)
+        else:
+            cost += ca.sum2(ca.sum1(power) * w)
+    constraints.append(ca.vec(c)[index.tolist()])
+    return ca.nlpsol(
+        casadi_name(kernel.physics.leg.name, kernel.space, accounting, f"n{n}", f"p{n_theta}"),
         "ipopt",
-        {"x": x, "f": objective, "g": ca.vertcat(*constraints)},
-        options,
-    )
-    n_slack = 2 * len(rows)
-    lbx = np.concatenate([np.full(n_theta, -np.inf), np.zeros(n_slack)])
-    ubx = np.full(n_theta + n_slack, np.inf)
-    return NlpBuild(
-        solver=solver,
-        lbx=lbx,
-        ubx=ubx,
-        lbg=np.concatenate(lower),
-        ubg=np.concatenate(upper),
-        n_theta=n_theta,
-        n_samples=n,
-        p_mech=ca.Function("p_mech", [theta], [p_slack]),
+        {
+            "x": ca.vertcat(*variables),
+            "p": ca.vertcat(*parameters),
+            "f": cost,
+            "g": ca.vertcat(*constraints),
+        },
+        # a trial step outside a foot-space leg's reach evaluates to NaN: Ipopt backtracks, which
+        # is expected and needs no warning on the console
+        {"ipopt": options, "print_time": False, "show_eval_warnings": False},
     )
 
 
@@ -158,19 +267,50 @@ class NlpSolution:
     stats: dict[str, Any]
 
 
-def solve_nlp(build: NlpBuild, theta0: np.ndarray) -> NlpSolution:
-    """Solve a built NLP from ``theta0`` (slacks initialised consistently)."""
+def solve_nlp(built: BuiltNlp, problem: SwingProblem, theta0: np.ndarray) -> NlpSolution:
+    """Solve ``problem`` with its built NLP from ``theta0`` (``Y`` and slacks consistent)."""
     theta0 = np.asarray(theta0, dtype=float)
-    x0 = theta0
-    if build.lbx.size > build.n_theta:
-        pm = np.array(build.p_mech(theta0)).ravel()
-        x0 = np.concatenate([theta0, np.maximum(pm, 0.0), np.maximum(-pm, 0.0)])
+    n = problem.n_samples
+    outputs = problem.outputs(theta0)
+    p_mech = np.nan_to_num(outputs["p_mech"][list(built.charged)])  # k x n
+    slacks = {
+        "paper": [np.maximum(p_mech, 0.0), np.maximum(-p_mech, 0.0)],
+        "positive": [np.maximum(p_mech, 0.0)],
+        "regenerative": [],
+    }[built.accounting]
+    y_lo, y_hi = problem.input_bounds
+    m = 6 * n if built.lifted else 0  # lifted samples and their linear equalities
+    x0 = np.concatenate(
+        [
+            theta0,
+            problem.samples(theta0).ravel(order="F")[:m],
+            *(s.ravel(order="F") for s in slacks),
+        ]
+    )
+    lbx = np.concatenate(
+        [np.full(built.n_theta, -np.inf), y_lo.ravel(order="F")[:m], np.zeros(built.n_slacks)]
+    )
+    ubx = np.concatenate(
+        [np.full(built.n_theta, np.inf), y_hi.ravel(order="F")[:m], np.full(built.n_slacks, np.inf)]
+    )
+    c_lo, c_hi = problem.constraint_bounds
+    index = constraint_index(problem, built.lifted)
+    slack_hi = 0.0 if built.accounting == "paper" else np.inf
+    lbg = np.concatenate([np.zeros(m), np.zeros(built.n_slack_rows), c_lo.ravel(order="F")[index]])
+    ubg = np.concatenate(
+        [np.zeros(m), np.full(built.n_slack_rows, slack_hi), c_hi.ravel(order="F")[index]]
+    )
+    params = [problem.samples_base.ravel(order="F")]
+    if not built.constant_basis:
+        params.append(_basis_matrix(problem).ravel(order="F"))
+    params.append(problem.weights)
     start = time.perf_counter()
-    sol = build.solver(x0=x0, lbx=build.lbx, ubx=build.ubx, lbg=build.lbg, ubg=build.ubg)
+    with interruptible():  # Ctrl-C stops the program, not just this solve
+        sol = built.solver(x0=x0, p=np.concatenate(params), lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
     elapsed = time.perf_counter() - start
-    stats = build.solver.stats()
+    stats = built.solver.stats()
     return NlpSolution(
-        theta=np.array(sol["x"]).ravel()[: build.n_theta],
+        theta=np.array(sol["x"]).ravel()[: built.n_theta],
         success=bool(stats.get("success", False)),
         status=str(stats.get("return_status", "unknown")),
         iterations=int(stats.get("iter_count", -1)),

@@ -22,6 +22,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from scalf_opt.interrupts import raise_if_stopped
+
 Objective = Callable[[np.ndarray], tuple[float, str | None]]
 """Maps parameters to ``(value, None)`` or ``(inf, reason)`` for an infeasible point."""
 
@@ -125,6 +127,7 @@ def pattern_search(
         if n_eval >= opts.max_evaluations:
             return PatternSearchResult(base, f_base, iterations, n_eval, history, counts, False)
         iterations += 1
+        raise_if_stopped()
         x_new, f_new = explore(base, f_base)
         if f_new < f_base:
             while True:

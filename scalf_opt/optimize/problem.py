@@ -1,47 +1,36 @@
 """The swing-optimization problem of one leg, shared by the pattern search and the NLP.
 
 Decision variables: the swing family's free parameters ``theta`` (degrees or centimetres, see
-:mod:`scalf_opt.locomotion.swing`). Objective: the leg's swing energy [J] (stance energy does not
-depend on the swing). Constraints at every swing sample (decision 14): joint angles inside their
-limits, foot at or above the ground, every bounded drive output inside its range (SCalf: the
-cylinder inside its stroke), the target inside the leg's reach (foot space), and the foot at
-least H above the ground at mid-swing.
+:mod:`scalf_opt.locomotion.swing`). Objective: the leg's swing energy [J] (the stance energy does
+not depend on the swing), the trapezoidal integral of the exact charged power over the swing
+samples. Constraints at every swing sample (decision 14 and the actuators' limits): every bound
+of the leg (:func:`~scalf_opt.energy.limits.leg_bounds`: the joint range, the URDF's velocity
+and effort limits, the drives' bounds such as SCalf's cylinder stroke, force and speed), the
+foot at or above the ground at every interior sample and at least H above it at mid-swing, the
+foot leaving and meeting the ground from above (vertical acceleration >= 0 at lift-off and
+touch-down, where the foot is on the ground at rest vertically: without it the foot could dip
+below the ground between the first samples), and in foot space the target inside the reach.
 
-The CasADi graph ``theta -> path samples -> per-sample physics`` is built once here. The exact
-(non-smooth) energy is a compiled function of ``theta``; the NLP reuses the very same graph with
-the smooth friction-heat variant.
+The samples are the pipeline's gait's swing grid: the caller chooses the rate
+(:mod:`scalf_opt.optimize.sampling`). The per-sample physics is the leg's kernel
+(:mod:`scalf_opt.optimize.kernels`), the same functions for the exact energy and the NLP.
 """
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass
 from functools import cached_property
 
-import casadi as ca
 import numpy as np
 
+from scalf_opt.energy.limits import Bound
 from scalf_opt.energy.physics import LegPhysics, trapezoid_weights
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
-from scalf_opt.types import Expr
+from scalf_opt.optimize.kernels import FOOT_Z, FOOT_Z_ACCEL, REACH, Kernel, kernel_for
 
 FEASIBILITY_TOLERANCE = 1e-9
-"""Round-off allowed on every constraint when judging a point feasible [rad, m]."""
-
-HEAT_SMOOTHING_EPS_M_S = 1e-4
-"""Velocity scale of the smooth max in the NLP's friction heat [m/s].
-
-It is 70x below the smaller Stribeck velocity (0.007 m/s); the smooth max overestimates
-``max(v, 0)`` by at most eps/2, so the heat rate changes by at most ``F_s eps / 2 = 2.5 mW`` per
-cylinder: far below the energies compared (the exact energy is what every report prints).
-"""
-
-
-def casadi_name(*parts: str) -> str:
-    """A valid CasADi function name from arbitrary parts (letters, digits, single underscores)."""
-    name = re.sub(r"[^A-Za-z0-9]+", "_", "_".join(parts)).strip("_")
-    return name if name[:1].isalpha() else f"f_{name}"
+"""Round-off allowed on a geometric constraint when judging a point feasible [m, rad]."""
 
 
 @dataclass(frozen=True)
@@ -51,8 +40,9 @@ class Evaluation:
     Attributes:
         energy_j: Swing energy of both joints [J] (exact, non-smooth); inf if infeasible.
         reason: ``None`` if feasible, else which constraint fails first.
-        violation: Sum of every constraint's excess over its bound (metres and radians); zero
-            exactly when the point is feasible.
+        violation: Sum of every constraint's excess over its bound beyond the tolerance (SI
+            units of each constraint, bounds relative to their size); zero exactly when the
+            point is feasible.
     """
 
     energy_j: float
@@ -65,7 +55,7 @@ class SwingProblem:
     """One leg's swing optimization over one family.
 
     Attributes:
-        pipeline: The robot's energy pipeline (robot, gait, accounting).
+        pipeline: The robot's energy pipeline (robot, gait and its sample rate, accounting).
         leg: Leg name.
         family: Swing family.
     """
@@ -84,10 +74,25 @@ class SwingProblem:
         """The leg's physics."""
         return self.pipeline.physics(self.leg)
 
+    @cached_property
+    def kernel(self) -> Kernel:
+        """The leg's per-sample functions in the family's space."""
+        return kernel_for(self.physics, self.family.space)
+
+    @property
+    def bounds(self) -> tuple[Bound, ...]:
+        """The leg's bounds on per-sample quantities."""
+        return self.kernel.bounds
+
     @property
     def n_params(self) -> int:
         """Number of free parameters."""
         return self.family.n_params
+
+    @property
+    def n_samples(self) -> int:
+        """Number of swing samples."""
+        return int(self.path.t_s.size)
 
     @cached_property
     def weights(self) -> np.ndarray:
@@ -95,29 +100,25 @@ class SwingProblem:
         return trapezoid_weights(self.path.t_s)
 
     @cached_property
-    def joint_bounds(self) -> tuple[np.ndarray, np.ndarray]:
-        """Lower and upper joint-angle bounds, each (2, 1) [rad]."""
-        leg = self.physics.leg
-        return leg.lower_limits_rad[:, None], leg.upper_limits_rad[:, None]
+    def samples_base(self) -> np.ndarray:
+        """The path at theta = 0 as kernel inputs, shape (6, n): y, y', y'' (two rows each)."""
+        return self.path.base.reshape(6, -1)
 
     @cached_property
-    def output_bounds(self) -> dict[str, tuple[float, float]]:
-        """Bounds of drive outputs by output name (``cyl_len_hip``: the stroke) [SI]."""
-        leg = self.physics.leg
-        lo, hi = leg.lower_limits_rad, leg.upper_limits_rad
-        out = {}
-        for output in self.physics.drive_outputs:
-            bounds = self.physics.drives[output.joint].output_bounds(
-                lo[output.joint], hi[output.joint]
-            )
-            if output.channel.name in bounds:
-                out[output.name] = bounds[output.channel.name]
-        return out
+    def samples_basis(self) -> np.ndarray:
+        """Change of the kernel inputs per unit parameter, shape (6, n, n_params)."""
+        return self.path.basis.reshape(6, self.n_samples, self.n_params)
+
+    def samples(self, theta: np.ndarray) -> np.ndarray:
+        """Kernel inputs (6, n) of a family member."""
+        if self.n_params == 0:
+            return self.samples_base
+        return self.samples_base + self.samples_basis @ np.asarray(theta, dtype=float)
 
     @cached_property
     def mid_index(self) -> int:
         """Index of the mid-swing sample (the swing grid has an even number of intervals)."""
-        return (self.path.t_s.size - 1) // 2
+        return (self.n_samples - 1) // 2
 
     @property
     def clearance_z_m(self) -> float:
@@ -129,67 +130,113 @@ class SwingProblem:
         """Ground height in the leg frame [m]."""
         return -self.pipeline.gait.stance_height_m
 
-    def graph(self, theta: Expr, heat_eps: float | None) -> dict[str, Expr]:
-        """Per-sample outputs (2 x n; drive outputs 1 x n) and reach cosines (1 x n) of theta."""
-        path = self.path
-        n = path.t_s.size
-        ys = []
-        for d in range(3):
-            y = ca.DM(path.base[d])
-            if path.n_params:
-                rows = [ca.mtimes(ca.DM(path.basis[d, c]), theta).T for c in range(2)]
-                y = y + ca.vertcat(*rows)
-            ys.append(y)
-        physics = self.physics
-        fn = physics.sample_function(path.space, self.pipeline.accounting, heat_eps).map(n)
-        outs = fn(ys[0], ys[1], ys[2], ca.DM.zeros(2, n))
-        result = dict(zip(physics.output_names, outs, strict=True))
-        if path.space == "foot":
-            result["reach"] = physics.kin.functions["reach"].map(n)(ys[0])
-        return result
+    @cached_property
+    def constraint_bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """Lower and upper bounds of the kernel's constraint rows at every sample, (m, n) each.
+
+        ``-inf``/``inf`` where a row does not apply: the foot height at the two end samples
+        (on the ground by construction), its acceleration at the interior samples.
+        """
+        rows, n = self.kernel.rows, self.n_samples
+        lower = np.full((len(rows), n), -np.inf)
+        upper = np.full((len(rows), n), np.inf)
+        for i, b in enumerate(self.bounds):
+            lower[i], upper[i] = b.lower, b.upper
+        z = self.kernel.row(FOOT_Z)
+        lower[z, 1:-1] = self.ground_z_m
+        lower[z, self.mid_index] = self.clearance_z_m
+        lower[self.kernel.row(FOOT_Z_ACCEL), [0, -1]] = 0.0
+        if REACH in rows:
+            lower[self.kernel.row(REACH)], upper[self.kernel.row(REACH)] = -1.0, 1.0
+        return lower, upper
 
     @cached_property
-    def exact_function(self) -> ca.Function:
-        """Compiled ``theta -> (energy, q, foot, reach, bounded drive outputs)``, exact energy."""
-        theta = ca.SX.sym("theta", self.n_params)
-        g = self.graph(theta, None)
-        energy = ca.sum1(ca.mtimes(g["power"], ca.DM(self.weights)))
-        reach = g.get("reach", ca.DM.zeros(1, self.path.t_s.size))
-        bounded = list(self.output_bounds)
-        return ca.Function(
-            casadi_name(self.leg, self.family.name, "swing_energy"),
-            [theta],
-            [energy, g["q"], g["foot"], reach, *(g[name] for name in bounded)],
-            ["theta"],
-            ["energy", "q", "foot", "reach", *bounded],
-        )
+    def input_rows(self) -> dict[int, int]:
+        """Constraint rows that are kernel inputs themselves: row of ``c`` -> row of ``Y``.
+
+        In joint space the joint angles and rates are the samples' own coordinates, so their
+        bounds (joint range, URDF velocity limit) bound the NLP's lifted variables directly,
+        which Ipopt handles more cheaply than constraints.
+        """
+        if self.family.space != "joint":
+            return {}
+        inputs = {"q": 0, "qd": 2}
+        return {
+            i: inputs[b.output] + int(b.row or 0)
+            for i, b in enumerate(self.bounds)
+            if b.output in inputs
+        }
+
+    @cached_property
+    def constraint_mask(self) -> np.ndarray:
+        """Which entries of the kernel's ``c`` (m, n) carry a bound.
+
+        The pattern depends only on the kernel and the number of samples.
+        """
+        lower, upper = self.constraint_bounds
+        return np.isfinite(lower) | np.isfinite(upper)
+
+    @cached_property
+    def constraint_index(self) -> np.ndarray:
+        """Flat (column-major) indices of the entries of ``c`` that carry a bound."""
+        return np.flatnonzero(self.constraint_mask.ravel(order="F"))
+
+    @cached_property
+    def input_bounds(self) -> tuple[np.ndarray, np.ndarray]:
+        """Bounds on the kernel inputs ``Y`` (6, n) from :attr:`input_rows` (else infinite)."""
+        lower = np.full((6, self.n_samples), -np.inf)
+        upper = np.full((6, self.n_samples), np.inf)
+        c_lo, c_hi = self.constraint_bounds
+        for row, y_row in self.input_rows.items():
+            lower[y_row], upper[y_row] = c_lo[row], c_hi[row]
+        return lower, upper
+
+    @cached_property
+    def constraint_tolerance(self) -> np.ndarray:
+        """Round-off allowed per constraint row, (m, 1): bounds relative to their size."""
+        tol = np.full((len(self.kernel.rows), 1), FEASIBILITY_TOLERANCE)
+        for i, b in enumerate(self.bounds):
+            tol[i] = b.tolerance()
+        return tol
+
+    def outputs(self, theta: np.ndarray) -> dict[str, np.ndarray]:
+        """Exact per-sample outputs of a member: ``power``, ``p_mech`` (2, n), ``c`` (m, n)."""
+        out = self.kernel.evaluate_exact(self.pipeline.accounting, self.samples(theta))
+        return {"power": out[0:2], "p_mech": out[2:4], "c": out[4:]}
+
+    def energy_j(self, theta: np.ndarray) -> float:
+        """Exact swing energy of a member [J], feasible or not."""
+        return float(np.sum(self.outputs(theta)["power"] @ self.weights))
 
     def evaluate(self, theta: np.ndarray) -> Evaluation:
         """Exact swing energy and feasibility of ``theta`` (family units)."""
-        energy, q, foot, reach, *outputs = (
-            np.array(v) for v in self.exact_function(np.asarray(theta, dtype=float))
-        )
-        if not np.all(np.isfinite(q)):
-            excess = np.abs(reach) - 1.0
-            out_of_reach = float(np.sum(excess[excess > 0])) or 1.0  # NaN angles: always > 0
-            return Evaluation(float("inf"), "foot target out of reach", out_of_reach)
-        lo, hi = self.joint_bounds
-        excesses = {
-            "joint limit": np.concatenate([(lo - q).ravel(), (q - hi).ravel()]),
-            "foot below ground": self.ground_z_m - foot[1],
-            "mid-swing clearance": np.array([self.clearance_z_m - foot[1, self.mid_index]]),
-        }
-        for (name, (b_lo, b_hi)), value in zip(self.output_bounds.items(), outputs, strict=True):
-            excesses[f"{name} out of range"] = np.concatenate(
-                [(b_lo - value).ravel(), (value - b_hi).ravel()]
-            )
-        # only what exceeds the tolerance counts, so that feasible <=> violation == 0 exactly
-        # (samples that touch a bound, like the feet at lift-off, carry round-off of 1e-16)
-        beyond = {
-            k: e[e > FEASIBILITY_TOLERANCE] - FEASIBILITY_TOLERANCE for k, e in excesses.items()
-        }
-        violation = float(sum(np.sum(e) for e in beyond.values()))
-        for reason, excess in beyond.items():
-            if excess.size:
-                return Evaluation(float("inf"), reason, violation)
-        return Evaluation(float(energy.item()), None, 0.0)
+        out = self.outputs(theta)
+        c = out["c"]
+        if not np.all(np.isfinite(c)):
+            if REACH in self.kernel.rows:
+                over = np.abs(c[self.kernel.row(REACH)]) - 1.0
+                amount = float(np.sum(over[over > 0])) or 1.0  # NaN angles: always > 0
+                return Evaluation(float("inf"), "foot target out of reach", amount)
+            return Evaluation(float("inf"), "non-finite motion", 1.0)
+        lower, upper = self.constraint_bounds
+        excess: np.ndarray = np.maximum(np.maximum(lower - c, c - upper), 0.0)
+        # relative to each row's scale (1 m, 1 rad, or the bound's size: 14 kN of force), so
+        # that the feasibility phase of the pattern search weighs every constraint alike
+        tol = self.constraint_tolerance
+        beyond: np.ndarray = np.where(excess > tol, excess, 0.0) * (FEASIBILITY_TOLERANCE / tol)
+        violation = float(np.sum(beyond))
+        if violation > 0.0:
+            row, sample = np.unravel_index(int(np.argmax(beyond)), beyond.shape)
+            return Evaluation(float("inf"), self._reason(int(row), int(sample)), violation)
+        return Evaluation(float(np.sum(out["power"] @ self.weights)), None, 0.0)
+
+    def _reason(self, row: int, sample: int) -> str:
+        name = self.kernel.rows[row]
+        if row < len(self.bounds):
+            b = self.bounds[row]
+            return f"{b.name} beyond its {b.source}"
+        if name == FOOT_Z:
+            return "mid-swing clearance" if sample == self.mid_index else "foot below ground"
+        if name == FOOT_Z_ACCEL:
+            return "foot leaves or meets the ground from below"
+        return "foot target out of reach"

@@ -12,6 +12,7 @@ from typing import Any
 
 import numpy as np
 
+from scalf_opt.errors import ConfigError
 from scalf_opt.optimize.nlp import build_nlp, solve_nlp
 from scalf_opt.optimize.pattern_search import (
     PatternSearchOptions,
@@ -189,7 +190,8 @@ def run_ipopt(
     """
     theta0 = np.zeros(problem.n_params) if theta0 is None else np.asarray(theta0, dtype=float)
     start = time.perf_counter()
-    solution = solve_nlp(build_nlp(problem, ipopt_options), theta0)
+    built = build_nlp(problem, ipopt_options)
+    solution = solve_nlp(built, problem, theta0)
     elapsed = time.perf_counter() - start
     final = problem.evaluate(solution.theta)
     stats = dict(solution.stats)
@@ -221,6 +223,8 @@ def optimize(
 ) -> SwingOptimum:
     """Run ``method`` (``pattern`` or ``ipopt``) on ``problem``."""
     check_choice(method, Method, "method")
+    if method not in ("pattern", "ipopt"):
+        raise ConfigError(f"method {method!r} optimizes no family (see scalf_opt.optimize.bound)")
     if method == "pattern":
         return run_pattern_search(problem, theta0, pattern_options)
     return run_ipopt(problem, theta0, ipopt_options)

@@ -1,19 +1,24 @@
 """Reproduce the paper's Tables 5 and 6: reference, pattern search and Ipopt, side by side.
 
-For the RF and LH legs (LF and RH repeat them half a cycle later, the paper's symmetry):
+For the RF and LH legs (LF and RH repeat them half a cycle later, the paper's symmetry), each
+run through :func:`~scalf_opt.optimize.driver.optimize_swings`, the code path and defaults of
+``scalf-opt optimize`` (so that ``paper`` and ``optimize`` give the same number for the same
+question):
 
 * the cubic-spline reference;
 * the pattern search on the paper family with the paper's settings (start (0, 0), step
   (0.5, 0.5), precision 0.1), and again at precision 1e-4 (validation);
 * Ipopt on the paper family (the NLP optimum the pattern search is validated against);
-* Ipopt on the richest default family, warm-started from the paper family's optimum (nested).
+* Ipopt on the default rich family;
+* the free-trajectory bound of each leg and every run's gap to it, and the default family with
+  the stance optimized too (beyond the paper; both left out in quick mode).
 """
 
 from __future__ import annotations
 
 import time
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -25,9 +30,11 @@ from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.robot import Robot
+from scalf_opt.optimize.bound import FreeBound, bound_for
+from scalf_opt.optimize.driver import Settings, SwingOptimization, optimize_swings
+from scalf_opt.optimize.free_stance import FreeStance, optimize_stance
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
-from scalf_opt.optimize.problem import SwingProblem
-from scalf_opt.optimize.solve import SwingOptimum, run_ipopt, run_pattern_search
+from scalf_opt.optimize.solve import SwingOptimum
 from scalf_opt.types import FIRST_PAIR
 
 FINE_PRECISION = 1e-4
@@ -35,13 +42,17 @@ FINE_PRECISION = 1e-4
 
 PAIR = FIRST_PAIR
 
-RUNS: dict[str, tuple[str, str]] = {
-    "pattern": ("paper", "pattern search, paper family (precision 0.1)"),
-    "pattern_fine": ("paper", f"pattern search, paper family (precision {FINE_PRECISION:g})"),
-    "ipopt": ("paper", "Ipopt, paper family"),
-    "ipopt_rich": (DEFAULT_FAMILY, f"Ipopt, {DEFAULT_FAMILY} family"),
+RUNS: dict[str, tuple[str, str, Settings]] = {
+    "pattern": ("paper", "pattern search, paper family (precision 0.1)", Settings("pattern")),
+    "pattern_fine": (
+        "paper",
+        f"pattern search, paper family (precision {FINE_PRECISION:g})",
+        Settings("pattern", pattern=PatternSearchOptions(precision=FINE_PRECISION)),
+    ),
+    "ipopt": ("paper", "Ipopt, paper family", Settings()),
+    "ipopt_rich": (DEFAULT_FAMILY, f"Ipopt, {DEFAULT_FAMILY} family", Settings()),
 }
-"""Run key -> (family, label)."""
+"""Run key -> (family, label, settings); the settings are ``scalf-opt optimize``'s."""
 
 
 @dataclass
@@ -49,36 +60,59 @@ class Reproduction:
     """Everything the paper report shows.
 
     Attributes:
-        gait: The gait.
-        reference: Robot cycle with the reference swing on every leg.
-        optima: Run key -> leg -> optimizer answer.
-        cycles: Run key -> robot cycle with that run's swing (LF, RH by symmetry).
+        pipeline: Robot, gait and accounting of the reproduction.
+        reference: Robot cycle with the reference swing on every leg, at the gait's rate.
+        runs: Run key -> the optimization (RF and LH).
+        optima: Run key -> leg -> best optimizer answer.
+        cycles: Run key -> robot cycle with that run's swing (LF, RH by symmetry), at its rate.
+        references: Run key -> the reference cycle at that run's rate.
+        bounds: Leg -> the free-trajectory bound (empty when left out).
+        free_stance: The default family with the stance optimized too (``None`` when left out).
         wall_time_s: Time of the whole reproduction [s].
     """
 
-    gait: Gait
+    pipeline: EnergyPipeline
     reference: RobotCycle
+    runs: dict[str, SwingOptimization] = field(default_factory=dict)
     optima: dict[str, dict[str, SwingOptimum]] = field(default_factory=dict)
     cycles: dict[str, RobotCycle] = field(default_factory=dict)
+    references: dict[str, RobotCycle] = field(default_factory=dict)
+    bounds: dict[str, FreeBound] = field(default_factory=dict)
+    free_stance: FreeStance | None = None
     wall_time_s: float = 0.0
 
     @property
+    def gait(self) -> Gait:
+        """The gait."""
+        return self.pipeline.gait
+
+    @property
     def all_solved(self) -> bool:
-        """Every optimizer converged to a feasible point."""
-        return all(o.success for runs in self.optima.values() for o in runs.values())
+        """Every optimizer converged to a feasible point, every bound has a solved level.
+
+        (Whether a bound's refinement converged is reported beside it, not counted here.)
+        """
+        return (
+            all(run.success for run in self.runs.values())
+            and all(b.result.success for b in self.bounds.values())
+            and (self.free_stance is None or self.free_stance.success)
+        )
 
 
 def reproduce(
     pipeline: EnergyPipeline,
+    beyond: bool = True,
     ipopt_options: dict[str, Any] | None = None,
     progress: Callable[[str], None] | None = None,
 ) -> Reproduction:
     """Run every optimizer of the paper's comparison on the RF and LH legs.
 
     Args:
-        pipeline: Robot, gait (accounting: the paper's).
+        pipeline: Robot, gait, accounting.
+        beyond: Also compute the free-trajectory bound (and every run's gap to it) and the
+            default family with a free stance.
         ipopt_options: Extra Ipopt options (e.g. ``{"print_level": 5}`` for its log).
-        progress: Called with a label before each optimizer run.
+        progress: Called with a label before each step.
     """
     start = time.perf_counter()
 
@@ -86,32 +120,42 @@ def reproduce(
         if progress is not None:
             progress(label)
 
-    out = Reproduction(pipeline.gait, pipeline.robot_cycle(make_family("reference")))
-    paper, rich = make_family("paper"), make_family(DEFAULT_FAMILY)
-    for key in RUNS:
-        out.optima[key] = {}
-    for leg in PAIR:
-        problem = SwingProblem(pipeline, leg, paper)
-        step(f"{leg}: {RUNS['pattern'][1]}")
-        out.optima["pattern"][leg] = run_pattern_search(problem)
-        step(f"{leg}: {RUNS['pattern_fine'][1]}")
-        out.optima["pattern_fine"][leg] = run_pattern_search(
-            problem, options=PatternSearchOptions(precision=FINE_PRECISION)
+    out = Reproduction(pipeline, pipeline.robot_cycle(make_family("reference")))
+    for key, (family_name, label, settings) in RUNS.items():
+        step(label)
+        settings = replace(settings, ipopt=ipopt_options)
+        run = optimize_swings(pipeline, PAIR, make_family(family_name), settings)
+        out.runs[key] = run
+        out.optima[key] = {leg: r.best for leg, r in run.legs.items()}
+        if run.success:
+            out.cycles[key] = run.cycle()
+            out.references[key] = run.reference_cycle()
+    if beyond and all(out.runs[k].success for k in ("ipopt", "ipopt_rich")):
+        for leg in PAIR:
+            seeds = [
+                (out.runs[k].family, out.runs[k].legs[leg].best.theta)
+                for k in ("ipopt", "ipopt_rich")
+            ]
+            step(f"{leg}: the free-trajectory bound")
+            out.bounds[leg] = bound_for(pipeline, leg, seeds)
+            for run in out.runs.values():
+                run.legs[leg].bound_check_energy_j = out.bounds[leg].check_energy_j
+        step("the free stance")
+        out.free_stance = optimize_stance(
+            pipeline, make_family(DEFAULT_FAMILY), Settings(ipopt=ipopt_options)
         )
-        step(f"{leg}: {RUNS['ipopt'][1]}")
-        nlp = run_ipopt(problem, ipopt_options=ipopt_options)
-        out.optima["ipopt"][leg] = nlp
-        rich_problem = SwingProblem(pipeline, leg, rich)
-        warm = rich.embed(nlp.theta, paper) if nlp.success else None
-        step(f"{leg}: {RUNS['ipopt_rich'][1]}")
-        out.optima["ipopt_rich"][leg] = run_ipopt(rich_problem, warm, ipopt_options)
-    for key, (family_name, _) in RUNS.items():
-        runs = out.optima[key]
-        if all(o.success for o in runs.values()):
-            thetas = {leg: runs[leg].theta for leg in PAIR}
-            out.cycles[key] = pipeline.robot_cycle(make_family(family_name), thetas)
     out.wall_time_s = time.perf_counter() - start
     return out
+
+
+def free_stance_label(result: FreeStance) -> str:
+    """The Table 6 label of the free-stance row."""
+    g = result.best.gait
+    return (
+        f"Ipopt, {DEFAULT_FAMILY} family, free stance (z0 = {g.stance_height_m:.3f} m, "
+        f"x-offset front {1000 * g.stance_x_offset_front_m:+.1f} mm, hind "
+        f"{1000 * g.stance_x_offset_hind_m:+.1f} mm)"
+    )
 
 
 def gap_percent(optimum: SwingOptimum, best: SwingOptimum) -> float:
@@ -121,11 +165,22 @@ def gap_percent(optimum: SwingOptimum, best: SwingOptimum) -> float:
 
 def table6_rows(rep: Reproduction) -> list[dict[str, float | str]]:
     """Rows of Table 6: per trajectory, energies per leg and their changes against the reference."""
-    ref = rep.reference
     rows: list[dict[str, float | str]] = []
-    for key, cycle in [("reference", ref), *rep.cycles.items()]:
-        label = "reference (cubic spline)" if key == "reference" else RUNS[key][1]
-        row: dict[str, float | str] = {"trajectory": label}
+    entries = [("reference", rep.reference), *rep.cycles.items()]
+    if rep.free_stance is not None and rep.free_stance.success:
+        entries.append(("free_stance", rep.free_stance.cycle()))
+    for key, cycle in entries:
+        if key == "reference":
+            label, ref = "reference (cubic spline)", rep.reference
+        elif key == "free_stance":
+            assert rep.free_stance is not None
+            label, ref = free_stance_label(rep.free_stance), rep.free_stance.reference
+        else:
+            label, ref = RUNS[key][1], rep.references[key]
+        row: dict[str, float | str] = {
+            "trajectory": label,
+            "sample_rate_hz": cycle.gait.sample_rate_hz,
+        }
         for leg in PAIR:
             row[f"{leg}_swing_j"] = cycle.legs[leg].swing_energy_j
             row[f"{leg}_cycle_j"] = cycle.legs[leg].energy_j
@@ -146,7 +201,7 @@ def table6_rows(rep: Reproduction) -> list[dict[str, float | str]]:
 def table5_rows(rep: Reproduction) -> list[dict[str, float | str]]:
     """Rows of Table 5: the optimum's parameters, iterations and swing energy per run and leg."""
     rows: list[dict[str, float | str]] = []
-    for key, (family, label) in RUNS.items():
+    for key, (family, label, _) in RUNS.items():
         for leg in PAIR:
             o = rep.optima[key][leg]
             row: dict[str, float | str] = {"run": label, "family": family, "leg": leg}
@@ -158,6 +213,7 @@ def table5_rows(rep: Reproduction) -> list[dict[str, float | str]]:
                     "evaluations": o.evaluations,
                     "swing_energy_j": o.swing_energy_j,
                     "status": o.status,
+                    "sample_rate_hz": rep.runs[key].rate_hz,
                     "wall_time_s": o.wall_time_s,
                 }
             )
@@ -175,7 +231,16 @@ def summary(
         "reference_average_power_w": rep.reference.average_power_w,
         "table5": table5_rows(rep),
         "table6": table6_rows(rep),
-        "optima": {k: {leg: o.as_dict() for leg, o in v.items()} for k, v in rep.optima.items()},
+        "optima": {
+            k: {leg: r.as_dict() for leg, r in run.legs.items()} for k, run in rep.runs.items()
+        },
+        "sample_rate_hz": {k: run.rate_hz for k, run in rep.runs.items()},
+        "free_bound": {leg: b.as_dict() for leg, b in rep.bounds.items()},
+        "free_stance": rep.free_stance.as_dict() if rep.free_stance is not None else None,
+        "gap_to_bound_pct": {
+            k: {leg: r.gap_to_bound_percent for leg, r in run.legs.items()}
+            for k, run in rep.runs.items()
+        },
         "validation": {
             leg: {
                 "gap_at_paper_precision_pct": gap_percent(

@@ -12,6 +12,7 @@ import pytest
 from scalf_opt.cli import main
 from scalf_opt.energy.physics import trapezoid_weights
 from scalf_opt.robots.files import shipped_file
+from scalf_opt.robots.loading import load_robot
 
 SCALF_COLUMNS = [
     "leg",
@@ -146,16 +147,171 @@ def test_optimize_writes_the_optimized_cycle(tmp_path, capsys):
         assert len(list(csv.DictReader(handle))) == 4 * (51 + 51)
 
 
+def test_optimize_records_the_optimum_its_checks_and_peaks(tmp_path, capsys):
+    code, out, _ = run(["optimize", "--family", "joint-4", "--out", str(tmp_path)], capsys)
+    assert code == 0
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    record = summary["optimization"]["RF"]
+    assert record["family"] == "joint-4" and record["success"]
+    assert record["worse_than_reference"] is False
+    assert abs(record["sampling_error"]) <= 0.005
+    assert record["swing_energy_j"] == pytest.approx(summary["legs"]["RF"]["swing_energy_j"])
+    assert summary["optimization_run"]["sample_rate_hz"] == summary["gait"]["sample_rate_hz"]
+    assert summary["peaks"]["RF"]["tau_hip"]["limit"] == 800.0
+    assert summary["peaks"]["LH"]["cyl_force_knee"]["exceeds"] is False
+    assert summary["limit_violations"] == []
+    assert "peaks over the cycle" in out and "limit knee" in out
+
+
+def write_gait(path, **fields):
+    path.write_text("[gait]\n" + "".join(f"{k} = {v!r}\n" for k, v in fields.items()))
+    return path
+
+
+def test_evaluate_swing_re_evaluates_a_saved_optimum(tmp_path, capsys):
+    opt, ev = tmp_path / "opt", tmp_path / "ev"
+    assert run(["optimize", "--family", "joint-6", "--out", str(opt)], capsys)[0] == 0
+    saved = json.loads((opt / "summary.json").read_text())
+    rate = saved["gait"]["sample_rate_hz"]
+    gait = write_gait(tmp_path / "same.toml", sample_rate_hz=rate)
+    code, out, _ = run(
+        ["evaluate", "--swing", str(opt / "summary.json"), "--gait", str(gait), "--out", str(ev)],
+        capsys,
+    )
+    assert code == 0 and "saved optimum (joint-6" in out
+    again = json.loads((ev / "summary.json").read_text())
+    for leg in ("RF", "LH", "LF", "RH"):
+        assert again["legs"][leg]["swing_energy_j"] == pytest.approx(
+            saved["legs"][leg]["swing_energy_j"], rel=1e-12
+        )
+    # by default at the optimum's own gait and rate; any rate and any accounting: the paper's
+    # 200 Hz (with a note), positive work only
+    code, out, _ = run(["evaluate", "--swing", str(opt), "--json"], capsys)
+    assert code == 0 and json.loads(out)["gait"]["sample_rate_hz"] == rate
+    code, out, _ = run(
+        [
+            "evaluate",
+            "--swing",
+            str(opt / "summary.json"),
+            "--rate",
+            "200",
+            "--accounting",
+            "positive",
+        ],
+        capsys,
+    )
+    assert code == 0 and f"found at {rate:g} Hz" in out
+
+
+@pytest.mark.parametrize(
+    ("field", "value"),
+    [("period_s", 0.6), ("stance_height_m", 0.7), ("clearance_m", 0.1), ("duty_cycle", 0.6)],
+)
+def test_evaluate_swing_refuses_another_timing(tmp_path, capsys, field, value):
+    opt = tmp_path / "opt"
+    assert run(["optimize", "--family", "paper", "--leg", "RF", "--out", str(opt)], capsys)[0] == 0
+    gait = write_gait(tmp_path / "other.toml", **{field: value})
+    code, _, err = run(
+        ["evaluate", "--swing", str(opt / "summary.json"), "--gait", str(gait)], capsys
+    )
+    assert code == 2 and err.count("\n") == 1 and f"gait field {field}" in err
+
+
+def test_evaluate_swing_refuses_what_is_not_an_optimum(tmp_path, capsys):
+    assert run(["evaluate", "--out", str(tmp_path)], capsys)[0] == 0
+    code, _, err = run(["evaluate", "--swing", str(tmp_path / "summary.json")], capsys)
+    assert code == 2 and "missing field optimization" in err and err.count("\n") == 1
+    (tmp_path / "bad.json").write_text("{not json")
+    code, _, err = run(["evaluate", "--swing", str(tmp_path / "bad.json")], capsys)
+    assert code == 2 and "bad.json: not valid JSON" in err
+    code, _, err = run(["evaluate", "--swing", str(tmp_path / "none.json")], capsys)
+    assert code == 2 and "none.json" in err
+    broken = json.loads((tmp_path / "summary.json").read_text())
+    broken["optimization"] = {"RF": {"family": "joint-4", "parameters": {}}}
+    (tmp_path / "broken.json").write_text(json.dumps(broken))
+    code, _, err = run(["evaluate", "--swing", str(tmp_path / "broken.json")], capsys)
+    assert code == 2 and "optimization.RF.success" in err
+
+
+def test_paper_and_optimize_give_the_same_optimum(tmp_path, capsys):
+    from scalf_opt.energy.pipeline import EnergyPipeline
+    from scalf_opt.locomotion.gait import Gait
+    from scalf_opt.robots.loading import load_robot
+    from scalf_opt.studies.paper import reproduce
+
+    gait = write_gait(tmp_path / "trot.toml", period_s=0.4, step_length_m=0.3)
+    assert run(["optimize", "--gait", str(gait), "--out", str(tmp_path)], capsys)[0] == 0
+    saved = json.loads((tmp_path / "summary.json").read_text())
+    rep = reproduce(
+        EnergyPipeline(load_robot("scalf"), Gait(period_s=0.4, step_length_m=0.3)), beyond=False
+    )
+    for leg in ("RF", "LH"):
+        ours = rep.runs["ipopt_rich"].legs[leg].best
+        assert saved["optimization"][leg]["swing_energy_j"] == ours.swing_energy_j
+        assert list(saved["optimization"][leg]["parameters"].values()) == list(
+            map(float, ours.theta)
+        )
+
+
+def test_an_optimum_worse_than_the_reference_says_so(tmp_path, capsys):
+    # fourier-2 (foot space, two free terms per coordinate) cannot reach the reference on SCalf
+    code, out, _ = run(["optimize", "--family", "fourier-2", "--out", str(tmp_path)], capsys)
+    assert code == 0
+    assert "warning: RF: the fourier-2 optimum" in out and "WORSE than the reference" in out
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["optimization"]["RF"]["worse_than_reference"] is True
+    assert summary["optimization_run"]["any_worse_than_reference"] is True
+
+
+def test_optimize_starts_and_regenerative_refusal(tmp_path, capsys):
+    code, out, _ = run(["optimize", "--family", "joint-3", "--leg", "LH", "--starts", "3"], capsys)
+    assert code == 0 and "3 starts, best" in out and "spread" in out
+    # SCalf's URDF without its actuator file: ideal drives, which lose nothing
+    bare = tmp_path / "bare_scalf.urdf"
+    bare.write_text(load_robot("scalf").urdf_path.read_text())
+    code, _, err = run(["optimize", "--urdf", str(bare), "--accounting", "regenerative"], capsys)
+    assert code == 2 and err.count("\n") == 1 and "nothing to optimize" in err
+    code, _, err = run(["optimize", "--starts", "0"], capsys)
+    assert code == 2 and "--starts" in err
+
+
+def test_optimize_free_method_and_free_stance(tmp_path, capsys):
+    code, out, _ = run(
+        ["optimize", "--method", "free", "--robot", "hyq", "--leg", "RF", "--out", str(tmp_path)],
+        capsys,
+    )
+    assert code == 0 and "RF: free-trajectory bound" in out
+    summary = json.loads((tmp_path / "summary.json").read_text())
+    assert summary["optimization"]["RF"]["family"].startswith("bspline-")
+    assert summary["free_bound"]["RF"]["converged"]
+    # the saved bound is an optimum like any other
+    code, out, _ = run(
+        ["evaluate", "--robot", "hyq", "--swing", str(tmp_path / "summary.json")], capsys
+    )
+    assert code == 0 and "saved optimum (bspline-" in out
+    code, out, _ = run(
+        ["optimize", "--family", "paper", "--free-stance", "--out", str(tmp_path / "fs")], capsys
+    )
+    assert code == 0 and "free stance: z0 =" in out and "from the stance" in out
+    summary = json.loads((tmp_path / "fs" / "summary.json").read_text())
+    assert summary["gait"]["stance_height_m"] == summary["free_stance"]["stance"]["stance_height_m"]
+    assert summary["total_energy_per_cycle_j"] < summary["reference_total_energy_per_cycle_j"]
+
+
 def test_optimize_bad_arguments(capsys):
     code, _, err = run(["optimize", "--family", "reference"], capsys)
     assert code == 2 and "no free parameter" in err
+    code, _, err = run(["optimize", "--family", "bspline-16"], capsys)
+    assert code == 2 and "method 'free'" in err
+    code, _, err = run(["optimize", "--free-stance", "--leg", "RF"], capsys)
+    assert code == 2 and "--free-stance" in err
     with pytest.raises(SystemExit) as info:
         run(["optimize", "--leg", "XX"], capsys)
     assert info.value.code == 2 and "--leg: invalid choice: 'XX'" in capsys.readouterr().err
 
 
 def test_paper_writes_report_json_and_csv(tmp_path, capsys):
-    code, out, _ = run(["paper", "--out", str(tmp_path)], capsys)
+    code, out, _ = run(["paper", "--quick", "--out", str(tmp_path)], capsys)
     assert code == 0
     assert "Table 5" in out and "-33.76" in out and "671.52 -> 617.68" in out
     for name in ("report.md", "paper.json", "table5.csv", "table6.csv"):
@@ -171,3 +327,18 @@ def test_paper_writes_report_json_and_csv(tmp_path, capsys):
     assert data["all_solved"]
     for leg in ("RF", "LH"):
         assert abs(data["validation"][leg]["gap_at_fine_precision_pct"]) < 0.1
+
+
+def test_output_into_a_closed_pipe_ends_quietly():
+    # the reader goes away before scalf-opt writes (as `| head -2` does with a long output)
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "scalf_opt.cli", "evaluate"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+    proc.stdout.close()
+    err = proc.stderr.read()
+    proc.wait()
+    assert proc.returncode == 0  # the output is dropped, the work done (files written)
+    assert "Traceback" not in err and "BrokenPipe" not in err and "Exception" not in err

@@ -11,6 +11,7 @@ import pytest
 import scalf_opt
 from scalf_opt.cli import main
 from scalf_opt.cli.commands import evaluate as evaluate_command
+from scalf_opt.io.results import split_timings, to_json
 from scalf_opt.types import LEG_NAMES
 
 
@@ -153,11 +154,8 @@ def test_the_api_gives_the_command_line_s_numbers(tmp_path, capsys):
     cli = json.loads(out)
     assert code == 0
     api.pop("provenance"), cli.pop("provenance")
-    for record in (*api["optimization"].values(), *cli["optimization"].values()):
-        record.pop("wall_time_s"), record["solver_stats"].pop("solver_time_s", None)
-        for key in [k for k in record["solver_stats"] if k.startswith("t_")]:
-            record["solver_stats"].pop(key)
-    assert api == cli
+    assert "wall_time_s" in api["optimization_run"]  # the API keeps the run times ...
+    assert json.loads(to_json(split_timings(api)[0])) == cli  # ... --json leaves them out
 
 
 @pytest.mark.parametrize(

@@ -41,7 +41,7 @@ def foot_in_trunk_xz(robot, leg, p_leg):
 
 def test_stance_forces_balance_the_trunk(model, scalf):
     f_rf, f_lh = model.stance_forces["RF"], model.stance_forces["LH"]
-    stance = model.stance_path
+    stance = model.stance_paths["RF"]
     feet_rf = foot_in_trunk_xz(scalf, "RF", stance[0])
     feet_lh = foot_in_trunk_xz(scalf, "LH", stance[0])
     weight = scalf.trunk_mass_kg * 9.81
@@ -166,7 +166,7 @@ def test_hind_leg_through_the_mirror_equals_the_direct_computation(model, cycle)
     # Mirror LH across the trunk's y-z plane: it becomes a front leg (RF's geometry) walking the
     # path x -> -x with force F_x -> -F_x; joint angles and torques change sign.
     rf = model.physics("RF")
-    stance, tau = model.stance_path, model.stance_times_s
+    stance, tau = model.stance_paths["RF"], model.stance_times_s
     mirror = np.array([-1.0, 1.0])[None, :, None]
     grf = model.stance_forces["LH"] * np.array([[-1.0], [1.0]])
     mirrored = evaluate_phase(
@@ -200,7 +200,7 @@ def test_paper_symmetry_between_diagonal_pairs(cycle):
 
 @pytest.mark.parametrize("leg", ["RF", "LH"])
 def test_casadi_pipeline_equals_plain_pinocchio_loop(model, cycle, leg):
-    stance, tau = model.stance_path, model.stance_times_s
+    stance, tau = model.stance_paths[leg], model.stance_times_s
     physics_leg = model.physics(leg).leg
     e_stance, tau_stance = phase_energy(physics_leg, *stance, model.stance_forces[leg], tau)
     np.testing.assert_allclose(cycle.legs[leg].stance.energy_j, e_stance, rtol=1e-9)

@@ -22,7 +22,7 @@ def test_paper_defaults():
 
 def test_stance_path_meets_table_3():
     g = Gait()
-    p, pd, pdd = stance_path(g, np.array([0.0, g.stance_duration_s]))
+    p, pd, pdd = stance_path(g, np.array([0.0, g.stance_duration_s]), "RF")
     s, t, z0 = g.step_length_m, g.period_s, g.stance_height_m
     np.testing.assert_allclose(p[:, 0], [s / 2, -z0], rtol=1e-15)
     np.testing.assert_allclose(p[:, 1], [-s / 2, -z0], rtol=1e-15)
@@ -36,8 +36,10 @@ def test_stance_velocity_is_the_derivative_of_the_position():
     g = Gait(step_length_m=0.3, period_s=0.6, duty_cycle=0.6)
     tau = np.linspace(0.0, g.stance_duration_s, 11)
     h = 1e-6
-    p_plus, p_minus = stance_path(g, tau + h)[0], stance_path(g, tau - h)[0]
-    np.testing.assert_allclose((p_plus - p_minus) / (2 * h), stance_path(g, tau)[1], atol=1e-8)
+    p_plus, p_minus = stance_path(g, tau + h, "RF")[0], stance_path(g, tau - h, "RF")[0]
+    np.testing.assert_allclose(
+        (p_plus - p_minus) / (2 * h), stance_path(g, tau, "RF")[1], atol=1e-8
+    )
 
 
 @pytest.mark.parametrize(

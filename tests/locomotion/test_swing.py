@@ -49,7 +49,9 @@ def end_residuals(path, theta, boundary):
 def test_every_member_meets_the_boundary_conditions(kinematics, name, leg):
     family = make_family(name)
     kin = kinematics[leg]
-    boundary = joint_boundary(GAIT, kin) if family.space == "joint" else foot_boundary(GAIT)
+    boundary = (
+        joint_boundary(GAIT, kin) if family.space == "joint" else foot_boundary(GAIT, kin.leg.name)
+    )
     path = family.path(GAIT, kin)
     rng = np.random.default_rng(7)
     for _ in range(50):
@@ -60,7 +62,7 @@ def test_every_member_meets_the_boundary_conditions(kinematics, name, leg):
 
 def test_joint_boundary_is_the_stance_seen_through_ik(kinematics):
     kin = kinematics["RF"]
-    b_joint, b_foot = joint_boundary(GAIT, kin), foot_boundary(GAIT)
+    b_joint, b_foot = joint_boundary(GAIT, kin), foot_boundary(GAIT, kin.leg.name)
     np.testing.assert_allclose(kin.forward(b_joint.start), b_foot.start, atol=1e-12)
     np.testing.assert_allclose(
         kin.jacobian(b_joint.end) @ b_joint.end_rate, b_foot.end_rate, atol=1e-12
@@ -98,14 +100,16 @@ def test_families_are_nested(kinematics):
         make_family("fourier-3").embed(np.zeros(2), make_family("paper"))
 
 
-def test_reference_spline_is_c2_through_the_apex():
-    path = make_family("reference").path(GAIT, None)
+def test_reference_spline_is_c2_through_the_apex(kinematics):
+    kin = kinematics["RF"]
+    path = make_family("reference").path(GAIT, kin)
     y = path.values()
     mid = path.t_s.size // 2
     assert y[0][1, mid] == pytest.approx(-GAIT.stance_height_m + GAIT.clearance_m, abs=1e-15)
     assert y[0][0, mid] == pytest.approx(0.0, abs=1e-15)
     assert abs(y[2][1, mid + 1] - y[2][1, mid - 1]) < 0.1 * np.max(np.abs(y[2][1]))
-    np.testing.assert_allclose(end_residuals(path, None, foot_boundary(GAIT)), 0.0, atol=1e-14)
+    boundary = foot_boundary(GAIT, kin.leg.name)
+    np.testing.assert_allclose(end_residuals(path, None, boundary), 0.0, atol=1e-14)
 
 
 def test_family_names_and_sizes():
@@ -141,3 +145,59 @@ def test_reference_spline_equals_scipy_clamped_cubic_spline():
         spline = CubicSpline([0, h, 2 * h], y, bc_type=((1, slopes[0]), (1, slopes[1])))
         for d in range(3):
             np.testing.assert_allclose(ours[d], spline(t, d), rtol=1e-12, atol=1e-12 / h**d)
+
+
+@pytest.mark.parametrize("spans", [2, 5, 16])
+@pytest.mark.parametrize("leg", ["RF", "LH"])
+def test_bspline_members_meet_the_boundary_conditions(kinematics, spans, leg):
+    kin = kinematics[leg]
+    family = make_family(f"bspline-{spans}")
+    assert family.n_params == 2 * (spans - 1)
+    path = family.path(GAIT, kin)
+    rng = np.random.default_rng(spans)
+    for _ in range(5):
+        theta = rng.normal(scale=20.0, size=family.n_params)
+        residual = end_residuals(path, theta, joint_boundary(GAIT, kin))
+        np.testing.assert_allclose(residual, 0.0, atol=1e-12)
+
+
+def test_bspline_design_matrix_derivatives_against_finite_differences():
+    from scalf_opt.locomotion.swing.bspline import design_matrices
+
+    s = (np.arange(40) + 0.37) / 40  # never a knot (a multiple of 1/8)
+    h = 1e-6
+    for d in (0, 1):
+        fd = (design_matrices(8, s + h)[d] - design_matrices(8, s - h)[d]) / (2 * h)
+        # central differences of cubic pieces; knots (multiples of 1/8) avoided by the grid
+        np.testing.assert_allclose(fd, design_matrices(8, s)[d + 1], atol=1e-5 * 8 ** (d + 1))
+    # a partition of unity, and at the ends only the end control point counts
+    np.testing.assert_allclose(design_matrices(8, s)[0].sum(axis=1), 1.0, atol=1e-14)
+    ends = design_matrices(8, np.array([0.0, 1.0]))[0]
+    np.testing.assert_allclose(ends[0], np.eye(11)[0], atol=1e-14)
+    np.testing.assert_allclose(ends[1], np.eye(11)[-1], atol=1e-14)
+
+
+def test_bspline_families_are_nested(kinematics):
+    # knot insertion: every member of bspline-K is a member of bspline-2K (exact fit)
+    kin = kinematics["RF"]
+    coarse, fine = make_family("bspline-8"), make_family("bspline-16")
+    theta = np.random.default_rng(2).normal(scale=15.0, size=coarse.n_params)
+    target = coarse.path(GAIT, kin).values(theta)
+    fine_path = fine.path(GAIT, kin)
+    design = fine_path.basis.reshape(-1, fine.n_params)
+    fit, *_ = np.linalg.lstsq(design, (target - fine_path.base).ravel(), rcond=None)
+    np.testing.assert_allclose(fine_path.values(fit), target, atol=1e-9)
+
+
+def test_stance_offset_moves_the_stance_and_the_swing_ends(kinematics):
+    from dataclasses import replace
+
+    gait = replace(GAIT, stance_x_offset_front_m=0.04, stance_x_offset_hind_m=-0.03)
+    front, hind = foot_boundary(gait, "RF"), foot_boundary(gait, "LH")
+    base = foot_boundary(GAIT, "RF")
+    np.testing.assert_allclose(front.start - base.start, [0.04, 0.0], atol=1e-15)
+    np.testing.assert_allclose(hind.end - base.end, [-0.03, 0.0], atol=1e-15)
+    # the reference's apex is midway between lift-off and touch-down
+    path = make_family("reference").path(gait, kinematics["RF"])
+    mid = path.t_s.size // 2
+    assert path.values()[0][0, mid] == pytest.approx(0.04, abs=1e-15)

@@ -2,16 +2,19 @@
 
 import itertools
 
+import casadi as ca
 import numpy as np
 import pytest
 
+from scalf_opt.energy.limits import violations
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S, kernel_for
 from scalf_opt.optimize.nlp import build_nlp
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
-from scalf_opt.optimize.problem import HEAT_SMOOTHING_EPS_M_S, SwingProblem
+from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import run_ipopt, run_pattern_search
 
 # The NLP smooths max(v, 0) by at most eps/2: heat rate error <= F_s eps / 2 per cylinder, so
@@ -98,21 +101,35 @@ def test_foot_space_families_are_nested_too(model):
 
 
 @pytest.mark.parametrize("leg", ["RF", "LH"])
-def test_richest_default_family_cuts_swing_energy_by_30_percent(model, reference, leg):
+def test_default_family_cuts_swing_energy_and_meets_every_constraint(model, reference, leg):
     problem = SwingProblem(model, leg, make_family(DEFAULT_FAMILY))
     optimum = run_ipopt(problem)
     assert optimum.success
     assert optimum.swing_energy_j <= 0.7 * reference.legs[leg].swing_energy_j
-    # and every constraint holds at the answer, checked on the raw samples
-    energy, q, foot, _, *lengths = (np.array(v) for v in problem.exact_function(optimum.theta))
-    lo, hi = problem.joint_bounds
-    assert np.all(q >= lo - 1e-9) and np.all(q <= hi + 1e-9)
-    assert np.all(foot[1] >= problem.ground_z_m - 1e-9)
-    assert foot[1, problem.mid_index] >= problem.clearance_z_m - 1e-9
-    assert list(problem.output_bounds) == ["cyl_len_hip", "cyl_len_knee"]
-    for (l_lo, l_hi), cyl_len in zip(problem.output_bounds.values(), lengths, strict=True):
-        assert np.all(cyl_len >= l_lo - 1e-9) and np.all(cyl_len <= l_hi + 1e-9)
-    assert float(energy.item()) == pytest.approx(optimum.swing_energy_j)
+    # every constraint holds, checked on the samples of the pipeline's own phase evaluation
+    # (the sample function the reports use, not the optimizer's compiled kernel)
+    swing = model.swing(leg, problem.family, optimum.theta)
+    assert violations(swing.values, problem.bounds) == []
+    foot_z = swing.values["foot"][1]
+    assert np.all(foot_z >= problem.ground_z_m - 1e-9)
+    assert foot_z[problem.mid_index] >= problem.clearance_z_m - 1e-9
+    assert swing.energy_j.sum() == pytest.approx(optimum.swing_energy_j, rel=1e-12)
+    names = {b.name for b in problem.bounds}
+    assert {"q_hip", "qd_knee", "tau_hip", "cyl_len_hip", "cyl_force_knee", "cyl_vel_hip"} <= names
+
+
+def test_kernel_equals_the_pipeline_sample_function(model):
+    # two code paths to the same numbers: the optimizer's kernel (compiled library) and the
+    # reports' per-phase evaluation (the CasADi sample function mapped over the samples)
+    family = make_family("joint-4")
+    problem = SwingProblem(model, "LH", family)
+    theta = np.random.default_rng(3).normal(size=problem.n_params)
+    swing = model.swing("LH", family, theta)
+    out = problem.outputs(theta)
+    np.testing.assert_allclose(out["power"], swing.values["power"], rtol=1e-10, atol=1e-9)
+    np.testing.assert_allclose(out["p_mech"], swing.values["p_mech"], rtol=1e-10, atol=1e-9)
+    for i, bound in enumerate(problem.bounds):
+        np.testing.assert_allclose(out["c"][i], bound.values(swing.values), rtol=1e-10, atol=1e-9)
 
 
 def test_nlp_objective_equals_exact_energy_at_the_optimum(model, paper_optima):
@@ -121,23 +138,37 @@ def test_nlp_objective_equals_exact_energy_at_the_optimum(model, paper_optima):
     assert abs(run.stats["smooth_objective_j"] - run.swing_energy_j) <= SMOOTHING_BOUND_J
 
 
-def test_nlp_gradient_against_finite_differences(model):
-    import casadi as ca
-
-    problem = SwingProblem(model, "RF", make_family("joint-3"))
-    theta = ca.SX.sym("theta", problem.n_params)
-    graph = problem.graph(theta, HEAT_SMOOTHING_EPS_M_S)
-    weights = ca.DM(np.tile(problem.weights, (2, 1)))
-    energy = ca.sum1(ca.sum2(graph["power"] * weights))
-    fn = ca.Function("e", [theta], [energy, ca.gradient(energy, theta)])
-    point = np.array([2.0, 20.0, -5.0, -10.0, 3.0, 4.0])
-    _, grad = fn(point)
-    h = 1e-6  # central differences: truncation ~h^2 |E'''|, round-off ~1e-16 E / h: 1e-6 relative
+@pytest.mark.parametrize("space", ["joint", "foot"])
+def test_compiled_kernel_derivatives_against_finite_differences(model, space):
+    # the NLP differentiates through the compiled kernel with the derivative functions its
+    # library holds (jac, adj1, jac_adj1): check first and second derivatives numerically
+    kernel = kernel_for(model.physics("RF"), space)
+    smooth = kernel.smooth()
+    y = ca.MX.sym("y", 6)
+    out = smooth(y)
+    weights = np.linspace(0.3, 1.7, out.size1())
+    scalar = ca.dot(ca.DM(weights), out)
+    grad = ca.Function("g", [y], [scalar, ca.gradient(scalar, y), ca.hessian(scalar, y)[0]])
+    family = make_family("joint-3" if space == "joint" else "fourier-3")
+    problem = SwingProblem(model, "RF", family)
+    point = problem.samples(np.full(problem.n_params, 0.5))[:, 17]
+    value, g, h = (np.array(v) for v in grad(point))
+    value = value.item()
+    assert np.all(np.isfinite(h)) and np.abs(h).max() > 0  # a reachable, non-trivial point
+    step = 1e-6 * np.maximum(1.0, np.abs(point))
+    # central differences: truncation ~step^2 |f'''|, round-off ~1e-16 |f| / step
     fd = [
-        (float(fn(point + h * e)[0]) - float(fn(point - h * e)[0])) / (2 * h)
-        for e in np.eye(problem.n_params)
+        (float(grad(point + s * e)[0]) - float(grad(point - s * e)[0])) / (2 * s)
+        for s, e in zip(step, np.eye(6), strict=True)
     ]
-    np.testing.assert_allclose(np.array(grad).ravel(), fd, rtol=1e-5, atol=1e-6)
+    np.testing.assert_allclose(g.ravel(), fd, rtol=1e-5, atol=1e-6 * abs(value))
+    fd2 = np.array(
+        [
+            (np.array(grad(point + s * e)[1]) - np.array(grad(point - s * e)[1])).ravel() / (2 * s)
+            for s, e in zip(step, np.eye(6), strict=True)
+        ]
+    )
+    np.testing.assert_allclose(h, fd2, rtol=1e-4, atol=1e-5 * np.abs(h).max())
 
 
 def test_an_unsolved_nlp_is_reported_not_presented(model):
@@ -148,13 +179,23 @@ def test_an_unsolved_nlp_is_reported_not_presented(model):
     assert result.stats["iter_count"] == 2
 
 
-def test_build_nlp_has_the_constraints(model):
+def test_build_nlp_has_the_constraints_and_is_built_once(model):
     problem = SwingProblem(model, "LH", make_family("paper"))
-    build = build_nlp(problem)
-    n = problem.path.t_s.size
-    # slack equalities 2n, joint limits 2n, stroke 2n, ground n-2, clearance 1
-    assert build.lbg.size == 2 * n + 2 * n + 2 * n + (n - 2) + 1
-    assert build.lbx.size == 2 + 4 * n
+    built = build_nlp(problem)
+    n, m = problem.n_samples, len(problem.bounds)
+    # condensed (2 parameters): slack equalities 2n, bounds m n, ground n - 2, foot acceleration 2
+    assert not built.lifted
+    assert built.solver.size_out("g")[0] == 2 * n + m * n + (n - 2) + 2
+    assert built.solver.size_in("x0")[0] == 2 + 4 * n
+    # lifted: samples 6n and their equalities; the joint range and velocity bound Y itself
+    rich = SwingProblem(model, "LH", make_family("joint-3"))
+    lifted = build_nlp(rich)
+    assert lifted.lifted and len(rich.input_rows) == 4  # q and qd of both joints
+    assert lifted.solver.size_out("g")[0] == 6 * n + 2 * n + (m - 4) * n + (n - 2) + 2
+    assert lifted.solver.size_in("x0")[0] == 6 + 6 * n + 4 * n
+    # the same shape is never built twice, whatever family of that size or gait
+    other = SwingProblem(model.with_gait(Gait(step_length_m=0.2)), "LH", make_family("paper"))
+    assert build_nlp(other) is built
 
 
 def test_feasible_points_have_zero_violation(paper_optima, model):

@@ -120,3 +120,17 @@ def test_cross_robot(tmp_path, capsys):
     table = (tmp_path / "table.md").read_text()
     assert table.count("\n") == 8 and "valve-controlled" in table
     capsys.readouterr()
+
+
+def test_bound_gaps_study(tmp_path, capsys):
+    import csv
+
+    assert load("bound_gaps").main(["--quick", "--out", str(tmp_path / "gaps.csv")]) == 0
+    with (tmp_path / "gaps.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert [r["family"] for r in rows] == ["paper", "joint-4", "free-trajectory bound"]
+    # every family's optimum lies above the bound, the richer one closer
+    for row in rows[:2]:
+        assert float(row["RF_gap_pct"]) > 0 and float(row["LH_gap_pct"]) > 0
+    assert float(rows[1]["RF_gap_pct"]) < float(rows[0]["RF_gap_pct"])
+    assert "bound" in capsys.readouterr().out

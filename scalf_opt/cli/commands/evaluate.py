@@ -1,4 +1,4 @@
-"""``scalf-opt evaluate``: the energy of the cubic-spline reference trajectory."""
+"""``scalf-opt evaluate``: the energy of the reference trajectory, or of a saved optimum."""
 
 from __future__ import annotations
 
@@ -8,32 +8,55 @@ from pathlib import Path
 from scalf_opt.cli.options import add_gait, add_robot, check_output_dir, load_gait, load_robot
 
 NAME = "evaluate"
-HELP = "energy of the cubic-spline reference trajectory"
+HELP = "energy of the cubic-spline reference trajectory, or of a saved optimum (--swing)"
 JSON = True
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_robot(parser)
     add_gait(parser)
+    parser.add_argument(
+        "--swing",
+        type=Path,
+        metavar="FILE",
+        help="evaluate the optimum saved in FILE (the summary.json of optimize --out, or its "
+        "folder) instead of the reference: at its gait by default; any rate and accounting, "
+        "the same timing and stance",
+    )
     parser.add_argument("--out", type=Path, help="write summary.json and samples.csv here")
 
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.api import evaluate
+    from scalf_opt.io.saved import read_saved_swings
     from scalf_opt.studies import paper_data
+    from scalf_opt.viz.optimization_report import peaks_table, violation_lines
     from scalf_opt.viz.report import evaluate_report
 
     check_output_dir(args.out)
     robot = load_robot(args)
-    gait = load_gait(args, robot)
-    result = evaluate(robot, gait, accounting=args.accounting, command=args.argv)
-    comparison = None
-    if paper_data.is_paper_setup(robot, gait) and args.accounting == "paper":
+    base = read_saved_swings(args.swing).gait if args.swing is not None else None
+    gait = load_gait(args, robot, base)
+    result = evaluate(robot, gait, accounting=args.accounting, swing=args.swing, command=args.argv)
+    comparison, title = None, "reference"
+    if result.swing is not None:
+        families = sorted({f for f in result.swing.families.values() if f != "reference"})
+        title = f"saved optimum ({', '.join(families)}, {result.swing.source})"
+    elif paper_data.is_paper_setup(robot, gait) and args.accounting == "paper":
         comparison = ("paper (Table 6)", paper_data.REFERENCE_AVERAGE_POWER_W)
-    if args.out is not None:
-        written = result.write(args.out)
-    args.console.text(evaluate_report(result.cycle, robot.name, comparison=comparison))
-    args.console.json(result.to_dict())
-    if args.out is not None:
-        args.console.text("wrote " + " and ".join(str(p) for p in written))
+    written = result.write(args.out) if args.out is not None else []
+    console = args.console
+    console.text(evaluate_report(result.cycle, robot.name, title=title, comparison=comparison))
+    saved_rate = result.swing.rate_hz if result.swing is not None else None
+    if saved_rate is not None and saved_rate > gait.sample_rate_hz:
+        console.text(
+            f"note: the optimum was found at {saved_rate:g} Hz; at {gait.sample_rate_hz:g} Hz its "
+            "energy is resolved less finely"
+        )
+    console.text("\n" + peaks_table(result.peaks))
+    for line in violation_lines(result.violations):
+        console.text(line)
+    console.json(result.to_dict())
+    if written:
+        console.text("wrote " + " and ".join(str(p) for p in written))
     return 0

@@ -39,11 +39,36 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         help=f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 "
         f"(default {DEFAULT_FAMILY})",
     )
-    parser.add_argument("--method", choices=choices(Method), default="ipopt")
+    parser.add_argument(
+        "--method",
+        choices=choices(Method),
+        default="ipopt",
+        help="ipopt (default), pattern (the paper's pattern search), or free: the "
+        "free-trajectory bound (dense B-splines refined until the energy converges; no family)",
+    )
     parser.add_argument(
         "--precision",
         type=float,
         help="pattern-search precision (default 0.1, the paper's); --method pattern only",
+    )
+    parser.add_argument(
+        "--starts",
+        type=int,
+        default=1,
+        help="deterministic starts per leg (default 1; the first is the default start): the "
+        "best is kept, the spread reported",
+    )
+    parser.add_argument(
+        "--bound",
+        action="store_true",
+        help="also compute the free-trajectory bound and report each optimum's gap to it",
+    )
+    parser.add_argument(
+        "--free-stance",
+        action="store_true",
+        help="beyond the paper: also optimize the stance height z0 and the stance x-offsets "
+        "(front and hind) within the joint limits, reach, stroke and clearance; reports how "
+        "much of the saving comes from the stance and how much from the swing",
     )
     parser.add_argument("--out", type=Path, help="write summary.json and samples.csv here")
 
@@ -52,13 +77,21 @@ def run(args: argparse.Namespace) -> int:
     """Exit 0 when every leg is solved, 3 when an optimizer fails."""
     from scalf_opt.api import optimize_swing
     from scalf_opt.cli.progress import ProgressBar
-    from scalf_opt.viz.report import evaluate_report, optimum_report
+    from scalf_opt.viz.optimization_report import (
+        bound_report,
+        free_stance_report,
+        optimization_report,
+        optimization_warnings,
+        peaks_table,
+        violation_lines,
+    )
+    from scalf_opt.viz.report import evaluate_report
 
     check_output_dir(args.out)
     robot = load_robot(args)
     gait = load_gait(args, robot)
     legs = FIRST_PAIR if args.leg == "PAIR" else (args.leg,)
-    with ProgressBar(len(legs), "optimize", enabled=not args.quiet) as bar:
+    with ProgressBar(None, "optimize", enabled=not args.quiet) as bar:
         result = optimize_swing(
             robot,
             gait,
@@ -67,21 +100,53 @@ def run(args: argparse.Namespace) -> int:
             legs=legs,
             accounting=args.accounting,
             precision=args.precision,
+            starts=args.starts,
+            bound=args.bound,
+            free_stance=args.free_stance,
             verbose=args.verbose,
             progress=bar.step,
             command=args.argv,
         )
     console = args.console
-    console.text(optimum_report(result.optima, result.reference))
+    written = result.write(args.out) if result.success and args.out is not None else []
+    if result.run is not None:
+        console.text(optimization_report(result.run))
+        for line in optimization_warnings(result.run):
+            console.text(line)
+    if result.bounds and result.run is None:
+        console.text(bound_report(result.bounds))
+    if result.stance is not None and result.success:
+        console.text("\n" + free_stance_report(result.stance))
     console.json(result.to_dict())
-    if result.cycle is None:
-        failed = [o for o in result.optima.values() if not o.success]
-        names = ", ".join(f"{o.leg} ({o.status})" for o in failed)
-        console.error(f"not solved: {names}; no optimum is reported")
+    if not result.success:
+        console.error(_failure(result))
         return 3
-    written = result.write(args.out) if args.out is not None else []
-    title = f"optimized ({args.family}, {args.method})"
+    assert result.cycle is not None
+    if args.method == "free":
+        title = f"free-trajectory bound ({result.cycle.legs[legs[0]].swing_family})"
+    elif args.free_stance:
+        title = f"free stance ({args.family}, {args.method})"
+    else:
+        title = f"optimized ({args.family}, {args.method})"
     console.text("\n" + evaluate_report(result.cycle, robot.name, title=title))
+    console.text("\n" + peaks_table(result.peaks, result.reference_peaks))
+    for line in violation_lines(result.violations):
+        console.text(line)
     if written:
         console.text("wrote " + " and ".join(str(p) for p in written))
     return 0
+
+
+def _failure(result: object) -> str:
+    """The one line that says what did not converge."""
+    from scalf_opt.api import OptimizationResult
+
+    assert isinstance(result, OptimizationResult)
+    if result.stance is not None:
+        return f"the stance search did not converge ({result.stance.best.reason}); no optimum"
+    if result.run is None:
+        return "the free-trajectory bound did not converge; no optimum is reported"
+    failed = [f"{r.leg} ({r.best.status})" for r in result.run.legs.values() if not r.success]
+    if not result.run.converged_sampling:
+        failed.append(f"the sampling did not converge by {result.run.rate_hz:g} Hz")
+    return f"not solved: {', '.join(failed)}; no optimum is reported"

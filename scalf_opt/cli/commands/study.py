@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import os
-import sys
 from pathlib import Path
 
 NAME = "study"
@@ -38,15 +36,11 @@ def run(args: argparse.Namespace) -> int:
     study = read_study(args.file)
     out = args.out if args.out is not None else Path("results") / args.file.stem
     result = run_study(study, out, choose_runner(args.workers, args.scheduler))
-    try:
-        print(results_table(study.name, result))
-    except BrokenPipeError:  # a reader such as `head` stopped reading: the files are written
-        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+    args.console.text(results_table(study.name, result))
     if result.failed:
-        print(
-            f"scalf-opt: error: {len(result.failed)} of {len(result.rows)} cases did not succeed "
-            f"(see {result.results_path})",
-            file=sys.stderr,
+        args.console.error(
+            f"{len(result.failed)} of {len(result.rows)} cases did not succeed "
+            f"(see {result.results_path})"
         )
         return 3
     return 0

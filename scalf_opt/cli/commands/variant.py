@@ -48,27 +48,28 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     robot = load_robot(args)
     variant = derive_variant(robot, scales, args.out)
     derived = load_path(urdf=variant.urdf_path)
-    print(
+    say = args.console.text
+    say(
         f"variant of {robot.name} ({robot.urdf_path.name}): "
         + ", ".join(
             f"{field.removesuffix('_scale').replace('_', ' ')} x{getattr(scales, field):g}"
             for field, _ in SCALES
         )
     )
-    print("leg   link    length [m]            mass [kg]")
+    say("leg   link    length [m]            mass [kg]")
     for leg in ("RF", "LH"):
         old, new = robot.leg(leg), derived.leg(leg)
         for label, a, b, ma, mb in (
             ("thigh", old.thigh_length_m, new.thigh_length_m, *_link_masses(old, new, 0)),
             ("shank", old.shank_length_m, new.shank_length_m, *_link_masses(old, new, 1)),
         ):
-            print(f"{leg:5s} {label:6s}  {a:.5f} -> {b:.5f}    {ma:.4f} -> {mb:.4f}")
-    print(
+            say(f"{leg:5s} {label:6s}  {a:.5f} -> {b:.5f}    {ma:.4f} -> {mb:.4f}")
+    say(
         f"total mass {robot.total_mass_kg:.3f} -> {derived.total_mass_kg:.3f} kg; default stance "
         f"height {default_gait_for(robot).stance_height_m:.4f} -> "
         f"{default_gait_for(derived).stance_height_m:.4f} m"
     )
-    print("wrote " + ", ".join(str(p) for p in variant.written))
+    say("wrote " + ", ".join(str(p) for p in variant.written))
     return 0
 
 

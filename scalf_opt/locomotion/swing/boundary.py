@@ -37,9 +37,9 @@ class SwingBoundary:
     duration_s: float
 
 
-def foot_boundary(gait: Gait) -> SwingBoundary:
-    """Swing boundary conditions in foot space (leg frame) for ``gait``."""
-    p_stance, pd_stance, _ = stance_path(gait, np.array([0.0, gait.stance_duration_s]))
+def foot_boundary(gait: Gait, leg: str) -> SwingBoundary:
+    """Swing boundary conditions in foot space (leg frame) of ``leg`` for ``gait``."""
+    p_stance, pd_stance, _ = stance_path(gait, np.array([0.0, gait.stance_duration_s]), leg)
     return SwingBoundary(
         space="foot",
         start=p_stance[:, 1],  # lift-off = end of stance
@@ -52,7 +52,7 @@ def foot_boundary(gait: Gait) -> SwingBoundary:
 
 def joint_boundary(gait: Gait, kin: LegKinematics) -> SwingBoundary:
     """Swing boundary conditions mapped to joint space through IK and the foot Jacobian."""
-    foot = foot_boundary(gait)
+    foot = foot_boundary(gait, kin.leg.name)
     points = np.column_stack([foot.start, foot.end])
     q = kin.inverse(points)
     rates = [

@@ -94,9 +94,18 @@ class SwingFamily(ABC):
         """Unit of the free parameters (``deg`` or ``cm``)."""
         return PARAMETER_UNIT.get(self.space, "")
 
+    def shortest_period_s(self, swing_duration_s: float) -> float:
+        """Period of the fastest variation a member can have [s]; the sampling must resolve it.
+
+        The default, for families without free parameters, is the swing itself.
+        """
+        return swing_duration_s
+
     def boundary(self, gait: Gait, kin: LegKinematics) -> SwingBoundary:
         """Boundary conditions of this family's space."""
-        return joint_boundary(gait, kin) if self.space == "joint" else foot_boundary(gait)
+        if self.space == "joint":
+            return joint_boundary(gait, kin)
+        return foot_boundary(gait, kin.leg.name)
 
     @abstractmethod
     def path(self, gait: Gait, kin: LegKinematics) -> AffinePath:

@@ -82,6 +82,16 @@ class FourierFamily(SwingFamily):
         self.space = space
         self.free_terms = free_terms
 
+    @property
+    def order(self) -> int:
+        """Highest Fourier order of a member (the eliminated terms reach order 2)."""
+        orders = [o for terms in (*self.free_terms, ELIMINATED_TERMS) for _, o in terms]
+        return max(orders)
+
+    def shortest_period_s(self, swing_duration_s: float) -> float:
+        """Period of the highest harmonic, ``cos(N pi s)``: ``2 T_sw / N`` [s]."""
+        return 2.0 * swing_duration_s / self.order
+
     def path(self, gait: Gait, kin: LegKinematics) -> AffinePath:  # noqa: D102
         b = self.boundary(gait, kin)
         t = gait.phase_times_s("swing")

@@ -15,6 +15,13 @@ DEFAULT_FAMILY = "joint-6"
 """The family optimized by default: half-range Fourier series of order 6 in joint space."""
 
 _FAMILY_PATTERN = re.compile(r"^(fourier|joint)-(\d+)$")
+_BSPLINE_PATTERN = re.compile(r"^bspline-(\d+)$")
+
+
+def parse_bspline_name(name: str) -> int | None:
+    """The number of spans of a ``bspline-K`` name (the free method's family), else ``None``."""
+    match = _BSPLINE_PATTERN.match(name)
+    return int(match.group(1)) if match else None
 
 
 def parse_fourier_name(name: str) -> tuple[Space, int]:

@@ -76,8 +76,9 @@ class ReferenceSpline(SwingFamily):
     space = "foot"
 
     def path(self, gait: Gait, kin: LegKinematics) -> AffinePath:  # noqa: D102
-        b = foot_boundary(gait)
-        apex = np.array([0.0, -gait.stance_height_m + gait.clearance_m])  # decision 12
+        b = foot_boundary(gait, kin.leg.name)
+        # decision 12: the apex H above the ground, midway between lift-off and touch-down
+        apex = np.array([0.5 * (b.start[0] + b.end[0]), -gait.stance_height_m + gait.clearance_m])
         t = gait.phase_times_s("swing")
         base = np.zeros((3, 2, t.size))
         for c in range(2):

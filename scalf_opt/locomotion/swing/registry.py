@@ -2,14 +2,18 @@
 
 from __future__ import annotations
 
+from scalf_opt.locomotion.swing.bspline import BSplineFamily
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.fourier import PAPER_FREE_TERMS, FourierFamily, order_terms
-from scalf_opt.locomotion.swing.names import parse_fourier_name
+from scalf_opt.locomotion.swing.names import parse_bspline_name, parse_fourier_name
 from scalf_opt.locomotion.swing.reference import ReferenceSpline
 
 
 def make_family(name: str) -> SwingFamily:
-    """Build a family from its name: ``reference``, ``paper``, ``fourier-N`` or ``joint-N``.
+    """Build a family from its name.
+
+    ``reference``, ``paper``, ``fourier-N``, ``joint-N``, or ``bspline-K`` (the
+    free-trajectory bound's dense B-splines).
 
     Raises:
         ConfigError: Unknown name or an order outside 2..12.
@@ -18,6 +22,9 @@ def make_family(name: str) -> SwingFamily:
         return ReferenceSpline()
     if name == "paper":
         return FourierFamily("paper", "joint", PAPER_FREE_TERMS)
+    spans = parse_bspline_name(name)
+    if spans is not None:
+        return BSplineFamily(spans)
     space, order = parse_fourier_name(name)
     terms = order_terms(order)
     return FourierFamily(name, space, (terms, terms))

@@ -1,0 +1,278 @@
+"""``optimize_swing``: the swing of some legs, by a family, the bound, or with a free stance.
+
+The one code path of ``scalf-opt optimize`` (the driver it calls is also ``paper``'s).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Any
+
+from scalf_opt.api.gaits import VERBOSE_IPOPT, command_tuple, read_gait
+from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.peaks import CycleViolation, Peak, cycle_peaks, cycle_violations
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import ConfigError
+from scalf_opt.files import write_atomic
+from scalf_opt.io.provenance import provenance
+from scalf_opt.io.results import (
+    checked_summary,
+    optimization_record,
+    samples_csv_text,
+    write_results_json,
+)
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, parse_bspline_name
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.model.robot import Robot
+from scalf_opt.optimize.bound import FreeBound, bound_cycle_inputs, bound_for
+from scalf_opt.optimize.driver import Settings, SwingOptimization, check_bounded, optimize_swings
+from scalf_opt.optimize.free_stance import FreeStance, optimize_stance
+from scalf_opt.optimize.pattern_search import PatternSearchOptions
+from scalf_opt.types import FIRST_PAIR, Accounting, Method, check_choice
+
+Progress = Callable[[str], None]
+"""Called with a short label as each step of a long computation starts."""
+
+
+@dataclass(frozen=True)
+class OptimizationResult:
+    """Optimized swings of some legs, and the cycle they give the robot.
+
+    Attributes:
+        robot: The robot.
+        pipeline: Robot, gait (at the rate the result converged at) and accounting.
+        reference: The cycle with the reference swing on every leg, at the same rate.
+        cycle: The cycle with the optimized swings (twins by symmetry, others the reference);
+            ``None`` when the optimization did not converge.
+        records: ``summary.json``'s optimization records (``optimization``, and as the mode
+            has them ``optimization_run``, ``free_bound``, ``free_stance``).
+        run: The family optimization (``None`` for the free-trajectory bound).
+        bounds: The free-trajectory bound per leg (``method="free"`` or ``bound=True``).
+        stance: The stance search (``free_stance=True``).
+        command: The command line that asked for it (``None`` from Python).
+    """
+
+    robot: Robot
+    pipeline: EnergyPipeline
+    reference: RobotCycle
+    cycle: RobotCycle | None
+    records: dict[str, Any]
+    run: SwingOptimization | None = None
+    bounds: dict[str, FreeBound] = field(default_factory=dict)
+    stance: FreeStance | None = None
+    command: tuple[str, ...] | None = None
+
+    @property
+    def success(self) -> bool:
+        """The optimization converged: every leg solved, energies converged in the sampling."""
+        return self.cycle is not None
+
+    @property
+    def peaks(self) -> list[Peak]:
+        """Peak torque, speed, drive outputs and power of the optimized cycle."""
+        return cycle_peaks(self._cycle(), self._physics())
+
+    @property
+    def reference_peaks(self) -> list[Peak]:
+        """The same of the reference cycle."""
+        return cycle_peaks(self.reference, self._physics())
+
+    @property
+    def violations(self) -> list[CycleViolation]:
+        """Every limit a sample of the optimized cycle exceeds (none, for a solved optimum)."""
+        return cycle_violations(self._cycle(), self._physics())
+
+    def _cycle(self) -> RobotCycle:
+        if self.cycle is None:
+            raise ConfigError("not solved: there is no optimized cycle")
+        return self.cycle
+
+    def _physics(self) -> dict[str, Any]:
+        return {leg: self.pipeline.physics(leg) for leg in self.reference.legs}
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data: ``summary.json`` (the optimized cycle when solved, and every record)."""
+        data: dict[str, Any] = {"provenance": provenance(self.robot, self.command)}
+        if self.cycle is not None:
+            data.update(checked_summary(self.cycle, self.pipeline))
+        data["solved"] = self.success
+        data.update(self.records)
+        data["reference_total_energy_per_cycle_j"] = self.reference.energy_j
+        return data
+
+    def write(self, out_dir: str | Path) -> list[Path]:
+        """Write ``summary.json`` and ``samples.csv`` (the optimized cycle) into ``out_dir``.
+
+        Raises:
+            ConfigError: The optimization did not converge: there is no optimum to write.
+        """
+        cycle = self._cycle()
+        out = Path(out_dir)
+        return [
+            *write_results_json(out / "summary.json", self.to_dict()),
+            write_atomic(out / "samples.csv", samples_csv_text(cycle)),
+        ]
+
+
+def optimize_swing(
+    robot: Robot,
+    gait: Gait | None = None,
+    *,
+    family: str = DEFAULT_FAMILY,
+    method: Method = "ipopt",
+    legs: Sequence[str] = FIRST_PAIR,
+    accounting: Accounting = "paper",
+    precision: float | None = None,
+    starts: int = 1,
+    bound: bool = False,
+    free_stance: bool = False,
+    verbose: bool = False,
+    progress: Progress | None = None,
+    command: Sequence[str] | None = None,
+) -> OptimizationResult:
+    """Optimize the swing of ``legs`` (LF and RH repeat RF and LH: the paper's symmetry).
+
+    Every optimum is sampled finely enough that its energy has converged (within 0.5 % of ten
+    times the rate), respects every joint and drive limit, and is reported beside the reference.
+
+    Args:
+        robot: The robot.
+        gait: The gait (default: the robot's default trot).
+        family: ``paper``, ``joint-N`` or ``fourier-N`` (N in 2..12).
+        method: ``ipopt``, ``pattern`` (the paper's pattern search), or ``free``: the
+            free-trajectory bound (dense B-splines refined until the energy converges), no
+            family.
+        legs: Legs to optimize; a leg not given takes its twin's optimum, else the reference.
+        accounting: Power accounting.
+        precision: Pattern-search precision (default 0.1, the paper's); only for ``pattern``.
+        starts: Deterministic starts per leg (the first is the default start; the best is kept).
+        bound: Also compute the free-trajectory bound and each optimum's gap to it.
+        free_stance: Optimize the stance height and x-offsets with the swing (``legs`` the
+            diagonal pair, a family method).
+        verbose: Print Ipopt's own log.
+        progress: Called with a label as each step starts.
+        command: The command line, recorded in the result's provenance.
+
+    Raises:
+        ConfigError: A family without parameters, a precision with Ipopt or not > 0, an
+            accounting with nothing to optimize, options that do not go together.
+    """
+    check_choice(method, Method, "method")
+    legs = tuple(legs)
+    if precision is not None and method != "pattern":
+        raise ConfigError(
+            "the precision applies to the pattern search only (method 'pattern')",
+            field="precision",
+        )
+    if precision is not None and not precision > 0:
+        raise ConfigError(f"the precision must be > 0, got {precision}", field="precision")
+    if method == "free" and (bound or free_stance):
+        raise ConfigError("the free method is the bound itself: no --bound or --free-stance")
+    pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting)
+    cmd = command_tuple(command)
+    if method == "free":
+        return _free_method(robot, pipeline, legs, progress, cmd)
+    if parse_bspline_name(family) is not None:
+        raise ConfigError(
+            f"family {family}: B-splines are the free method's: method 'free'", field="family"
+        )
+    swing_family = make_family(family)
+    if swing_family.n_params == 0:
+        raise ConfigError(f"family {family!r} has no free parameter to optimize", field="family")
+    settings = Settings(
+        method=method,
+        starts=starts,
+        pattern=PatternSearchOptions(precision=precision or PatternSearchOptions().precision),
+        ipopt=VERBOSE_IPOPT if verbose else None,
+    )
+    if free_stance:
+        if legs != FIRST_PAIR:
+            raise ConfigError(
+                "the free stance optimizes the diagonal pair's swings: legs RF and LH",
+                field="free_stance",
+            )
+        if progress is not None:
+            progress(f"the stance and the {family} swings")
+        stance = optimize_stance(pipeline, swing_family, settings)
+        run = stance.best.run
+        records: dict[str, Any] = {"free_stance": stance.as_dict()}
+        if run is None or not stance.success:
+            return OptimizationResult(
+                robot, pipeline, stance.reference, None, records, run, stance=stance, command=cmd
+            )
+        records.update(
+            optimization={leg: r.as_dict() for leg, r in run.legs.items()},
+            optimization_run=optimization_record(run),
+        )
+        return OptimizationResult(
+            robot,
+            run.pipeline,
+            stance.reference,
+            stance.cycle(),
+            records,
+            run,
+            stance=stance,
+            command=cmd,
+        )
+    run = optimize_swings(pipeline, legs, swing_family, settings, progress=progress)
+    records = {
+        "optimization": {leg: r.as_dict() for leg, r in run.legs.items()},
+        "optimization_run": optimization_record(run),
+    }
+    bounds: dict[str, FreeBound] = {}
+    if bound and run.success:
+        for leg, result in run.legs.items():
+            if progress is not None:
+                progress(f"{leg}: the free-trajectory bound")
+            bounds[leg] = bound_for(run.pipeline, leg, [(swing_family, result.best.theta)])
+            result.bound_check_energy_j = bounds[leg].check_energy_j
+        records["optimization"] = {leg: r.as_dict() for leg, r in run.legs.items()}
+        records["free_bound"] = {leg: b.as_dict() for leg, b in bounds.items()}
+    cycle = run.cycle() if run.success else None
+    return OptimizationResult(
+        robot, run.pipeline, run.reference_cycle(), cycle, records, run, bounds, command=cmd
+    )
+
+
+def _free_method(
+    robot: Robot,
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    progress: Progress | None,
+    command: tuple[str, ...] | None,
+) -> OptimizationResult:
+    """The free-trajectory bound of each leg, reported as an optimum."""
+    check_bounded(pipeline, legs)
+    bounds = {}
+    for leg in legs:
+        if progress is not None:
+            progress(f"{leg}: the free-trajectory bound")
+        bounds[leg] = bound_for(pipeline, leg)
+    records: dict[str, Any] = {"free_bound": {leg: b.as_dict() for leg, b in bounds.items()}}
+    reference = pipeline.robot_cycle(make_family("reference"))
+    if not all(b.success for b in bounds.values()):
+        return OptimizationResult(
+            robot, pipeline, reference, None, records, bounds=bounds, command=command
+        )
+    at_rate, family, thetas = bound_cycle_inputs(pipeline, bounds)
+    records["optimization"] = {
+        leg: {
+            **b.result.as_dict(),
+            "family": family.name,
+            "method": "free",
+            "parameters": dict(zip(family.parameter_names, map(float, thetas[leg]), strict=True)),
+        }
+        for leg, b in bounds.items()
+    }
+    return OptimizationResult(
+        robot,
+        at_rate,
+        at_rate.robot_cycle(make_family("reference")),
+        at_rate.robot_cycle(family, thetas),
+        records,
+        bounds=bounds,
+        command=command,
+    )

@@ -1,0 +1,150 @@
+"""``simulate``: the planned trot in MuJoCo (extra ``sim``), beside the model's prediction."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+from scalf_opt.api.gaits import read_gait
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import ConfigError
+from scalf_opt.files import write_atomic
+from scalf_opt.io.provenance import provenance
+from scalf_opt.io.results import to_json
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.model.robot import Robot
+from scalf_opt.types import Accounting
+
+MAX_SIM_CYCLES = 200
+"""Most gait cycles one simulation may run (about 10 minutes of MuJoCo on one core)."""
+
+
+@dataclass(frozen=True)
+class SimulationResult:
+    """A MuJoCo simulation of the planned trot (extra ``sim``), beside the model's prediction.
+
+    Attributes:
+        robot: The robot.
+        data: ``simulation.json``: provenance, settings and every figure
+            (:mod:`scalf_opt.sim.metrics`), with ``reference`` and ``saving_vs_reference`` when
+            the swings are not the reference.
+        record: The step-by-step record (:class:`scalf_opt.sim.run.SimRecord`).
+        title: A one-line description, for reports and the figure.
+    """
+
+    robot: Robot
+    data: dict[str, Any]
+    record: Any
+    title: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data: ``simulation.json``."""
+        return self.data
+
+    def write(self, out_dir: str | Path) -> list[Path]:
+        """Write ``simulation.json`` and ``simulation.png`` into ``out_dir`` (atomically)."""
+        from scalf_opt.viz.figures import save_atomic
+        from scalf_opt.viz.simulation_figure import simulation_figure
+
+        out, record = Path(out_dir), self.record
+        figure = simulation_figure(
+            record.t_s,
+            record.trunk[1],
+            record.start_trunk_height_m,
+            record.trunk[2],
+            {leg: force[1] for leg, force in record.grf_n.items()},
+            float(self.data["model_stance_force_mean_n"]["RF"]),
+            self.title,
+        )
+        return [
+            write_atomic(out / "simulation.json", to_json(self.data)),
+            save_atomic(figure, out / "simulation.png"),
+        ]
+
+    def write_log(self, path: str | Path, seed: int = 0) -> Path:
+        """Write the cylinder log SCalf's sensors would record of the run (80 Hz, 0.1 mm, 70 N).
+
+        Raises:
+            LogError: A leg has no hydraulic cylinders.
+        """
+        from scalf_opt.logs.analysis import leg_cylinders
+        from scalf_opt.logs.log_file import log_csv_text
+        from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
+
+        pipeline = EnergyPipeline(self.robot, read_gait(robot=self.robot))
+        cylinders = {leg: leg_cylinders(pipeline, leg) for leg in self.record.q_rad}
+        record = self.record
+        motions = {
+            leg: JointMotion(
+                record.t_s, record.q_rad[leg], record.tau_nm[leg], record.in_contact(leg)
+            )
+            for leg in cylinders
+        }
+        log = sensor_log(motions, cylinders, SensorModel(), seed, str(path))
+        return write_atomic(path, log_csv_text(log))
+
+
+def simulate(
+    robot: Robot,
+    gait: Gait | None = None,
+    *,
+    swings_from: str | Path | None = None,
+    cycles: int = 10,
+    accounting: Accounting = "paper",
+    servo_bandwidth_hz: float | None = None,
+    command: Sequence[str] | None = None,
+) -> SimulationResult:
+    """Simulate the planned trot in MuJoCo (needs the ``sim`` extra).
+
+    Args:
+        robot: The robot.
+        gait: The gait (default: the robot's default trot); not with ``swings_from``.
+        swings_from: A folder with the ``summary.json`` of ``optimize_swing(...).write(...)``:
+            its swings and gait are simulated, and the reference beside them.
+        cycles: Gait cycles to simulate (>= 2; the first is the start-up).
+        accounting: Power accounting of the joint energies.
+        servo_bandwidth_hz: Natural frequency of the joints' PD loops (default 30 Hz).
+        command: The command line, recorded in the result's provenance.
+
+    Raises:
+        ConfigError: Fewer than 2 cycles, a gait given with ``swings_from``, a bad
+            ``summary.json`` or one of another robot, a servo too fast for the time step.
+    """
+    from scalf_opt.io.saved import read_saved_swings
+    from scalf_opt.sim.experiment import simulation_file
+    from scalf_opt.sim.plan import REFERENCE_SWINGS
+    from scalf_opt.sim.settings import SimSettings
+
+    if isinstance(cycles, bool) or not isinstance(cycles, int) or not 2 <= cycles <= MAX_SIM_CYCLES:
+        raise ConfigError(
+            f"cycles must be an integer in 2..{MAX_SIM_CYCLES} (the first is the start-up), got "
+            f"{cycles!r}",
+            field="cycles",
+        )
+    if swings_from is not None and gait is not None:
+        raise ConfigError("the gait comes with the swings' summary.json: give one", field="gait")
+    settings = (
+        SimSettings()
+        if servo_bandwidth_hz is None
+        else SimSettings(servo_bandwidth_hz=servo_bandwidth_hz)
+    )
+    if swings_from is not None:
+        saved = read_saved_swings(swings_from)
+        saved.check_robot(robot)
+        gait, swings = saved.gait, saved.require_all_legs()
+    else:
+        gait, swings = gait or read_gait(robot=robot), dict(REFERENCE_SWINGS)
+    pipeline = EnergyPipeline(robot, gait, accounting)
+    source = str(swings_from) if swings_from is not None else None
+    data, run = simulation_file(robot, pipeline, swings, settings, cycles, source)
+    data = {"provenance": provenance(robot, command), **data}
+    families = ", ".join(sorted({family for family, _ in swings.values()}))
+    title = (
+        f"MuJoCo {data['mujoco_version']} simulation of {robot.name}, {families} swing: trot "
+        f"T={gait.period_s:g} s, S={gait.step_length_m:g} m, z0={gait.stance_height_m:g} m, "
+        f"{cycles} cycles, dt={1e3 * settings.timestep_s:g} ms, servo "
+        f"{settings.servo_bandwidth_hz:g} Hz"
+    )
+    return SimulationResult(robot, data, run.record, title)

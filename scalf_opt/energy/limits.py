@@ -1,0 +1,148 @@
+"""The limits a leg's motion must respect, as box bounds on its per-sample quantities.
+
+One list per leg, :func:`leg_bounds`, read once from the leg and its drives, serves everything
+that checks a limit: the optimizers' constraints (the NLP and the pattern search), the
+feasibility of a stance, and the peaks and violations the reports print.
+
+* the joint range (URDF ``lower``/``upper``) on ``q`` [rad];
+* the joint velocity limit (URDF ``velocity``) on ``|qd|`` [rad/s];
+* the joint effort limit (URDF ``effort``) on ``|tau|`` [N m];
+* every bound a joint's drive declares (:meth:`~scalf_opt.actuators.drive.Drive.output_bounds`;
+  SCalf's cylinder: its stroke on the length, its force and speed limits).
+
+A URDF velocity or effort limit that is not a positive finite number means "no limit".
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from typing import Any
+
+import numpy as np
+
+from scalf_opt.energy.physics import LegPhysics
+from scalf_opt.types import JOINT_ROLES
+
+LIMIT_TOLERANCE = 1e-9
+"""Relative round-off allowed beyond a bound before a sample counts as exceeding it."""
+
+
+@dataclass(frozen=True)
+class Bound:
+    """A box bound ``lower <= value <= upper`` on one per-sample quantity of a leg.
+
+    Attributes:
+        output: Name of the per-sample output (:attr:`LegPhysics.output_names`): ``q``, ``qd``,
+            ``tau`` (two rows, hip and knee) or a drive output (``cyl_force_hip``, one row).
+        row: Row of a two-row output (the joint), ``None`` for a one-row drive output.
+        joint: The joint it belongs to: 0 hip pitch, 1 knee.
+        lower: Lower bound (SI, the output's unit; may be ``-inf``).
+        upper: Upper bound (may be ``inf``).
+        source: Where the bound comes from, for messages (``URDF effort limit``).
+        unit: Unit as in column names (``rad``, ``rad_s``, ``nm``, ``m``, ``n``, ``m_s``).
+    """
+
+    output: str
+    row: int | None
+    joint: int
+    lower: float
+    upper: float
+    source: str
+    unit: str
+
+    @property
+    def quantity(self) -> str:
+        """The quantity without the joint: ``q``, ``qd``, ``tau``, ``cyl_force``."""
+        suffix = f"_{JOINT_ROLES[self.joint]}"
+        return self.output[: -len(suffix)] if self.output.endswith(suffix) else self.output
+
+    @property
+    def name(self) -> str:
+        """Quantity and joint, e.g. ``tau_hip``, ``cyl_force_knee``."""
+        return f"{self.quantity}_{JOINT_ROLES[self.joint]}"
+
+    @property
+    def symmetric(self) -> bool:
+        """A limit on the magnitude: ``lower == -upper``."""
+        return self.lower == -self.upper
+
+    def select(self, outputs: dict[str, Any]) -> Any:
+        """The bounded quantity from per-sample outputs: numeric arrays or CasADi expressions."""
+        value = outputs[self.output]
+        return value[self.row] if self.row is not None else value
+
+    def values(self, outputs: dict[str, np.ndarray]) -> np.ndarray:
+        """The bounded quantity's samples, shape (n,), from a phase's output arrays."""
+        return np.asarray(self.select(outputs), dtype=float).ravel()
+
+    def excess(self, value: np.ndarray) -> np.ndarray:
+        """How far each sample lies beyond the bound (0 inside), in the bound's unit."""
+        return np.maximum(np.maximum(self.lower - value, value - self.upper), 0.0)
+
+    def tolerance(self) -> float:
+        """Round-off allowed beyond the bound: relative to its size, at least 1e-9."""
+        finite = [abs(b) for b in (self.lower, self.upper) if math.isfinite(b)]
+        return LIMIT_TOLERANCE * max([1.0, *finite])
+
+
+def _urdf_limit(value: float) -> float | None:
+    return float(value) if math.isfinite(value) and value > 0 else None
+
+
+def leg_bounds(physics: LegPhysics) -> tuple[Bound, ...]:
+    """Every bound of a leg's per-sample quantities: joint range, URDF limits, drive bounds.
+
+    Order: per joint (hip, knee) the range, velocity and effort limits; then the drives'
+    bounds in the order of the drive outputs (the ``samples.csv`` column order).
+    """
+    leg = physics.leg
+    lo, hi = leg.lower_limits_rad, leg.upper_limits_rad
+    out: list[Bound] = []
+    for j in range(2):
+        out.append(Bound("q", j, j, float(lo[j]), float(hi[j]), "joint range (URDF)", "rad"))
+        velocity = _urdf_limit(leg.velocity_limits_rad_s[j])
+        if velocity is not None:
+            out.append(Bound("qd", j, j, -velocity, velocity, "URDF velocity limit", "rad_s"))
+        effort = _urdf_limit(leg.effort_limits_nm[j])
+        if effort is not None:
+            out.append(Bound("tau", j, j, -effort, effort, "URDF effort limit", "nm"))
+    for output in physics.drive_outputs:
+        drive = physics.drives[output.joint]
+        bounds = drive.output_bounds(float(lo[output.joint]), float(hi[output.joint]))
+        if output.channel.name in bounds:
+            b_lo, b_hi = bounds[output.channel.name]
+            source = f"{drive.kind} {output.channel.name} limit (actuator file)"
+            out.append(
+                Bound(output.name, None, output.joint, b_lo, b_hi, source, output.channel.unit)
+            )
+    return tuple(out)
+
+
+@dataclass(frozen=True)
+class Violation:
+    """The worst sample of a quantity beyond its bound.
+
+    Attributes:
+        bound: The bound.
+        value: The quantity at the worst sample (SI).
+        index: Index of that sample.
+        excess: How far beyond the bound (SI, > tolerance).
+    """
+
+    bound: Bound
+    value: float
+    index: int
+    excess: float
+
+
+def violations(outputs: dict[str, np.ndarray], bounds: tuple[Bound, ...]) -> list[Violation]:
+    """Bounds that some sample exceeds (by more than the round-off tolerance), worst sample each."""
+    out = []
+    for bound in bounds:
+        value = bound.values(outputs)
+        excess = bound.excess(value)
+        k = int(np.argmax(excess)) if excess.size else 0
+        if excess.size and excess[k] > bound.tolerance():
+            out.append(Violation(bound, float(value[k]), k, float(excess[k])))
+    return out

@@ -1,0 +1,87 @@
+"""Ctrl-C and SIGTERM stop the program, even where a library swallows the exception.
+
+Python turns a signal into an exception raised wherever the program happens to be. Two kinds of
+place swallow it: CasADi's Ipopt interface, which checks for signals between iterations, catches
+the exception and ends the solve as if it had failed ("NonIpopt_Exception_Thrown"); and library
+code with a bare ``except:`` (an import that happens to be running). The program would then go
+on with the next solve, or the next case of a study.
+
+So the command line's handlers (:func:`stop_on_signals`) also remember the signal, and the
+long-running loops call :func:`raise_if_stopped` between steps; :func:`interruptible` wraps a
+native solve, and raises the swallowed signal's exception once the solve has returned. From the
+Python API (no handlers installed), Ctrl-C during an Ipopt solve is raised the same way.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import signal
+import threading
+from collections.abc import Iterator
+from types import FrameType
+
+_received: list[int] = []
+"""Signals the command line's handlers received (cleared when the command ends)."""
+
+
+def _raise_for(signum: int) -> None:
+    if signum == signal.SIGTERM:
+        raise SystemExit(128 + signum)
+    raise KeyboardInterrupt
+
+
+def raise_if_stopped() -> None:
+    """Raise again a signal that a library swallowed (``KeyboardInterrupt`` or ``SystemExit``)."""
+    if _received:
+        _raise_for(_received[0])
+
+
+@contextlib.contextmanager
+def stop_on_signals() -> Iterator[None]:
+    """Install the command line's handlers, which remember the signal they raise.
+
+    Ctrl-C raises ``KeyboardInterrupt`` and SIGTERM (``kill``, a job scheduler)
+    ``SystemExit(143)``, so that both unwind and remove the temporary files.
+    """
+
+    def stop(signum: int, frame: FrameType | None) -> None:
+        _received.append(signum)
+        _raise_for(signum)
+
+    if threading.current_thread() is not threading.main_thread():
+        yield  # the command run from a thread: Python delivers signals to the main thread only
+        return
+    previous = {s: signal.signal(s, stop) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+        _received.clear()
+
+
+@contextlib.contextmanager
+def interruptible() -> Iterator[None]:
+    """Run a native solver inside: a signal it swallowed is raised again when it returns."""
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    previous = signal.getsignal(signal.SIGINT)
+    received: list[int] = []
+
+    def note(signum: int, frame: FrameType | None) -> None:
+        received.append(signum)
+        if callable(previous):
+            previous(signum, frame)  # raises: in Python it propagates, in CasADi it ends the solve
+        raise KeyboardInterrupt
+
+    if callable(previous) and previous is not note:
+        signal.signal(signal.SIGINT, note)
+    try:
+        yield
+    finally:
+        if callable(previous):
+            signal.signal(signal.SIGINT, previous)
+    if received:
+        _raise_for(received[0])
+    raise_if_stopped()

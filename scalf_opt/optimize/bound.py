@@ -1,0 +1,263 @@
+"""The free-trajectory bound: the lowest swing energy any smooth swing reaches.
+
+A swing family's optimum is only as good as the family. The bound says how good a swing can
+be at all under the same end conditions, constraints and energy: the joint angles are dense
+clamped cubic B-splines (:class:`~scalf_opt.locomotion.swing.bspline.BSplineFamily`, twice
+continuously differentiable), optimized by Ipopt at :data:`SPANS` = 16, 32, 64, ... spans, each
+level started from the previous level's optimum (the families are nested, so a finer level
+starts exactly where the coarser one ended and can only go lower). Each level's sampling is
+refined like every optimization's (:mod:`scalf_opt.optimize.sampling`).
+
+The levels' energies fall roughly geometrically (on SCalf each refinement saves about a third
+to a half of the previous one: the optimum sharpens its accelerations where the joints turn,
+up to the cylinders' force limit). The refinement stops when the energy still to be gained,
+estimated from the last two savings as a geometric series (``d_k r / (1 - r)``, ``r =
+d_k / d_(k-1)``), is below :data:`BOUND_TOLERANCE` of the energy. The bound reported is the
+finest level's energy, a swing that is actually reached; the estimate of what is left is
+reported beside it.
+
+The first level starts from the member closest to each given path (the reference swing, and
+the optima of the families being compared), and keeps the best: a bound started from a
+family's optimum cannot end above it by more than the sampling error.
+
+The gap of a family's optimum to the bound compares the two swings' energies at ten times
+their optimization rates (the converged energies), so that neither grid's error enters it.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import numpy as np
+
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.locomotion.swing.bspline import BSplineFamily
+from scalf_opt.locomotion.swing.family import SwingFamily
+from scalf_opt.optimize.driver import LegResult, Settings, optimize_swings
+from scalf_opt.optimize.problem import SwingProblem
+from scalf_opt.optimize.sampling import with_rate
+from scalf_opt.optimize.starts import closest_member, reference_path
+
+SPANS: tuple[int, ...] = (16, 32, 64, 128)
+"""The refinement levels: spans per joint angle (128 spans need 3200 Hz or more: about 20 s per
+leg, most of the bound's time; a finer level would take minutes)."""
+
+BOUND_TOLERANCE = 0.01
+"""The bound has converged when the energy still to be gained by refining is estimated below
+this fraction of it (1 %)."""
+
+
+@dataclass
+class BoundLevel:
+    """One refinement level of the bound for one leg."""
+
+    spans: int
+    swing_energy_j: float
+    check_energy_j: float
+    sample_rate_hz: float
+    status: str
+    success: bool
+    wall_time_s: float
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain data for JSON."""
+        return dict(self.__dict__)
+
+
+@dataclass
+class FreeBound:
+    """The free-trajectory bound of one leg.
+
+    Attributes:
+        leg: Leg name.
+        family: The finest B-spline family used.
+        result: That level's optimization of this leg.
+        levels: Every level, coarse to fine.
+        converged: The energy still to be gained is estimated below the tolerance.
+        remaining_j: That estimate [J] (``inf`` before three levels).
+    """
+
+    leg: str
+    family: SwingFamily
+    result: LegResult
+    levels: list[BoundLevel] = field(default_factory=list)
+    converged: bool = False
+    remaining_j: float = float("inf")
+
+    @property
+    def spans(self) -> int:
+        """Spans of the level the bound comes from."""
+        assert isinstance(self.family, BSplineFamily)
+        return self.family.spans
+
+    @property
+    def sample_rate_hz(self) -> float:
+        """The rate of the level the bound comes from [Hz]."""
+        return next(lv.sample_rate_hz for lv in self.levels if lv.spans == self.spans)
+
+    @property
+    def swing_energy_j(self) -> float:
+        """The bound at its optimization's rate [J]."""
+        return self.result.best.swing_energy_j
+
+    @property
+    def check_energy_j(self) -> float:
+        """The bound at ten times its rate [J]: the converged energy gaps are measured with."""
+        return self.result.check_energy_j
+
+    @property
+    def success(self) -> bool:
+        """A level solved and the refinement converged."""
+        return self.converged and self.result.success
+
+    def gap_percent(self, check_energy_j: float) -> float:
+        """How far above the bound a swing with this converged energy is [%]."""
+        return 100.0 * (check_energy_j / self.check_energy_j - 1.0)
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain data for JSON."""
+        return {
+            "leg": self.leg,
+            "family": self.family.name,
+            "swing_energy_j": self.swing_energy_j,
+            "check_energy_j": self.check_energy_j,
+            "sample_rate_hz": self.sample_rate_hz,
+            "converged": self.converged,
+            "remaining_estimate_j": self.remaining_j,
+            "success": self.success,
+            "levels": [level.as_dict() for level in self.levels],
+            "parameters_deg": [float(x) for x in self.result.best.theta],
+        }
+
+
+def bound_for(
+    pipeline: EnergyPipeline,
+    leg: str,
+    seeds: list[tuple[SwingFamily, np.ndarray]] | None = None,
+    tolerance: float = BOUND_TOLERANCE,
+    spans: tuple[int, ...] = SPANS,
+) -> FreeBound:
+    """The free-trajectory bound of ``leg``, its first level started from each seed swing.
+
+    Args:
+        pipeline: Robot, gait, accounting.
+        leg: The leg.
+        seeds: Swings ``(family, theta)`` to start from besides the reference (e.g. the
+            optima of the families being compared).
+        tolerance: Energy still to gain, relative, that counts as converged.
+        spans: The refinement levels.
+    """
+    levels: list[BoundLevel] = []
+    previous: tuple[SwingFamily, np.ndarray] | None = None
+    result: tuple[SwingFamily, LegResult] | None = None
+    converged = False
+    for count in spans:
+        family = BSplineFamily(count)
+        start = time.perf_counter()
+        if previous is None:
+            candidates = _seed_starts(pipeline, leg, family, seeds or [])
+        else:
+            candidates = [_projection(pipeline, leg, family, *previous)]
+        best: LegResult | None = None
+        rate = 0.0
+        for theta0 in candidates:
+            run = optimize_swings(pipeline, (leg,), family, Settings(), {leg: theta0})
+            leg_result = run.legs[leg]
+            if best is None or (
+                leg_result.success
+                and (not best.success or leg_result.best.swing_energy_j < best.best.swing_energy_j)
+            ):
+                best, rate = leg_result, run.rate_hz
+        assert best is not None
+        levels.append(
+            BoundLevel(
+                count,
+                best.best.swing_energy_j,
+                best.check_energy_j,
+                rate,
+                best.best.status,
+                best.success,
+                time.perf_counter() - start,
+            )
+        )
+        if not best.success:  # the finest solved level stays the bound; not converged
+            break
+        result, previous = (family, best), (family, best.best.theta)
+        remaining = remaining_estimate([lv.check_energy_j for lv in levels])
+        if remaining <= tolerance * best.check_energy_j:
+            converged = True
+            break
+    solved = [lv.check_energy_j for lv in levels if lv.success]
+    if result is None:  # even the coarsest level failed: report it
+        assert best is not None
+        return FreeBound(leg, BSplineFamily(spans[0]), best, levels, False)
+    return FreeBound(leg, result[0], result[1], levels, converged, remaining_estimate(solved))
+
+
+def remaining_estimate(energies: list[float]) -> float:
+    """Energy still to be gained by refining, from the last three levels' energies [J].
+
+    With savings ``d_(k-1)`` and ``d_k`` between them, ratio ``r = d_k / d_(k-1)``, the rest
+    of a geometric series is ``d_k r / (1 - r)``. ``inf`` when the savings do not shrink (or
+    the energy rose), ``nan``-free; ``inf`` with fewer than three levels.
+    """
+    if len(energies) < 3:
+        return float("inf")
+    d_prev = energies[-3] - energies[-2]
+    d_last = energies[-2] - energies[-1]
+    if d_last <= 0.0:  # no further saving: converged as far as refinement can tell
+        return 0.0
+    if d_prev <= 0.0 or d_last >= d_prev:
+        return float("inf")
+    ratio = d_last / d_prev
+    return d_last * ratio / (1.0 - ratio)
+
+
+def _seed_starts(
+    pipeline: EnergyPipeline,
+    leg: str,
+    family: SwingFamily,
+    seeds: list[tuple[SwingFamily, np.ndarray]],
+) -> list[np.ndarray]:
+    problem = SwingProblem(pipeline, leg, family)
+    out = [closest_member(problem, reference_path(problem))]
+    out += [_projection(pipeline, leg, family, f, theta) for f, theta in seeds]
+    return out
+
+
+def _projection(
+    pipeline: EnergyPipeline,
+    leg: str,
+    family: SwingFamily,
+    source: SwingFamily,
+    theta: np.ndarray,
+) -> np.ndarray:
+    """The member of ``family`` closest to ``source``'s member ``theta`` (joint space)."""
+    problem = SwingProblem(pipeline, leg, family)
+    path = pipeline.swing_path(leg, source).values(theta)
+    if source.space == "foot":
+        kin = pipeline.kinematics(leg)
+        path = np.array(kin.joint_motion(path[0], path[1], path[2]))
+    return closest_member(problem, path)
+
+
+def bound_cycle_inputs(
+    pipeline: EnergyPipeline, bounds: dict[str, FreeBound]
+) -> tuple[EnergyPipeline, SwingFamily, dict[str, np.ndarray]]:
+    """One pipeline, family and parameters per leg that reproduce every leg's bound swing.
+
+    The legs may have converged at different levels and rates: the finest family holds every
+    coarser one exactly (nested), so each leg's swing is carried over to it, and the cycle is
+    sampled at the finest rate.
+    """
+    spans = max(b.spans for b in bounds.values())
+    rate = max(b.sample_rate_hz for b in bounds.values())
+    at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
+    family = BSplineFamily(spans)
+    thetas = {
+        leg: _projection(at_rate, leg, family, b.family, b.result.best.theta)
+        for leg, b in bounds.items()
+    }
+    return at_rate, family, thetas

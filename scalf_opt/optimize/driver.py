@@ -1,0 +1,356 @@
+"""Optimize the swing of several legs: the one code path of ``optimize`` and ``paper``.
+
+:func:`optimize_swings` runs an optimizer (pattern search or Ipopt) on each leg with the same
+start and options whoever calls it, refines the sampling until the optimum's energy has
+converged (:mod:`scalf_opt.optimize.sampling`), runs the extra starts asked for
+(:mod:`scalf_opt.optimize.starts`), and sets every optimum beside the reference swing at the same
+rate. A failed start is reported, not fatal; a leg is solved when its best start converged to
+a feasible point whose energy has converged in the sampling.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Callable, Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import ConfigError, GaitError, InfeasibleError
+from scalf_opt.locomotion.swing.family import SwingFamily
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.optimize.pattern_search import PatternSearchOptions
+from scalf_opt.optimize.problem import SwingProblem
+from scalf_opt.optimize.sampling import (
+    CHECK_FACTOR,
+    MAX_RATE_HZ,
+    SAMPLING_TOLERANCE,
+    initial_rate_hz,
+    relative_difference,
+    with_rate,
+)
+from scalf_opt.optimize.solve import SwingOptimum, optimize
+from scalf_opt.optimize.starts import starts
+from scalf_opt.types import Method, check_choice
+
+
+@dataclass(frozen=True)
+class Settings:
+    """How to optimize (the defaults of ``scalf-opt optimize`` and ``scalf-opt paper``).
+
+    Attributes:
+        method: ``ipopt`` or ``pattern``.
+        starts: Number of deterministic starts per leg (the first is the default start).
+        pattern: Pattern-search settings (the paper's by default).
+        sampling_tolerance: Largest relative difference between the optimum's energy at its
+            rate and at ten times that rate.
+        ipopt: Extra Ipopt options (``{"print_level": 5}``: its iteration log), or ``None``.
+    """
+
+    method: Method = "ipopt"
+    starts: int = 1
+    pattern: PatternSearchOptions = field(default_factory=PatternSearchOptions)
+    sampling_tolerance: float = SAMPLING_TOLERANCE
+    ipopt: dict[str, Any] | None = None
+
+    def __post_init__(self) -> None:
+        check_choice(self.method, Method, "method")
+        if isinstance(self.starts, bool) or not isinstance(self.starts, int) or self.starts < 1:
+            raise ConfigError(f"--starts must be an integer >= 1, got {self.starts!r}")
+
+
+@dataclass
+class StartResult:
+    """One start of one leg.
+
+    Attributes:
+        label: Where it started (``zero``, ``closest to the reference``, ...).
+        optimum: The optimizer's answer at the final rate.
+        check_energy_j: Its swing energy at ten times the rate [J] (inf if it failed).
+        converged: Solved, and its energy converged in the sampling.
+    """
+
+    label: str
+    optimum: SwingOptimum
+    check_energy_j: float
+    converged: bool
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain data for JSON."""
+        return {
+            "start": self.label,
+            "swing_energy_j": self.optimum.swing_energy_j,
+            "check_energy_j": self.check_energy_j,
+            "success": self.optimum.success,
+            "converged": self.converged,
+            "status": self.optimum.status,
+            "iterations": self.optimum.iterations,
+            "wall_time_s": self.optimum.wall_time_s,
+        }
+
+
+@dataclass
+class LegResult:
+    """The optimization of one leg.
+
+    Attributes:
+        leg: Leg name.
+        best: The best converged start (else the first start).
+        starts: Every start, in order.
+        reference_swing_energy_j: The reference swing's energy at the same rate [J] (NaN when
+            the reference leaves the joint range at this gait).
+        check_energy_j: The best optimum's swing energy at ten times the rate [J].
+        sampling_error: Relative difference of the two energies.
+        bound_check_energy_j: The free-trajectory bound at ten times its rate, when computed
+            [J] (:mod:`scalf_opt.optimize.bound`).
+    """
+
+    leg: str
+    best: SwingOptimum
+    starts: list[StartResult]
+    reference_swing_energy_j: float
+    check_energy_j: float
+    sampling_error: float
+    bound_check_energy_j: float | None = None
+
+    @property
+    def success(self) -> bool:
+        """The best start is solved and its energy converged in the sampling."""
+        return any(s.converged for s in self.starts)
+
+    @property
+    def worse_than_reference(self) -> bool:
+        """The optimum costs more than the reference swing."""
+        return self.best.swing_energy_j > self.reference_swing_energy_j
+
+    @property
+    def change_percent(self) -> float:
+        """Swing energy change against the reference [%]."""
+        return 100.0 * (self.best.swing_energy_j / self.reference_swing_energy_j - 1.0)
+
+    @property
+    def gap_to_bound_percent(self) -> float | None:
+        """How far above the free-trajectory bound the optimum is [%], when it is known.
+
+        Both energies at ten times their optimization rates: the converged energies.
+        """
+        if self.bound_check_energy_j is None:
+            return None
+        return 100.0 * (self.check_energy_j / self.bound_check_energy_j - 1.0)
+
+    @property
+    def spread_j(self) -> float:
+        """Largest minus smallest swing energy of the converged starts [J] (0 for one)."""
+        energies = [s.optimum.swing_energy_j for s in self.starts if s.converged]
+        return max(energies) - min(energies) if energies else math.nan
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain data for JSON (the best optimum's record, with the comparisons)."""
+        return {
+            **self.best.as_dict(),
+            "success": self.success,
+            "reference_swing_energy_j": self.reference_swing_energy_j,
+            "change_against_reference_pct": self.change_percent,
+            "worse_than_reference": self.worse_than_reference,
+            "check_energy_j": self.check_energy_j,
+            "check_rate_factor": CHECK_FACTOR,
+            "sampling_error": self.sampling_error,
+            "bound_check_energy_j": self.bound_check_energy_j,
+            "gap_to_bound_pct": self.gap_to_bound_percent,
+            "starts": [s.as_dict() for s in self.starts],
+            "spread_j": self.spread_j,
+        }
+
+
+@dataclass
+class SwingOptimization:
+    """The optimization of several legs with one family and method.
+
+    Attributes:
+        family: The family.
+        settings: How it was optimized.
+        pipeline: The pipeline at the rate the optimization converged at.
+        legs: Result per leg.
+        rates_hz: Every rate tried, the last one the rate of the results.
+        converged_sampling: The energies converged within the tolerance.
+        wall_time_s: Time of the whole optimization [s].
+    """
+
+    family: SwingFamily
+    settings: Settings
+    pipeline: EnergyPipeline
+    legs: dict[str, LegResult]
+    rates_hz: list[float]
+    converged_sampling: bool
+    wall_time_s: float = 0.0
+
+    @property
+    def rate_hz(self) -> float:
+        """The rate of the results [Hz]."""
+        return self.rates_hz[-1]
+
+    @property
+    def success(self) -> bool:
+        """Every leg solved, with converged energies."""
+        return self.converged_sampling and all(r.success for r in self.legs.values())
+
+    @property
+    def thetas(self) -> dict[str, np.ndarray]:
+        """The best parameters per leg."""
+        return {leg: r.best.theta for leg, r in self.legs.items()}
+
+    def cycle(self) -> RobotCycle:
+        """The robot's cycle with the optima (legs not optimized: their twin's, or reference)."""
+        return self.pipeline.robot_cycle(self.family, self.thetas)
+
+    def reference_cycle(self) -> RobotCycle:
+        """The robot's cycle with the reference swing, at the same rate."""
+        return self.pipeline.robot_cycle(make_family("reference"))
+
+
+def check_bounded(pipeline: EnergyPipeline, legs: tuple[str, ...]) -> None:
+    """Refuse an accounting under which the swing energy has nothing to minimize.
+
+    Under ``regenerative`` the charged joint power integrates to the change of the leg's
+    mechanical energy, the same for every swing between the same end states (the work-energy
+    theorem; the leg frame is inertial). A leg whose drives lose nothing then has a constant
+    swing energy: any swing is optimal, and an optimizer only exploits the sampling. With
+    losses (SCalf's friction heat) the energy is that constant plus the losses: bounded below,
+    and the limits and the sampling refinement keep the optimizer honest.
+
+    Raises:
+        ConfigError: The accounting is ``regenerative`` and a leg's drives have no losses.
+    """
+    if pipeline.accounting != "regenerative":
+        return
+    q, qd, tau = (ca.SX.sym(n) for n in ("q", "qd", "tau"))
+    for leg in legs:
+        drives = pipeline.physics(leg).drives
+        if all(ca.SX(d.loss_rate(q, qd, tau)).is_zero() for d in drives):
+            raise ConfigError(
+                f"--accounting regenerative: the drives of leg {leg} lose nothing, so every "
+                "swing between the same end states costs the same energy (the change of the "
+                "leg's mechanical energy); there is nothing to optimize"
+            )
+
+
+def reference_swing_energy_j(pipeline: EnergyPipeline, leg: str) -> float:
+    """The reference swing's energy [J]; NaN when it leaves the joint range at this gait."""
+    try:
+        return float(pipeline.swing(leg, make_family("reference")).energy_j.sum())
+    except (InfeasibleError, GaitError):  # the reference's own path is the gait's: GaitError
+        return math.nan
+
+
+def _solve_leg(
+    pipeline: EnergyPipeline,
+    leg: str,
+    family: SwingFamily,
+    settings: Settings,
+    theta0: np.ndarray | None,
+) -> tuple[SwingOptimum, float]:
+    """Optimize one leg at the pipeline's rate; also return the energy at ten times the rate."""
+    problem = SwingProblem(pipeline, leg, family)
+    optimum = optimize(problem, settings.method, theta0, settings.pattern, settings.ipopt)
+    check = math.inf
+    if optimum.success:
+        rate = pipeline.gait.sample_rate_hz * CHECK_FACTOR
+        fine = SwingProblem(pipeline.with_gait(with_rate(pipeline.gait, rate)), leg, family)
+        check = fine.energy_j(optimum.theta)
+    return optimum, check
+
+
+def optimize_swings(
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    family: SwingFamily,
+    settings: Settings | None = None,
+    theta0: Mapping[str, np.ndarray] | None = None,
+    progress: Callable[[str], None] | None = None,
+) -> SwingOptimization:
+    """Optimize ``family``'s parameters for each leg (see the module docstring).
+
+    Args:
+        pipeline: Robot, gait (its rate is the least the optimization uses), accounting.
+        legs: The legs to optimize.
+        family: The swing family.
+        settings: Method, starts, options (default: ``scalf-opt optimize``'s).
+        theta0: A first start per leg instead of the default start (label ``given``).
+        progress: Called with a label as each rate and each extra start begins.
+
+    Raises:
+        ConfigError: The family has no free parameter, or the accounting cannot be optimized.
+        GaitError: The gait's stance leaves a leg's reach or joint range.
+    """
+    settings = settings or Settings()
+    if family.n_params == 0:
+        raise ConfigError(f"--family {family.name}: has no free parameter to optimize")
+    check_bounded(pipeline, legs)
+    for leg in legs:  # a stance the gait makes impossible is the gait's error: name its fields
+        pipeline.stance(leg)
+    start = time.perf_counter()
+    rate = initial_rate_hz(pipeline.gait, family)
+    rates: list[float] = []
+    first: dict[str, tuple[str, np.ndarray]] = {}
+    current: dict[str, np.ndarray | None] = {}
+    for leg in legs:
+        if theta0 is not None and leg in theta0:
+            label, theta = "given", np.asarray(theta0[leg], dtype=float)
+        else:
+            label, theta = starts(SwingProblem(pipeline, leg, family), settings.method, 1)[0]
+        first[leg] = (label, theta)
+        current[leg] = theta
+    answers: dict[str, tuple[SwingOptimum, float]] = {}
+    converged = False
+    while True:
+        rates.append(rate)
+        if progress is not None:
+            progress(f"{family.name} at {rate:g} Hz")
+        at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
+        answers = {leg: _solve_leg(at_rate, leg, family, settings, current[leg]) for leg in legs}
+        solved = all(o.success for o, _ in answers.values())
+        errors = [relative_difference(o.swing_energy_j, c) for o, c in answers.values()]
+        if not solved:
+            break
+        if max(errors) <= settings.sampling_tolerance:
+            converged = True
+            break
+        if rate * 2 > MAX_RATE_HZ:
+            break
+        rate *= 2
+        current = {leg: o.theta for leg, (o, _) in answers.items()}
+    results = {}
+    for leg in legs:
+        optimum, check = answers[leg]
+        error = relative_difference(optimum.swing_energy_j, check)
+        ok = optimum.success and error <= settings.sampling_tolerance
+        runs = [StartResult(first[leg][0], optimum, check, ok)]
+        problem = SwingProblem(at_rate, leg, family)
+        for label, theta in starts(problem, settings.method, settings.starts)[1:]:
+            if progress is not None:
+                progress(f"{leg}: start {label}")
+            other, other_check = _solve_leg(at_rate, leg, family, settings, theta)
+            other_ok = (
+                other.success
+                and relative_difference(other.swing_energy_j, other_check)
+                <= settings.sampling_tolerance
+            )
+            runs.append(StartResult(label, other, other_check, other_ok))
+        good = [r for r in runs if r.converged]
+        best = min(good, key=lambda r: r.optimum.swing_energy_j) if good else runs[0]
+        results[leg] = LegResult(
+            leg=leg,
+            best=best.optimum,
+            starts=runs,
+            reference_swing_energy_j=reference_swing_energy_j(at_rate, leg),
+            check_energy_j=best.check_energy_j,
+            sampling_error=relative_difference(best.optimum.swing_energy_j, best.check_energy_j),
+        )
+    return SwingOptimization(
+        family, settings, at_rate, results, rates, converged, time.perf_counter() - start
+    )

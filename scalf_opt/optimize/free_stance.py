@@ -1,0 +1,258 @@
+"""Beyond the paper: optimize the stance together with the swing.
+
+With the trunk at constant height the stance foot path is fixed by two choices the paper made by
+hand: the stance height ``z0`` (pitching hip above the ground) and where the foot stands
+relative to the hip at mid-stance (the stance x-offset). The stance is 59 % of SCalf's energy.
+Here ``z0`` (one for the trunk) and the x-offsets (one per leg pair: front, hind) are decision
+variables too:
+
+    minimize over (z0, d_front, d_hind):  sum over RF, LH of
+        E_stance(z0, d) + min over theta E_swing(theta; z0, d)
+
+The inner minimization is the swing optimization of :func:`~scalf_opt.optimize.driver
+.optimize_swings` at that stance (same family, method and options; warm-started from the last
+optimum); the outer one is the paper's pattern search (:mod:`scalf_opt.optimize.pattern_search`)
+over the three stance numbers in centimetres, from the gait's stance, initial step
+:data:`STANCE_STEP_CM`, precision :data:`STANCE_PRECISION_CM`. The minimum over the pair is the
+minimum over the robot, because LF and RH repeat RF and LH. A stance is feasible when its path
+stays inside the reach and the joint range and every sample respects the leg's limits (URDF
+velocity and effort, the cylinders' stroke, force and speed); the swing keeps its constraints
+(ground, clearance H at mid-swing, limits) at the new height.
+
+The report splits the saving against the paper's stance with the reference swing into the part
+of the stance energy and the part of the swing energy.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass, field, replace
+from typing import Any
+
+import numpy as np
+
+from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.limits import leg_bounds, violations
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import ScalfError
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.family import SwingFamily
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.optimize.driver import Settings, SwingOptimization, optimize_swings
+from scalf_opt.optimize.pattern_search import PatternSearchOptions, pattern_search
+from scalf_opt.optimize.sampling import with_rate
+from scalf_opt.types import FIRST_PAIR
+
+STANCE_STEP_CM = 2.0
+"""Initial step of the stance search in each variable [cm]."""
+
+STANCE_PRECISION_CM = 0.1
+"""The stance search stops when every step is below this [cm] (1 mm)."""
+
+STANCE_VARIABLES = ("stance_height_m", "stance_x_offset_front_m", "stance_x_offset_hind_m")
+"""The gait fields the stance search changes, in the order of its variables."""
+
+
+def stance_gait(gait: Gait, x_cm: np.ndarray) -> Gait:
+    """``gait`` with the stance numbers ``(z0, d_front, d_hind)`` given in centimetres."""
+    z0, front, hind = (float(v) * 0.01 for v in x_cm)
+    return replace(
+        gait, stance_height_m=z0, stance_x_offset_front_m=front, stance_x_offset_hind_m=hind
+    )
+
+
+def stance_vector_cm(gait: Gait) -> np.ndarray:
+    """The stance numbers of ``gait`` in centimetres."""
+    return np.array([100.0 * getattr(gait, name) for name in STANCE_VARIABLES])
+
+
+@dataclass
+class StanceEvaluation:
+    """One stance tried by the search.
+
+    Attributes:
+        gait: The gait with that stance.
+        total_j: Stance plus optimized swing energy of RF and LH [J] (inf if infeasible).
+        reason: Why it is infeasible, else ``None``.
+        run: The swing optimization at that stance (``None`` if the stance itself failed).
+    """
+
+    gait: Gait
+    total_j: float
+    reason: str | None
+    run: SwingOptimization | None = None
+
+
+@dataclass
+class FreeStance:
+    """The stance and swing optimized together.
+
+    Attributes:
+        nominal: The gait's own stance with the optimized swing (the plain ``optimize``).
+        best: The best stance found, with its optimized swing.
+        reference: Robot cycle: the gait's stance, the reference swing.
+        evaluations: Stances tried.
+        iterations: Pattern-search iterations.
+        converged: The search's steps fell below the precision.
+        history: Accepted points: (iteration, z0, d_front, d_hind [cm], total [J]).
+        wall_time_s: Time spent [s].
+    """
+
+    nominal: StanceEvaluation
+    best: StanceEvaluation
+    reference: RobotCycle
+    evaluations: int = 0
+    iterations: int = 0
+    converged: bool = False
+    history: list[tuple[float, ...]] = field(default_factory=list)
+    wall_time_s: float = 0.0
+
+    @property
+    def success(self) -> bool:
+        """The search converged to a feasible stance whose swings are solved."""
+        return self.converged and self.best.run is not None and self.best.run.success
+
+    def cycle(self) -> RobotCycle:
+        """The robot's cycle with the best stance and its optimized swings."""
+        assert self.best.run is not None
+        return self.best.run.cycle()
+
+    def nominal_cycle(self) -> RobotCycle:
+        """The robot's cycle with the gait's stance and the optimized swings."""
+        assert self.nominal.run is not None
+        return self.nominal.run.cycle()
+
+    def split_j(self) -> dict[str, float]:
+        """The saving against the reference, split into its stance and swing parts [J/cycle].
+
+        Keys: ``total``, ``stance``, ``swing`` (against the reference: the gait's stance and
+        the reference swing), and ``swing_only`` and ``from_freeing_the_stance`` (the plain
+        swing optimization's saving, and what freeing the stance adds to it).
+        """
+        ref, best, nominal = self.reference, self.cycle(), self.nominal_cycle()
+
+        def phase_sum(cycle: RobotCycle, phase: str) -> float:
+            return sum(getattr(leg, f"{phase}_energy_j") for leg in cycle.legs.values())
+
+        return {
+            "total": ref.energy_j - best.energy_j,
+            "stance": phase_sum(ref, "stance") - phase_sum(best, "stance"),
+            "swing": phase_sum(ref, "swing") - phase_sum(best, "swing"),
+            "swing_only": ref.energy_j - nominal.energy_j,
+            "from_freeing_the_stance": nominal.energy_j - best.energy_j,
+        }
+
+    def as_dict(self) -> dict[str, Any]:
+        """Plain data for JSON."""
+        g = self.best.gait
+        return {
+            "stance": {name: getattr(g, name) for name in STANCE_VARIABLES},
+            "nominal_stance": {name: getattr(self.nominal.gait, name) for name in STANCE_VARIABLES},
+            "total_energy_per_cycle_j": self.cycle().energy_j,
+            "nominal_stance_total_energy_per_cycle_j": self.nominal_cycle().energy_j,
+            "reference_total_energy_per_cycle_j": self.reference.energy_j,
+            "saving_j": self.split_j(),
+            "evaluations": self.evaluations,
+            "iterations": self.iterations,
+            "converged": self.converged,
+            "success": self.success,
+            "history_cm_j": [list(map(float, row)) for row in self.history],
+            "wall_time_s": self.wall_time_s,
+        }
+
+
+def _stance_feasible(pipeline: EnergyPipeline, legs: tuple[str, ...]) -> tuple[float, str | None]:
+    """Stance energy of ``legs`` [J], or ``(inf, reason)`` when the stance breaks a limit."""
+    total = 0.0
+    for leg in legs:
+        try:
+            phase = pipeline.stance(leg)
+        except ScalfError as exc:
+            return math.inf, str(exc)
+        beyond = violations(phase.values, leg_bounds(pipeline.physics(leg)))
+        if beyond:
+            b = beyond[0].bound
+            return math.inf, f"stance of {leg}: {b.name} beyond its {b.source}"
+        total += float(phase.energy_j.sum())
+    return total, None
+
+
+def optimize_stance(
+    pipeline: EnergyPipeline,
+    family: SwingFamily,
+    settings: Settings | None = None,
+    legs: tuple[str, ...] = FIRST_PAIR,
+) -> FreeStance:
+    """Optimize the stance height and x-offsets together with the swings of ``legs``.
+
+    Raises:
+        ScalfError: The gait's own stance is impossible, or its swings cannot be optimized.
+    """
+    settings = settings or Settings()
+    start = time.perf_counter()
+    nominal_run = optimize_swings(pipeline, legs, family, settings)
+    # the whole search at the rate the nominal optimization converged at, so that every stance
+    # is compared on the same grid (a stance that needs a finer one is refined by the driver)
+    at_rate = pipeline.with_gait(with_rate(pipeline.gait, nominal_run.rate_hz))
+    nominal_stance, reason = _stance_feasible(at_rate, legs)
+    if reason is not None:
+        raise ScalfError(reason)
+    swing = sum(r.best.swing_energy_j for r in nominal_run.legs.values())
+    nominal = StanceEvaluation(at_rate.gait, nominal_stance + swing, None, nominal_run)
+    seen: dict[tuple[float, ...], StanceEvaluation] = {}
+    warm = {leg: r.best.theta for leg, r in nominal_run.legs.items()}
+
+    def evaluate(x_cm: np.ndarray) -> StanceEvaluation:
+        key = tuple(np.round(x_cm, 9))
+        if key in seen:
+            return seen[key]
+        try:
+            gait = stance_gait(at_rate.gait, x_cm)
+        except ScalfError as exc:
+            seen[key] = StanceEvaluation(at_rate.gait, math.inf, str(exc))
+            return seen[key]
+        trial = at_rate.with_gait(gait)
+        stance, why = _stance_feasible(trial, legs)
+        if why is not None:
+            seen[key] = StanceEvaluation(gait, math.inf, why)
+            return seen[key]
+        run = optimize_swings(trial, legs, family, settings, warm)
+        if not run.success:
+            seen[key] = StanceEvaluation(gait, math.inf, "swing not solved", run)
+            return seen[key]
+        warm.update({leg: r.best.theta for leg, r in run.legs.items()})
+        total = stance + sum(r.best.swing_energy_j for r in run.legs.values())
+        seen[key] = StanceEvaluation(gait, total, None, run)
+        return seen[key]
+
+    x0 = stance_vector_cm(at_rate.gait)
+    seen[tuple(np.round(x0, 9))] = nominal
+    result = pattern_search(
+        lambda x: (evaluate(x).total_j, evaluate(x).reason),
+        x0,
+        PatternSearchOptions(initial_step=STANCE_STEP_CM, precision=STANCE_PRECISION_CM),
+    )
+    best = evaluate(result.x)
+    # every cycle the report compares, at the rate of the best stance's swings
+    final = best.run.rate_hz if best.run is not None else nominal_run.rate_hz
+    at_final = pipeline.with_gait(with_rate(pipeline.gait, final))
+    if final != nominal_run.rate_hz:
+        thetas = {leg: r.best.theta for leg, r in nominal_run.legs.items()}
+        nominal_run = replace(nominal_run, pipeline=at_final)
+        nominal = StanceEvaluation(
+            at_final.gait,
+            float(sum(at_final.leg_cycle(leg, family, thetas[leg]).energy_j for leg in legs)),
+            None,
+            nominal_run,
+        )
+    return FreeStance(
+        nominal=nominal,
+        best=best,
+        reference=at_final.robot_cycle(make_family("reference")),
+        evaluations=result.evaluations,
+        iterations=result.iterations,
+        converged=result.converged,
+        history=list(result.history),
+        wall_time_s=time.perf_counter() - start,
+    )

@@ -1,0 +1,171 @@
+"""The per-sample functions the swing optimizers evaluate: one leg's physics at one sample.
+
+A *kernel* maps one swing sample ``y = (y, y', y'')`` (6 numbers: value, rate and acceleration
+of the two coordinates of the family's space) to what the optimization needs at that sample:
+
+``exact``
+    ``(power (2), p_mech (2), c (m))``: the charged power of each joint under the accounting (the
+    exact, non-smooth energy integrand), the signed joint power ``tau qd``, and the constraint
+    quantities ``c``;
+``smooth``
+    ``(p_mech (2), p_loss (1), c (m))`` for the NLP: the drives' losses with the smooth max
+    (:data:`HEAT_SMOOTHING_EPS_M_S`), summed over the joints.
+
+The constraint quantities, in :attr:`Kernel.rows` order: every bound of the leg
+(:func:`~scalf_opt.energy.limits.leg_bounds`: joint range, URDF velocity and effort limits,
+drive bounds), the foot height ``z``, the foot's vertical acceleration ``z''`` and, in foot
+space, the reach cosine of the IK (reachable iff in [-1, 1]).
+
+Every expression comes from :class:`~scalf_opt.energy.physics.LegPhysics` and
+:class:`~scalf_opt.model.kinematics.LegKinematics`: no physics is written here. A kernel depends
+only on the leg, its drives, the space and the accounting, never on the gait or the family, so
+it is built and compiled once per leg (:func:`~scalf_opt.energy.codegen.compile_library`, cached
+on disk; CasADi's virtual machine without a compiler) and serves every problem of that leg.
+The NLP's kernel is compiled with its first and second derivatives, so the NLP maps it over the
+samples and CasADi differentiates through it.
+"""
+
+from __future__ import annotations
+
+import re
+import weakref
+from dataclasses import dataclass, field
+from functools import cached_property
+
+import casadi as ca
+import numpy as np
+
+from scalf_opt.energy.codegen import compile_library, load_external
+from scalf_opt.energy.limits import Bound, leg_bounds
+from scalf_opt.energy.physics import LegPhysics
+from scalf_opt.types import Accounting, Space
+
+
+def casadi_name(*parts: str) -> str:
+    """A valid CasADi function name from arbitrary parts (letters, digits, single underscores)."""
+    name = re.sub(r"[^A-Za-z0-9]+", "_", "_".join(parts)).strip("_")
+    return name if name[:1].isalpha() else f"f_{name}"
+
+
+HEAT_SMOOTHING_EPS_M_S = 1e-4
+"""Velocity scale of the smooth max in the NLP's drive losses [m/s].
+
+It is 70x below the smaller Stribeck velocity (0.007 m/s); the smooth max overestimates
+``max(v, 0)`` by at most eps/2, so the heat rate changes by at most ``F_s eps / 2 = 2.5 mW`` per
+cylinder: far below the energies compared (the exact energy is what every report prints).
+"""
+
+FOOT_Z = "foot_z"
+FOOT_Z_ACCEL = "foot_z_accel"
+REACH = "reach"
+
+
+@dataclass
+class Kernel:
+    """The per-sample functions of one leg in one space.
+
+    Attributes:
+        physics: The leg's physics.
+        space: ``joint`` or ``foot``: what the sample's coordinates are.
+        bounds: The leg's bounds; the first rows of ``c``.
+        rows: Names of the rows of ``c``: each bound's name, then ``foot_z``,
+            ``foot_z_accel`` and (foot space) ``reach``.
+        compiled: The functions run as native code (else in CasADi's virtual machine).
+    """
+
+    physics: LegPhysics
+    space: Space
+    bounds: tuple[Bound, ...]
+    rows: tuple[str, ...]
+    compiled: bool = False
+    _smooth: ca.Function | None = None
+    _exact: dict[str, ca.Function] = field(default_factory=dict)
+    _mapped: dict[tuple[str, int], ca.Function] = field(default_factory=dict)
+    nlps: dict[object, object] = field(default_factory=dict)
+    """Built NLPs by their structure (filled by :mod:`scalf_opt.optimize.nlp`)."""
+
+    def row(self, name: str) -> int:
+        """Index of a named row of ``c``."""
+        return self.rows.index(name)
+
+    @cached_property
+    def _y(self) -> ca.SX:
+        """The sample's symbols: value, rate and acceleration of the two coordinates."""
+        return ca.SX.sym("y", 6)
+
+    def _expressions(self, accounting: Accounting, heat_eps: float | None) -> dict[str, ca.SX]:
+        y = self._y
+        fn = self.physics.sample_function(self.space, accounting, heat_eps)
+        out = dict(
+            zip(
+                self.physics.output_names,
+                fn(y[0:2], y[2:4], y[4:6], ca.DM.zeros(2, 1)),
+                strict=True,
+            )
+        )
+        kin = self.physics.kin
+        if self.space == "joint":
+            q, qd, qdd = out["q"], out["qd"], out["qdd"]
+            accel = ca.mtimes(kin.jacobian_expr(q), qdd) + ca.mtimes(
+                kin.jacobian_dot_expr(q, qd), qd
+            )
+            foot_z_accel = accel[1]
+        else:
+            foot_z_accel = y[5]
+        c = [b.select(out) for b in self.bounds]
+        c += [out["foot"][1], foot_z_accel]
+        if self.space == "foot":
+            c.append(kin.reach_cosine_expr(y[0:2]))
+        out["c"] = ca.vertcat(*c)
+        return out
+
+    def smooth(self) -> ca.Function:
+        """``y (6) -> out (5 + m)``: p_mech (2), summed smooth losses (1), c (m); NLP use."""
+        if self._smooth is None:
+            e = self._expressions("paper", HEAT_SMOOTHING_EPS_M_S)
+            name = casadi_name(self.physics.leg.name, self.space, "nlp_sample")
+            fn = ca.Function(
+                name, [self._y], [ca.vertcat(e["p_mech"], ca.sum1(e["p_loss"]), e["c"])]
+            )
+            adjoint = fn.reverse(1)
+            library = compile_library(
+                name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian()]
+            )
+            compiled = load_external(name, library)
+            self.compiled = self.compiled or compiled is not None
+            self._smooth = compiled or fn
+        return self._smooth
+
+    def exact(self, accounting: Accounting) -> ca.Function:
+        """``y (6) -> out (4 + m)``: charged power (2), p_mech (2), c (m); exact energy."""
+        if accounting not in self._exact:
+            e = self._expressions(accounting, None)
+            name = casadi_name(self.physics.leg.name, self.space, accounting, "exact_sample")
+            fn = ca.Function(name, [self._y], [ca.vertcat(e["power"], e["p_mech"], e["c"])])
+            compiled = load_external(name, compile_library(name, [fn]))
+            self.compiled = self.compiled or compiled is not None
+            self._exact[accounting] = compiled or fn
+        return self._exact[accounting]
+
+    def evaluate_exact(self, accounting: Accounting, samples: np.ndarray) -> np.ndarray:
+        """The exact kernel on every column of ``samples`` (6, n): shape (4 + m, n)."""
+        n = samples.shape[1]
+        key = (accounting, n)
+        if key not in self._mapped:
+            self._mapped[key] = self.exact(accounting).map(n)
+        return np.array(self._mapped[key](samples))
+
+
+_KERNELS: weakref.WeakKeyDictionary[LegPhysics, dict[Space, Kernel]] = weakref.WeakKeyDictionary()
+
+
+def kernel_for(physics: LegPhysics, space: Space) -> Kernel:
+    """The leg's kernel in ``space``, built once per leg (and compiled once per machine)."""
+    per_leg = _KERNELS.setdefault(physics, {})
+    if space not in per_leg:
+        bounds = leg_bounds(physics)
+        rows = (*(b.name for b in bounds), FOOT_Z, FOOT_Z_ACCEL)
+        if space == "foot":
+            rows = (*rows, REACH)
+        per_leg[space] = Kernel(physics, space, bounds, rows)
+    return per_leg[space]

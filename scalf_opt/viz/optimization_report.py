@@ -1,0 +1,211 @@
+"""Plain-text reports of an optimization: optima, starts, sampling, bound, peaks and limits."""
+
+from __future__ import annotations
+
+import math
+
+from scalf_opt.energy.peaks import CycleViolation, Peak
+from scalf_opt.optimize.bound import FreeBound
+from scalf_opt.optimize.driver import LegResult, SwingOptimization
+from scalf_opt.optimize.free_stance import FreeStance
+from scalf_opt.optimize.sampling import CHECK_FACTOR
+
+UNITS = {
+    "nm": "N m",
+    "rad_s": "rad/s",
+    "n": "N",
+    "m_s": "m/s",
+    "w": "W",
+    "m": "m",
+    "rad": "rad",
+}
+"""Column-name units as printed."""
+
+
+def _g(x: float) -> str:
+    """Four significant digits, no exponent for the sizes reports show."""
+    if x == 0 or not math.isfinite(x):
+        return f"{x:g}"
+    digits = max(0, 3 - math.floor(math.log10(abs(x))))
+    return f"{x:.{digits}f}"
+
+
+def peaks_table(peaks: list[Peak], reference: list[Peak] | None = None) -> str:
+    """Peaks per leg and joint, then the limits; ``*`` marks a peak beyond its limit.
+
+    Args:
+        peaks: The cycle's peaks.
+        reference: The reference cycle's peaks, shown in brackets beside each (optimize).
+    """
+    columns: list[tuple[str, str]] = []
+    for p in peaks:
+        if (p.quantity, p.unit) not in columns:
+            columns.append((p.quantity, p.unit))
+    heads = [
+        f"{q} [{UNITS.get(u, u)}]" if q == "power" else f"|{q}| [{UNITS.get(u, u)}]"
+        for q, u in columns
+    ]
+    width = 22 if reference else 16
+    note = "; the reference trajectory's in brackets" if reference else ""
+    lines = [
+        f"peaks over the cycle (* = beyond its limit{note}):",
+        "leg   joint " + "".join(f"{h:>{width}s}" for h in heads),
+    ]
+
+    def by_row(items: list[Peak]) -> dict[tuple[str, str], dict[str, Peak]]:
+        rows: dict[tuple[str, str], dict[str, Peak]] = {}
+        for p in items:
+            rows.setdefault((p.leg, p.joint), {})[p.quantity] = p
+        return rows
+
+    rows, ref_rows = by_row(peaks), by_row(reference or [])
+    limits: dict[tuple[str, str], list[str]] = {}
+    for (leg, joint), by_quantity in rows.items():
+        cells, limit_cells = [], []
+        for quantity, _ in columns:
+            found = by_quantity.get(quantity)
+            if found is None:
+                cells.append("-")
+                limit_cells.append("-")
+                continue
+            p = found
+            value = _g(abs(p.value)) if quantity != "power" else _g(p.value)
+            ref = ref_rows.get((leg, joint), {}).get(quantity)
+            if ref is not None:
+                value += f" ({_g(abs(ref.value)) if quantity != 'power' else _g(ref.value)})"
+            cells.append(f"{value}{'*' if p.exceeds else ' '}")
+            limit_cells.append(_g(p.limit) + " " if p.limit is not None else "none ")
+        lines.append(f"{leg:5s} {joint:5s} " + "".join(f"{c:>{width}s}" for c in cells))
+        limits[(leg, joint)] = limit_cells
+    by_joint = {joint: cells for (_, joint), cells in limits.items()}
+    same = all(cells == by_joint[joint] for (_, joint), cells in limits.items())
+    if same:  # every leg has the same limits: one row per joint
+        for joint, cells in by_joint.items():
+            lines.append(f"limit {joint:5s} " + "".join(f"{c:>{width}s}" for c in cells))
+    else:
+        for (leg, joint), cells in limits.items():
+            lines.append(f"limit {leg} {joint:5s}" + "".join(f"{c:>{width}s}" for c in cells))
+    return "\n".join(lines)
+
+
+def violation_lines(violations: list[CycleViolation]) -> list[str]:
+    """One warning line per exceeded limit."""
+    return [f"warning: {v.message()}" for v in violations]
+
+
+def _leg_lines(result: LegResult, method: str, family: str) -> list[str]:
+    o = result.best
+    verdict = "solved" if result.success else "NOT SOLVED"
+    lines = [
+        f"{result.leg}: {family} by {method}: {verdict} ({o.status}), {o.iterations} iterations"
+        + (f", {o.evaluations} evaluations" if o.evaluations else "")
+        + f", {o.wall_time_s:.2f} s"
+    ]
+    if not math.isfinite(o.swing_energy_j):
+        stats = ", ".join(f"{k}={v}" for k, v in sorted(o.stats.items()))
+        return [*lines, f"  solver statistics: {stats}"]
+    if math.isfinite(result.reference_swing_energy_j):
+        against = (
+            f"vs reference {result.reference_swing_energy_j:.4f} J ({result.change_percent:+.2f} %)"
+        )
+    else:
+        against = "(the reference swing leaves the joint range at this gait)"
+    lines.append(
+        f"  swing energy {o.swing_energy_j:.4f} J {against}; at {CHECK_FACTOR}x the rate "
+        f"{result.check_energy_j:.4f} J ({100 * result.sampling_error:.3f} % apart)"
+    )
+    gap = result.gap_to_bound_percent
+    if gap is not None and result.bound_check_energy_j is not None:
+        lines.append(
+            f"  free-trajectory bound {result.bound_check_energy_j:.4f} J (at {CHECK_FACTOR}x "
+            f"its rate): this optimum is {gap:+.2f} % above it"
+        )
+    if len(result.starts) > 1:
+        parts = []
+        for s in result.starts:
+            state = f"{s.optimum.swing_energy_j:.4f} J" if s.converged else "failed"
+            parts.append(f"{s.label}: {state}" + ("" if s.converged else f" ({s.optimum.status})"))
+        lines.append(
+            f"  {len(result.starts)} starts, best {o.swing_energy_j:.4f} J, spread "
+            f"{result.spread_j:.4f} J: " + "; ".join(parts)
+        )
+    params = ", ".join(f"{n}={v:.4f}" for n, v in zip(o.parameter_names, o.theta, strict=True))
+    lines.append(f"  parameters [{o.unit}]: {params}")
+    return lines
+
+
+def optimization_report(run: SwingOptimization) -> str:
+    """Text of ``scalf-opt optimize``: each leg's optimum against the reference and the bound."""
+    rates = ", ".join(f"{r:g}" for r in run.rates_hz)
+    lines = [
+        f"sampled at {run.rate_hz:g} Hz (tried {rates} Hz: each optimum's swing energy must agree "
+        f"with its energy at {CHECK_FACTOR}x the rate within "
+        f"{100 * run.settings.sampling_tolerance:g} %)"
+        + ("" if run.converged_sampling else "; NOT CONVERGED")
+    ]
+    for result in run.legs.values():
+        lines += _leg_lines(result, run.settings.method, run.family.name)
+    return "\n".join(lines)
+
+
+def optimization_warnings(run: SwingOptimization) -> list[str]:
+    """Warning lines: optima worse than the reference, failed starts, unconverged sampling."""
+    out = []
+    for result in run.legs.values():
+        if result.success and result.worse_than_reference:
+            out.append(
+                f"warning: {result.leg}: the {run.family.name} optimum "
+                f"({result.best.swing_energy_j:.4f} J) is WORSE than the reference swing "
+                f"({result.reference_swing_energy_j:.4f} J, {result.change_percent:+.2f} %)"
+            )
+        failed = [s for s in result.starts if not s.converged]
+        if failed and result.success:
+            out.append(
+                f"warning: {result.leg}: {len(failed)} of {len(result.starts)} starts failed: "
+                + "; ".join(f"{s.label} ({s.optimum.status})" for s in failed)
+            )
+    return out
+
+
+def bound_report(bounds: dict[str, FreeBound]) -> str:
+    """Text of ``scalf-opt optimize --method free``: the bound per leg and its refinement."""
+    lines = []
+    for leg, b in bounds.items():
+        verdict = "converged" if b.success else "NOT CONVERGED"
+        steps = "; ".join(
+            f"{lv.spans} spans: {lv.swing_energy_j:.4f} J at {lv.sample_rate_hz:g} Hz"
+            for lv in b.levels
+        )
+        lines += [
+            f"{leg}: free-trajectory bound {b.swing_energy_j:.4f} J ({verdict}; "
+            f"{b.check_energy_j:.4f} J at {CHECK_FACTOR}x the rate)",
+            f"  refinement: {steps}",
+        ]
+    return "\n".join(lines)
+
+
+def free_stance_report(result: FreeStance) -> str:
+    """The stance found, and where the saving comes from."""
+    g, n = result.best.gait, result.nominal.gait
+    split = result.split_j()
+    ref = result.reference.energy_j
+    best = result.cycle().energy_j
+
+    def pct(x: float) -> str:
+        return f"{100 * x / ref:.1f} %"
+
+    return "\n".join(
+        [
+            f"free stance: z0 = {g.stance_height_m:.4f} m (was {n.stance_height_m:g}), stance "
+            f"x-offset front {1000 * g.stance_x_offset_front_m:+.1f} mm, hind "
+            f"{1000 * g.stance_x_offset_hind_m:+.1f} mm ({result.iterations} pattern-search "
+            f"iterations, {result.evaluations} stances tried, {result.wall_time_s:.1f} s)",
+            f"  energy per cycle: reference {ref:.3f} J -> optimized swing "
+            f"{result.nominal_cycle().energy_j:.3f} J -> free stance {best:.3f} J",
+            f"  saving {split['total']:.3f} J/cycle ({pct(split['total'])} of the reference): "
+            f"{split['stance']:.3f} J ({pct(split['stance'])}) from the stance, "
+            f"{split['swing']:.3f} J ({pct(split['swing'])}) from the swing",
+            f"  (the swing optimization alone saves {split['swing_only']:.3f} J; freeing the "
+            f"stance adds {split['from_freeing_the_stance']:.3f} J)",
+        ]
+    )

@@ -1,0 +1,83 @@
+"""Temporary files never outlive the command: not after success, an error, Ctrl-C or SIGTERM.
+
+The runs below use a fresh compile cache, so that the command compiles (scratch folders, the C
+compiler's own files) while it is stopped, and a study with a leg variant (a scratch URDF).
+"""
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from scalf_opt.energy import codegen
+
+STUDY = """\
+[study]
+robot = "scalf"
+family = "paper"
+
+[variant]
+thigh_length_scale = 1.05
+"""
+
+
+def _start(tmp_path, *args):
+    for name in ("tmp", "cache"):
+        (tmp_path / name).mkdir()
+    (tmp_path / "sweep.toml").write_text(STUDY)
+    env = {
+        **os.environ,
+        "TMPDIR": str(tmp_path / "tmp"),
+        "SCALF_OPT_CACHE": str(tmp_path / "cache"),
+    }
+    return subprocess.Popen(
+        [sys.executable, "-m", "scalf_opt", *args],
+        cwd=tmp_path,
+        env=env,
+        stdout=subprocess.DEVNULL,
+        stderr=subprocess.PIPE,
+        text=True,
+    )
+
+
+def _leftovers(tmp_path):
+    """Scratch files anywhere: the temporary folder, staged outputs, staged cache entries."""
+    found = list((tmp_path / "tmp").iterdir())
+    found += [p for p in tmp_path.rglob(".*") if p.is_file()]
+    return found
+
+
+def test_a_finished_study_leaves_no_temporary_file(tmp_path):
+    proc = _start(tmp_path, "study", "sweep.toml", "--workers", "1", "--out", "out")
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode == 0, err
+    assert (tmp_path / "out" / "results.csv").is_file()
+    assert _leftovers(tmp_path) == []
+
+
+def test_a_failed_command_leaves_no_temporary_file(tmp_path):
+    proc = _start(tmp_path, "evaluate", "--period", "-1", "--out", "out")
+    _, err = proc.communicate(timeout=600)
+    assert proc.returncode == 2 and "period" in err
+    assert _leftovers(tmp_path) == [] and not (tmp_path / "out").exists()
+
+
+@pytest.mark.parametrize(("stop", "code"), [(signal.SIGINT, 130), (signal.SIGTERM, 143)])
+def test_a_stopped_command_leaves_no_temporary_file(tmp_path, stop, code):
+    if codegen._compiler() is None:
+        pytest.skip("no C compiler: nothing is compiled, so there is nothing to stop mid-way")
+    proc = _start(tmp_path, "study", "sweep.toml", "--workers", "1", "--out", "out")
+    deadline = time.monotonic() + 300
+    while not any((tmp_path / "tmp").iterdir()):  # stop it while it has scratch files
+        assert proc.poll() is None, "finished before it made a temporary file"
+        assert time.monotonic() < deadline
+        time.sleep(0.01)
+    time.sleep(0.3)  # into the compilation
+    proc.send_signal(stop)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == code, err
+    assert "Traceback" not in err
+    assert _leftovers(tmp_path) == []

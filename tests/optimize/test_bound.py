@@ -1,0 +1,72 @@
+"""The free-trajectory bound: refinement, its relation to the families, the estimate of the rest."""
+
+import itertools
+import math
+
+import numpy as np
+import pytest
+
+from scalf_opt.energy.limits import violations
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.optimize.bound import bound_cycle_inputs, bound_for, remaining_estimate
+from scalf_opt.optimize.driver import optimize_swings
+from scalf_opt.optimize.problem import SwingProblem
+from scalf_opt.optimize.sampling import SAMPLING_TOLERANCE
+
+
+@pytest.fixture(scope="module")
+def model(scalf):
+    return EnergyPipeline(scalf, Gait())
+
+
+@pytest.fixture(scope="module")
+def bound_and_family(model):
+    family = make_family("joint-6")
+    run = optimize_swings(model, ("RF",), family)
+    bound = bound_for(model, "RF", [(family, run.legs["RF"].best.theta)], spans=(16, 32, 64))
+    return bound, run.legs["RF"]
+
+
+def test_refinement_lowers_the_bound_level_by_level(bound_and_family):
+    bound, _ = bound_and_family
+    energies = [level.check_energy_j for level in bound.levels]
+    assert [level.spans for level in bound.levels] == [16, 32, 64]
+    assert all(level.success for level in bound.levels)
+    # nested levels, each started at the previous optimum: never higher (beyond the sampling)
+    for coarse, fine in itertools.pairwise(energies):
+        assert fine <= coarse * (1 + SAMPLING_TOLERANCE)
+    assert bound.check_energy_j == energies[-1]
+    assert bound.remaining_j == pytest.approx(remaining_estimate(energies))
+
+
+def test_the_bound_is_below_the_family_it_was_started_from(bound_and_family):
+    bound, family_result = bound_and_family
+    assert bound.check_energy_j < family_result.check_energy_j
+    assert bound.gap_percent(family_result.check_energy_j) > 0
+
+
+def test_the_bound_swing_is_feasible_and_reproduced_by_the_cycle(model, bound_and_family):
+    bound, _ = bound_and_family
+    at_rate, family, thetas = bound_cycle_inputs(model, {"RF": bound})
+    swing = at_rate.swing("RF", family, thetas["RF"])
+    assert float(swing.energy_j.sum()) == pytest.approx(bound.swing_energy_j, rel=1e-9)
+    problem = SwingProblem(at_rate, "RF", family)
+    assert violations(swing.values, problem.bounds) == []
+    assert problem.evaluate(thetas["RF"]).reason is None
+
+
+def test_remaining_estimate_is_the_rest_of_a_geometric_series():
+    # savings 4, 2 (ratio 1/2): 1 + 0.5 + ... = 2 still to gain
+    assert remaining_estimate([10.0, 6.0, 4.0]) == pytest.approx(2.0)
+    assert remaining_estimate([10.0, 6.0]) == math.inf  # too few levels
+    assert remaining_estimate([10.0, 9.0, 7.0]) == math.inf  # savings grow: no estimate
+    assert remaining_estimate([10.0, 9.0, 9.5]) == 0.0  # the finer level gained nothing
+
+
+def test_free_method_families_are_the_bsplines():
+    family = make_family("bspline-32")
+    assert family.n_params == 2 * 31 and family.space == "joint"
+    # its narrowest bump is one basis function's support, four spans
+    np.testing.assert_allclose(make_family("bspline-16").shortest_period_s(0.25), 0.0625)

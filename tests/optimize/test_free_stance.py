@@ -1,0 +1,76 @@
+"""The stance as a free variable: feasible, lower, and the saving split into stance and swing."""
+
+from dataclasses import replace
+
+import numpy as np
+import pytest
+
+from scalf_opt.energy.peaks import cycle_violations
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import GaitError
+from scalf_opt.locomotion.forces import balance_matrix
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.optimize.free_stance import optimize_stance, stance_gait, stance_vector_cm
+
+
+@pytest.fixture(scope="module")
+def result(scalf):
+    return optimize_stance(EnergyPipeline(scalf, Gait()), make_family("paper"))
+
+
+def test_the_free_stance_saves_energy_within_every_limit(result, scalf):
+    assert result.success
+    cycle = result.cycle()
+    assert cycle.energy_j < result.nominal_cycle().energy_j < result.reference.energy_j
+    best = result.best.run
+    physics = {leg: best.pipeline.physics(leg) for leg in cycle.legs}
+    assert cycle_violations(cycle, physics) == []
+    # the stance search moved something, and the search's total is the cycle's (RF + LH; LF, RH
+    # repeat them)
+    assert not np.allclose(stance_vector_cm(result.best.gait), stance_vector_cm(Gait()))
+    pair = sum(cycle.legs[leg].energy_j for leg in ("RF", "LH"))
+    assert result.best.total_j == pytest.approx(pair, rel=1e-9)
+    assert cycle.symmetry_error < 1e-12
+
+
+def test_the_saving_splits_into_stance_and_swing(result):
+    split = result.split_j()
+    assert split["stance"] + split["swing"] == pytest.approx(split["total"], rel=1e-12)
+    assert split["swing_only"] + split["from_freeing_the_stance"] == pytest.approx(
+        split["total"], rel=1e-12
+    )
+    assert split["from_freeing_the_stance"] > 0
+
+
+def test_stance_variables_round_trip():
+    gait = stance_gait(Gait(), np.array([78.0, 3.5, -2.0]))
+    assert gait.stance_height_m == pytest.approx(0.78)
+    assert gait.stance_x_offset_front_m == pytest.approx(0.035)
+    assert gait.stance_x_offset_hind_m == pytest.approx(-0.02)
+    np.testing.assert_allclose(stance_vector_cm(gait), [78.0, 3.5, -2.0])
+
+
+def test_offset_stance_forces_still_balance_the_trunk(scalf):
+    gait = replace(Gait(), stance_x_offset_front_m=0.08, stance_x_offset_hind_m=-0.06)
+    pipeline = EnergyPipeline(scalf, gait)
+    com = scalf.trunk_com_m
+    feet = {}
+    for leg in ("RF", "LH"):
+        hip = scalf.leg(leg).hip_origin_m - com
+        feet[leg] = pipeline.stance_paths[leg][0] + np.array([[hip[0]], [hip[2]]])
+    weight = scalf.trunk_mass_kg * 9.81
+    forces = pipeline.stance_forces
+    for j in range(forces["RF"].shape[1]):
+        a = balance_matrix(np.column_stack([feet["RF"][:, j], feet["LH"][:, j]]))
+        f = np.concatenate([forces["RF"][:, j], forces["LH"][:, j]])
+        np.testing.assert_allclose(a @ f, [0.0, weight, 0.0], atol=1e-9)
+    # the front foot stands 8 cm ahead of its hip at mid-stance
+    mid = pipeline.stance_paths["RF"].shape[-1] // 2
+    assert pipeline.stance_paths["RF"][0][0, mid] == pytest.approx(0.08)
+
+
+def test_an_impossible_stance_names_the_offset_fields(scalf):
+    pipeline = EnergyPipeline(scalf, replace(Gait(), stance_x_offset_front_m=0.5))
+    with pytest.raises(GaitError, match=r"stance_x_offset_front_m = 0\.5"):
+        pipeline.stance("RF")
