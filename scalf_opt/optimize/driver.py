@@ -20,13 +20,16 @@ import casadi as ca
 import numpy as np
 
 from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.limits import violations
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError, GaitError, InfeasibleError
+from scalf_opt.interrupts import raise_if_stopped
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.sampling import (
+    BETWEEN_SAMPLES_RTOL,
     CHECK_FACTOR,
     MAX_RATE_HZ,
     SAMPLING_TOLERANCE,
@@ -254,14 +257,40 @@ def _solve_leg(
     settings: Settings,
     theta0: np.ndarray | None,
 ) -> tuple[SwingOptimum, float]:
-    """Optimize one leg at the pipeline's rate; also return the energy at ten times the rate."""
+    """Optimize one leg at the pipeline's rate; also return the energy at ten times the rate.
+
+    That energy is ``inf`` when the optimum crosses a bound between its samples by more than
+    :data:`BETWEEN_SAMPLES_RTOL` of the bound (on the same ten times finer samples): the rate
+    does not resolve the optimum, exactly as when the energy has not converged.
+    """
+    raise_if_stopped()
     problem = SwingProblem(pipeline, leg, family)
     optimum = optimize(problem, settings.method, theta0, settings.pattern, settings.ipopt)
+    user_options = settings.ipopt or {}
+    if settings.method == "ipopt" and not optimum.success and "mu_strategy" not in user_options:
+        # the adaptive barrier update is the faster one, but on limit-riding optima (HyQ's
+        # cylinders at their pull limit, foot-space families) it can wander for 3000
+        # iterations where the monotone one converges in a few hundred
+        retry = optimize(
+            problem,
+            settings.method,
+            theta0,
+            settings.pattern,
+            {**user_options, "mu_strategy": "monotone"},
+        )
+        if retry.success:
+            optimum = retry
     check = math.inf
     if optimum.success:
-        rate = pipeline.gait.sample_rate_hz * CHECK_FACTOR
-        fine = SwingProblem(pipeline.with_gait(with_rate(pipeline.gait, rate)), leg, family)
+        fine_pipeline = pipeline.with_gait(
+            with_rate(pipeline.gait, pipeline.gait.sample_rate_hz * CHECK_FACTOR)
+        )
+        fine = SwingProblem(fine_pipeline, leg, family)
         check = fine.energy_j(optimum.theta)
+        values = fine_pipeline.swing(leg, family, optimum.theta).values
+        for v in violations(values, fine.bounds):
+            if v.excess > BETWEEN_SAMPLES_RTOL * max(abs(v.bound.lower), abs(v.bound.upper)):
+                check = math.inf
     return optimum, check
 
 

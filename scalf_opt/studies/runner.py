@@ -26,6 +26,7 @@ from typing import Any
 
 from scalf_opt.errors import ConfigError, ScalfError
 from scalf_opt.files import write_atomic
+from scalf_opt.interrupts import raise_if_stopped
 from scalf_opt.io.results import rows_csv_text, to_json
 from scalf_opt.studies.case import RESULT_COLUMNS, STATUS_ERROR, STATUS_OK, case_key, run_case
 from scalf_opt.studies.progress import Progress
@@ -74,6 +75,7 @@ def _failure(case: Case, message: str) -> dict[str, Any]:
 
 def _serial(cases: list[Case]) -> Iterator[tuple[Case, dict[str, Any]]]:
     for case in cases:
+        raise_if_stopped()
         yield case, run_case(case)
 
 

@@ -89,3 +89,44 @@ def test_published_robots_pass():
     # their massless marker links with degenerate inertias vanish in Pinocchio's merged bodies
     for name in ("scalf", "hyq", "solo12"):
         assert load_robot(name).model.nq == 12
+
+
+MEASURE = """
+import resource, subprocess, sys, time
+start = time.perf_counter()
+done = subprocess.run(sys.argv[1:], capture_output=True, text=True)
+seconds = time.perf_counter() - start
+peak_mb = resource.getrusage(resource.RUSAGE_CHILDREN).ru_maxrss / 1024  # Linux: kB
+print(done.returncode, round(seconds, 2), round(peak_mb), done.stderr.strip(), sep="|")
+"""
+
+
+@pytest.mark.parametrize("kind", ["expansion bomb", "external entity", "oversized"])
+def test_hostile_urdfs_are_refused_within_5_s_and_500_mb(tmp_path, kind):
+    """The whole command, interpreter start and imports included, on its own: the time and the
+    peak memory of that one process (a generous bound on a shared machine, not a speed test)."""
+    import subprocess
+    import sys
+
+    secret = tmp_path / "secret.txt"
+    secret.write_text("TOP-SECRET")
+    if kind == "expansion bomb":
+        lol = "".join(f'<!ENTITY l{i} "{f"&l{i - 1};" * 10}">' for i in range(1, 12))
+        text = f'<?xml version="1.0"?><!DOCTYPE r [<!ENTITY l0 "lol">{lol}]><robot name="&l11;"/>'
+    elif kind == "external entity":
+        text = SCALF.replace(
+            '<?xml version="1.0"?>',
+            f'<?xml version="1.0"?>\n<!DOCTYPE robot [<!ENTITY s SYSTEM "file://{secret}">]>',
+        ).replace('<robot name="scalf">', '<robot name="&s;">')
+    else:  # 30 MB of comments: refused by its size before it is parsed
+        text = SCALF.replace("<robot", "<!--" + "x" * 30_000_000 + "-->\n<robot", 1)
+    urdf = write(tmp_path, text)
+    argv = [sys.executable, "-m", "scalf_opt", "view", "--urdf", str(urdf), "--out", "v.html"]
+    done = subprocess.run(
+        [sys.executable, "-c", MEASURE, *argv], cwd=tmp_path, capture_output=True, text=True
+    )
+    code, seconds, peak_mb, stderr = done.stdout.strip().split("|", 3)
+    assert code == "2" and stderr.startswith("scalf-opt: error: ") and "\n" not in stderr
+    assert str(urdf) in stderr and "TOP-SECRET" not in stderr
+    assert float(seconds) < 5 and float(peak_mb) < 500
+    assert not (tmp_path / "v.html").exists()

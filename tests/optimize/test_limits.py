@@ -167,13 +167,17 @@ def test_a_failed_start_is_reported_not_fatal(model, monkeypatch):
     from scalf_opt.optimize import driver
 
     real = driver.optimize
-    calls = []
+    seen: list[tuple] = []
+    retried = []
 
-    def flaky(problem, method, theta0, *options):
-        calls.append(theta0)
-        optimum = real(problem, method, theta0, *options)
-        if len(calls) == 2:  # the second start fails
+    def flaky(problem, method, theta0, pattern, ipopt):
+        key = tuple(theta0)
+        if key not in seen:
+            seen.append(key)
+        optimum = real(problem, method, theta0, pattern, ipopt)
+        if seen.index(key) == 1:  # every solve from the second start fails, its retry too
             optimum.success, optimum.status = False, "Maximum_Iterations_Exceeded"
+            retried.append((ipopt or {}).get("mu_strategy"))
         return optimum
 
     monkeypatch.setattr(driver, "optimize", flaky)
@@ -181,6 +185,7 @@ def test_a_failed_start_is_reported_not_fatal(model, monkeypatch):
     result = run.legs["RF"]
     assert run.success and result.success
     assert [s.converged for s in result.starts] == [True, False, True]
+    assert retried == [None, "monotone"]  # the failed solve was tried again, then reported
 
 
 def test_the_member_closest_to_a_path_recovers_it(model):

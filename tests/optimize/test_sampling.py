@@ -21,6 +21,7 @@ from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.driver import optimize_swings
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.sampling import (
+    BETWEEN_SAMPLES_RTOL,
     CHECK_FACTOR,
     SAMPLING_TOLERANCE,
     initial_rate_hz,
@@ -38,11 +39,6 @@ OFFERED = [
 # interval: on SCalf a few micrometres, on HyQ at its standing height (0.509 m) up to 53 um just
 # after lift-off; the fine check allows 0.1 mm, the position sensor's accuracy [m].
 FINE_GROUND_TOLERANCE_M = 1e-4
-
-BETWEEN_SAMPLES_RTOL = 0.01
-"""A bound the optimizer meets at every sample of its rate may be crossed between them: on ten
-times finer samples, by at most this share of the bound (measured: HyQ's joint-6 hip cylinder
-force, 18 N over its supply's 1960 N pull, 0.9 %; SCalf's cylinders and joints: none)."""
 
 
 def check_converged(robot, family_name, legs=("RF", "LH")):

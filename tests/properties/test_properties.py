@@ -97,3 +97,43 @@ def test_mirror_symmetry_of_the_diagonal_pairs(scalf, period, step, height):
     gait = Gait(period_s=period, step_length_m=step, stance_height_m=height, sample_rate_hz=100)
     cycle = EnergyPipeline(scalf, gait).robot_cycle(make_family("reference"))
     assert cycle.symmetry_error < 1e-10
+
+
+@pytest.fixture(scope="module")
+def scale_one_variants(tmp_path_factory):
+    """Every catalog robot and its variant at scale 1, derived through yourdfpy and reloaded."""
+    from scalf_opt.robots.catalog import CATALOG
+    from scalf_opt.robots.loading import load_robot
+    from scalf_opt.robots.variants import VariantScales, derive_variant
+
+    folder = tmp_path_factory.mktemp("variants")
+    pairs = {}
+    for name in CATALOG:
+        robot = load_robot(name)
+        urdf = derive_variant(robot, VariantScales(), folder / f"{name}.urdf").urdf_path
+        pairs[name] = (robot, load_robot(urdf=urdf))
+    return pairs
+
+
+@settings(max_examples=30)
+@given(
+    name=st.sampled_from(["scalf", "hyq", "solo12", "anymal_c", "go1", "a1"]), seed=st.integers(0)
+)
+def test_a_variant_at_scale_one_is_the_original(scale_one_variants, name, seed):
+    """The whole tree's dynamics (masses, inertias, joint placements, axes) are unchanged:
+    inverse dynamics at a random state agree to round-off."""
+    import pinocchio as pin
+
+    original, variant = (r.model for r in scale_one_variants[name])
+    assert [original.names[i] for i in range(original.njoints)] == [
+        variant.names[i] for i in range(variant.njoints)
+    ]
+    rng = np.random.default_rng(seed)
+    q = pin.randomConfiguration(original, -np.ones(original.nq), np.ones(original.nq))
+    v, a = rng.normal(size=(2, original.nv))
+    tau = [pin.rnea(m, m.createData(), q, v, a) for m in (original, variant)]
+    np.testing.assert_allclose(tau[1], tau[0], rtol=1e-12, atol=1e-9)
+    for leg in ("RF", "LH"):
+        a_leg, b_leg = (r.leg(leg) for r in scale_one_variants[name])
+        assert b_leg.thigh_length_m == pytest.approx(a_leg.thigh_length_m, rel=1e-12)
+        assert b_leg.shank_length_m == pytest.approx(a_leg.shank_length_m, rel=1e-12)
