@@ -20,7 +20,6 @@ import casadi as ca
 import numpy as np
 
 from scalf_opt.energy.cycle import RobotCycle
-from scalf_opt.energy.limits import violations
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError, GaitError, InfeasibleError
 from scalf_opt.interrupts import raise_if_stopped
@@ -250,6 +249,20 @@ def reference_swing_energy_j(pipeline: EnergyPipeline, leg: str) -> float:
         return math.nan
 
 
+IPOPT_ATTEMPTS: tuple[dict[str, Any], ...] = (
+    {"max_iter": 1000},
+    {"mu_strategy": "monotone", "max_iter": 1000},
+    {"mu_strategy": "monotone", "nlp_scaling_method": "none", "max_iter": 3000},
+)
+"""Ipopt's strategies, tried in turn from the same start until one converges. The adaptive
+barrier update (Ipopt's options in :mod:`scalf_opt.optimize.nlp`) is the fastest and solves
+every family on SCalf within a few hundred iterations; on optima riding actuator limits (HyQ's
+cylinders at their 1960 N pull, foot-space families of order 5 and more) it can wander for
+thousands of iterations where the monotone update converges in a few hundred, and HyQ's
+``fourier-12`` (RF) converges only without Ipopt's gradient-based scaling. Options the user sets
+(``Settings.ipopt``) win; a strategy that would change one of them is skipped."""
+
+
 def _solve_leg(
     pipeline: EnergyPipeline,
     leg: str,
@@ -265,32 +278,25 @@ def _solve_leg(
     """
     raise_if_stopped()
     problem = SwingProblem(pipeline, leg, family)
-    optimum = optimize(problem, settings.method, theta0, settings.pattern, settings.ipopt)
-    user_options = settings.ipopt or {}
-    if settings.method == "ipopt" and not optimum.success and "mu_strategy" not in user_options:
-        # the adaptive barrier update is the faster one, but on limit-riding optima (HyQ's
-        # cylinders at their pull limit, foot-space families) it can wander for 3000
-        # iterations where the monotone one converges in a few hundred
-        retry = optimize(
-            problem,
-            settings.method,
-            theta0,
-            settings.pattern,
-            {**user_options, "mu_strategy": "monotone"},
-        )
-        if retry.success:
-            optimum = retry
+    user = settings.ipopt or {}
+    attempts = [{}] if settings.method != "ipopt" else IPOPT_ATTEMPTS
+    for attempt in attempts:
+        if any(key in user for key in attempt if key != "max_iter"):
+            continue  # the user chose that option: no other strategy is tried for it
+        options = {**attempt, **user} if settings.method == "ipopt" else settings.ipopt
+        optimum = optimize(problem, settings.method, theta0, settings.pattern, options)
+        if optimum.success:
+            break
     check = math.inf
     if optimum.success:
         fine_pipeline = pipeline.with_gait(
             with_rate(pipeline.gait, pipeline.gait.sample_rate_hz * CHECK_FACTOR)
         )
-        fine = SwingProblem(fine_pipeline, leg, family)
-        check = fine.energy_j(optimum.theta)
-        values = fine_pipeline.swing(leg, family, optimum.theta).values
-        for v in violations(values, fine.bounds):
-            if v.excess > BETWEEN_SAMPLES_RTOL * max(abs(v.bound.lower), abs(v.bound.upper)):
-                check = math.inf
+        check, crossed = SwingProblem(fine_pipeline, leg, family).energy_and_bound_excess(
+            optimum.theta
+        )
+        if crossed > BETWEEN_SAMPLES_RTOL:
+            check = math.inf
     return optimum, check
 
 
@@ -346,7 +352,7 @@ def optimize_swings(
         errors = [relative_difference(o.swing_energy_j, c) for o, c in answers.values()]
         if not solved:
             break
-        if max(errors) <= settings.sampling_tolerance:
+        if all(e <= settings.sampling_tolerance for e in errors):  # inf / inf is NaN: not met
             converged = True
             break
         if rate * 2 > MAX_RATE_HZ:

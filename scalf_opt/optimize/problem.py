@@ -18,6 +18,7 @@ The samples are the pipeline's gait's swing grid: the caller chooses the rate
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import cached_property
 
@@ -208,6 +209,25 @@ class SwingProblem:
         """Exact swing energy of a member [J], feasible or not."""
         return float(np.sum(self.outputs(theta)["power"] @ self.weights))
 
+    def energy_and_bound_excess(self, theta: np.ndarray) -> tuple[float, float]:
+        """A member's exact swing energy [J] and how far it crosses its limits.
+
+        The second value is the largest excess of any box bound of the leg (joint range,
+        velocity, effort, drive limits) over the samples, as a share of the bound's size (the
+        larger of its finite ends' magnitudes): 0 when every sample is inside, ``inf`` when the
+        motion is not finite. The ground and clearance rows are not included.
+        """
+        out = self.outputs(theta)
+        energy = float(np.sum(out["power"] @ self.weights))
+        k = len(self.bounds)
+        c = out["c"][:k]
+        if not np.all(np.isfinite(c)):
+            return energy, math.inf
+        lower, upper = (b[:k] for b in self.constraint_bounds)
+        excess = np.maximum(np.maximum(lower - c, c - upper), 0.0)
+        share = excess / np.array([[_size(b)] for b in self.bounds])
+        return energy, float(share.max(initial=0.0))
+
     def evaluate(self, theta: np.ndarray) -> Evaluation:
         """Exact swing energy and feasibility of ``theta`` (family units)."""
         out = self.outputs(theta)
@@ -240,3 +260,9 @@ class SwingProblem:
         if name == FOOT_Z_ACCEL:
             return "foot leaves or meets the ground from below"
         return "foot target out of reach"
+
+
+def _size(bound: Bound) -> float:
+    """A bound's size, what its excess is measured against: its larger finite end, or 1."""
+    ends = [abs(x) for x in (bound.lower, bound.upper) if math.isfinite(x)]
+    return max(ends, default=0.0) or 1.0

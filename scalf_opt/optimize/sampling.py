@@ -18,6 +18,7 @@ Every energy a command then reports is at the rate the optimization converged at
 
 from __future__ import annotations
 
+import math
 from dataclasses import replace
 
 from scalf_opt.locomotion.gait import Gait
@@ -59,5 +60,10 @@ def with_rate(gait: Gait, rate_hz: float) -> Gait:
 
 
 def relative_difference(value: float, check: float) -> float:
-    """``|value - check| / |check|`` (the check, at the finer rate, is the better estimate)."""
+    """``|value - check| / |check|`` (the check, at the finer rate, is the better estimate).
+
+    ``inf`` when the check is ``inf`` (a check that failed), never NaN.
+    """
+    if math.isinf(check):
+        return math.inf
     return abs(value - check) / max(abs(check), 1e-12)

@@ -185,7 +185,7 @@ def test_a_failed_start_is_reported_not_fatal(model, monkeypatch):
     result = run.legs["RF"]
     assert run.success and result.success
     assert [s.converged for s in result.starts] == [True, False, True]
-    assert retried == [None, "monotone"]  # the failed solve was tried again, then reported
+    assert retried == [None, "monotone", "monotone"]  # every strategy tried, then reported
 
 
 def test_the_member_closest_to_a_path_recovers_it(model):

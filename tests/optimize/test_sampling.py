@@ -115,3 +115,26 @@ def test_offered_families_are_what_the_command_line_accepts():
     for bad in (f"joint-{MIN_ORDER - 1}", f"fourier-{MAX_ORDER + 1}", "joint-x"):
         with pytest.raises(ConfigError):
             make_family(bad)
+
+
+def test_an_optimum_crossing_a_limit_between_samples_is_refined(hyq):
+    """HyQ's joint-7 optimum at 350 Hz rides its hip cylinder's pull limit and crosses it between
+    samples by more than 1 %: the rate is doubled although the energy had converged."""
+    from scalf_opt.optimize.solve import run_ipopt
+
+    run = check_converged(hyq, "joint-7", legs=("LH",))  # <= 1 % on the fine samples
+    assert run.rates_hz == [350.0, 700.0]
+    gait = Gait(stance_height_m=hyq.nominal_stance_height_m, sample_rate_hz=350.0)
+    family = make_family("joint-7")
+    coarse = run_ipopt(SwingProblem(EnergyPipeline(hyq, gait), "LH", family))
+    fine = EnergyPipeline(hyq, with_rate(gait, 3500.0))
+    energy, share = SwingProblem(fine, "LH", family).energy_and_bound_excess(coarse.theta)
+    assert share > BETWEEN_SAMPLES_RTOL
+    # the same share from the reports' own evaluation of those samples
+    swing = fine.swing("LH", family, coarse.theta)
+    worst = max(
+        v.excess / max(abs(x) for x in (v.bound.lower, v.bound.upper) if abs(x) < float("inf"))
+        for v in violations(swing.values, SwingProblem(fine, "LH", family).bounds)
+    )
+    assert share == pytest.approx(worst, rel=1e-9)
+    assert energy == pytest.approx(float(swing.energy_j.sum()), rel=1e-9)
