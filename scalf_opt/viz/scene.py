@@ -211,9 +211,9 @@ def build_scene(
         commands=out.packed,
         legend=legend,
         title=(
-            f"{robot.name}: trot T = {gait.period_s:g} s, duty {gait.duty_cycle:g}, "
-            f"S = {gait.step_length_m:g} m, H = {gait.clearance_m:g} m, "
-            f"z0 = {gait.stance_height_m:g} m, {gait.speed_m_s:.3g} m/s"
+            f"{robot.name}: trot T = {gait.period_s:.4g} s, duty {gait.duty_cycle:.4g}, "
+            f"S = {gait.step_length_m:.4g} m, H = {gait.clearance_m:.4g} m, "
+            f"z0 = {gait.stance_height_m:.4g} m, {gait.speed_m_s:.3g} m/s"
         ),
         color_by=opts.color_by,
         power_range_w=power_range,
