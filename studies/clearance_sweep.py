@@ -11,13 +11,9 @@ results/clearance_sweep). --quick: three clearances, family joint-3 (the tests r
 
 from __future__ import annotations
 
-import argparse
 import sys
-from pathlib import Path
 
-from scalf_opt.files import write_atomic
-from scalf_opt.studies.runner import choose_runner, run_study
-from scalf_opt.studies.study_file import read_study
+from scalf_opt.studies.script import run_study_script
 from scalf_opt.studies.table import results_table
 
 FULL = (0.04, 0.06, 0.08, 0.10, 0.12, 0.14, 0.16)
@@ -37,14 +33,14 @@ family = "{"joint-3" if quick else "joint-6"}"
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="three clearances, family joint-3")
-    parser.add_argument("--out", type=Path, default=Path("results/clearance_sweep"))
-    parser.add_argument("--workers", type=int, help="local worker processes (default: per CPU)")
-    args = parser.parse_args(argv)
-    path = write_atomic(args.out / "clearance.toml", study_text(args.quick))
-    study = read_study(path)
-    result = run_study(study, args.out, choose_runner(args.workers))
+    study, result, _ = run_study_script(
+        argv,
+        __doc__,
+        study_text,
+        file_name="clearance.toml",
+        default_out="results/clearance_sweep",
+        quick_help="three clearances, family joint-3",
+    )
     print(results_table(study.name, result))
     return 0 if not result.failed else 3
 

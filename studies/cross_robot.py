@@ -16,16 +16,14 @@ the full run uses the default family, joint-6.
 
 from __future__ import annotations
 
-import argparse
 import sys
-from pathlib import Path
 
 from scalf_opt.actuators.sidecar import drives_for
 from scalf_opt.files import write_atomic
 from scalf_opt.robots.catalog import robot_names
 from scalf_opt.robots.loading import load_robot
-from scalf_opt.studies.runner import StudyRun, choose_runner, run_study
-from scalf_opt.studies.study_file import read_study
+from scalf_opt.studies.runner import StudyRun
+from scalf_opt.studies.script import run_study_script
 
 DRIVE_NAMES = {
     "cylinder": "hydraulic cylinders, Stribeck friction (paper)",
@@ -72,18 +70,18 @@ def table(result: StudyRun) -> str:
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="family joint-3")
-    parser.add_argument("--out", type=Path, default=Path("results/cross_robot"))
-    parser.add_argument("--workers", type=int, help="local worker processes (default: per CPU)")
-    args = parser.parse_args(argv)
-    path = write_atomic(args.out / "cross_robot.toml", study_text(args.quick))
-    study = read_study(path)
-    result = run_study(study, args.out, choose_runner(args.workers))
+    _, result, out = run_study_script(
+        argv,
+        __doc__,
+        study_text,
+        file_name="cross_robot.toml",
+        default_out="results/cross_robot",
+        quick_help="family joint-3",
+    )
     text = table(result)
-    write_atomic(args.out / "table.md", text)
+    write_atomic(out / "table.md", text)
     print(text, end="")
-    print(f"wrote {result.results_path}, {result.figure_path} and {args.out / 'table.md'}")
+    print(f"wrote {result.results_path}, {result.figure_path} and {out / 'table.md'}")
     return 0 if not result.failed else 3
 
 

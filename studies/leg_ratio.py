@@ -15,13 +15,9 @@ Writes ``leg_ratio.toml``, ``results.csv`` and ``study.png`` in DIR (default res
 
 from __future__ import annotations
 
-import argparse
 import sys
-from pathlib import Path
 
-from scalf_opt.files import write_atomic
-from scalf_opt.studies.runner import choose_runner, run_study
-from scalf_opt.studies.study_file import read_study
+from scalf_opt.studies.script import run_study_script
 from scalf_opt.studies.table import results_table
 
 THIGH_M, SHANK_M = 0.45099, 0.40487  # SCalf, Table 1
@@ -66,14 +62,14 @@ x = "thigh_to_shank"
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="three ratios, family joint-3")
-    parser.add_argument("--out", type=Path, default=Path("results/leg_ratio"))
-    parser.add_argument("--workers", type=int, help="local worker processes (default: per CPU)")
-    args = parser.parse_args(argv)
-    path = write_atomic(args.out / "leg_ratio.toml", study_text(args.quick))
-    study = read_study(path)
-    result = run_study(study, args.out, choose_runner(args.workers))
+    study, result, _ = run_study_script(
+        argv,
+        __doc__,
+        study_text,
+        file_name="leg_ratio.toml",
+        default_out="results/leg_ratio",
+        quick_help="three ratios, family joint-3",
+    )
     print(results_table(study.name, result))
     return 0 if not result.failed else 3
 

@@ -15,14 +15,10 @@ results/speed_sweep). --quick: three speeds, family joint-3 (the tests run it).
 
 from __future__ import annotations
 
-import argparse
 import math
 import sys
-from pathlib import Path
 
-from scalf_opt.files import write_atomic
-from scalf_opt.studies.runner import choose_runner, run_study
-from scalf_opt.studies.study_file import read_study
+from scalf_opt.studies.script import run_study_script
 from scalf_opt.studies.table import results_table
 
 FULL_SPEEDS = (0.25, 0.5, 0.75, 1.0, 1.25, 1.5)
@@ -51,14 +47,14 @@ x = "speed_m_s"
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--quick", action="store_true", help="three speeds, family joint-3")
-    parser.add_argument("--out", type=Path, default=Path("results/speed_sweep"))
-    parser.add_argument("--workers", type=int, help="local worker processes (default: per CPU)")
-    args = parser.parse_args(argv)
-    path = write_atomic(args.out / "speed.toml", study_text(args.quick))
-    study = read_study(path)
-    result = run_study(study, args.out, choose_runner(args.workers))
+    study, result, _ = run_study_script(
+        argv,
+        __doc__,
+        study_text,
+        file_name="speed.toml",
+        default_out="results/speed_sweep",
+        quick_help="three speeds, family joint-3",
+    )
     print(results_table(study.name, result))
     return 0 if not result.failed else 3
 
