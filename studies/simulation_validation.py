@@ -36,6 +36,7 @@ from scalf_opt.logs.analysis import analyze_log, leg_cylinders
 from scalf_opt.logs.model_log import model_log
 from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
 from scalf_opt.sim.experiment import run_trot
+from scalf_opt.sim.metrics import windowed_mechanical_energy_j
 from scalf_opt.sim.plan import REFERENCE_SWINGS, planned_cycle
 from scalf_opt.sim.settings import SimSettings
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
@@ -147,20 +148,8 @@ def log_recovery(robot, pipeline, swings, label: str, seeds: int) -> dict[str, A
         analysis = analyze_log(sensor_log(motions, cylinders, sensors, seed), pipeline)
         out, got_total, sim_total = [], 0.0, 0.0
         for leg in LEG_NAMES:
-            fn = pipeline.physics(leg).power_function().map(record.t_s.size)
-            power, loss = (
-                np.array(v).sum(axis=0)
-                for v in fn(record.q_rad[leg], record.qd_rad_s[leg], record.tau_nm[leg])
-            )
             windows = analysis.legs[leg].windows_s
-            sim = (
-                sum(
-                    (power - loss)[(record.t_s >= a - 1e-9) & (record.t_s < b - 1e-9)].sum()
-                    for a, b in windows
-                )
-                * record.timestep_s
-                / len(windows)
-            )
+            sim = windowed_mechanical_energy_j(pipeline, record, leg, windows)
             got = analysis.legs[leg].mechanical_j["cycle"]
             out.append(100 * (got / sim - 1))
             got_total += got

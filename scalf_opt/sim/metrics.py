@@ -25,6 +25,7 @@ the contacts equals the change of the robot's kinetic plus potential energy (MuJ
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import Any
 
 import numpy as np
@@ -65,6 +66,27 @@ def joint_power_w(pipeline: EnergyPipeline, record: SimRecord, leg: str) -> np.n
     fn = pipeline.physics(leg).power_function(pipeline.accounting).map(record.t_s.size)
     power, _ = fn(record.q_rad[leg], record.qd_rad_s[leg], record.tau_nm[leg])
     return np.array(power)
+
+
+def windowed_mechanical_energy_j(
+    pipeline: EnergyPipeline,
+    record: SimRecord,
+    leg: str,
+    windows_s: Sequence[tuple[float, float]],
+) -> float:
+    """The leg's joint mechanical energy over each window ``[a, b)``, averaged over them [J].
+
+    Mechanical power is the joints' charged power less the drives' losses (the model's
+    formula on the record's joint states and torques): what a cylinder log measures.
+    """
+    fn = pipeline.physics(leg).power_function().map(record.t_s.size)
+    power, loss = (
+        np.array(v).sum(axis=0)
+        for v in fn(record.q_rad[leg], record.qd_rad_s[leg], record.tau_nm[leg])
+    )
+    t = record.t_s
+    total = sum((power - loss)[(t >= a - 1e-9) & (t < b - 1e-9)].sum() for a, b in windows_s)
+    return float(total * record.timestep_s / len(windows_s))
 
 
 def _largest_stance_slip(record: SimRecord, leg: str, steps: np.ndarray) -> float:

@@ -13,6 +13,7 @@ from scalf_opt.logs.model_log import model_log
 from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.sim.experiment import run_trot
+from scalf_opt.sim.metrics import windowed_mechanical_energy_j
 from scalf_opt.sim.plan import REFERENCE_SWINGS
 from scalf_opt.sim.settings import SimSettings
 from scalf_opt.types import LEG_NAMES
@@ -121,20 +122,7 @@ def test_the_log_of_a_simulated_run_gives_back_its_energy(pipeline):
     analysis = analyze_log(log, pipeline)
     simulated, recovered = 0.0, 0.0
     for leg in LEG_NAMES:
-        fn = pipeline.physics(leg).power_function().map(record.t_s.size)
-        power, loss = (
-            np.array(v).sum(axis=0)
-            for v in fn(record.q_rad[leg], record.qd_rad_s[leg], record.tau_nm[leg])
-        )
-        windows = analysis.legs[leg].windows_s
-        sim_leg = (
-            sum(
-                (power - loss)[(record.t_s >= a - 1e-9) & (record.t_s < b - 1e-9)].sum()
-                for a, b in windows
-            )
-            * record.timestep_s
-            / len(windows)
-        )
+        sim_leg = windowed_mechanical_energy_j(pipeline, record, leg, analysis.legs[leg].windows_s)
         got = analysis.legs[leg].mechanical_j["cycle"]
         assert got == pytest.approx(sim_leg, rel=0.08)
         simulated += sim_leg

@@ -15,7 +15,7 @@ from scalf_opt.logs.analysis import analyze_log, leg_cylinders
 from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.sim.experiment import run_trot
-from scalf_opt.sim.metrics import joint_power_w
+from scalf_opt.sim.metrics import joint_power_w, windowed_mechanical_energy_j
 from scalf_opt.sim.plan import REFERENCE_SWINGS, TrotPlan, planned_cycle
 from scalf_opt.sim.settings import SimSettings
 from scalf_opt.types import LEG_NAMES
@@ -122,17 +122,7 @@ def test_joint_energy_two_ways(reference, pipeline):
     log = sensor_log(motions, cylinders, SensorModel.exact(2000.0), seed=0)
     analysis = analyze_log(log, pipeline, period_s=pipeline.gait.period_s, half_window_s=0.002)
     for leg, energy in analysis.legs.items():
-        power, loss = (
-            np.array(v).sum(axis=0)
-            for v in pipeline.physics(leg)
-            .power_function()
-            .map(record.t_s.size)(record.q_rad[leg], record.qd_rad_s[leg], record.tau_nm[leg])
-        )
-        by_record = sum(
-            (power - loss)[(record.t_s >= a - 1e-9) & (record.t_s < b - 1e-9)].sum()
-            * record.timestep_s
-            for a, b in energy.windows_s
-        ) / len(energy.windows_s)
+        by_record = windowed_mechanical_energy_j(pipeline, record, leg, energy.windows_s)
         assert energy.mechanical_j["cycle"] == pytest.approx(by_record, rel=3e-3)
         assert np.array(joint_power_w(pipeline, record, leg)).shape == (2, record.t_s.size)
 
