@@ -75,13 +75,13 @@ def interruptible() -> Iterator[None]:
             previous(signum, frame)  # raises: in Python it propagates, in CasADi it ends the solve
         raise KeyboardInterrupt
 
-    if callable(previous) and previous is not note:
+    if callable(previous):
         signal.signal(signal.SIGINT, note)
     try:
         yield
     finally:
         if callable(previous):
             signal.signal(signal.SIGINT, previous)
-    if received:
-        _raise_for(received[0])
+    if received:  # Ctrl-C, swallowed by the solver
+        raise KeyboardInterrupt
     raise_if_stopped()

@@ -279,11 +279,11 @@ def _solve_leg(
     raise_if_stopped()
     problem = SwingProblem(pipeline, leg, family)
     user = settings.ipopt or {}
-    attempts = [{}] if settings.method != "ipopt" else IPOPT_ATTEMPTS
+    attempts = IPOPT_ATTEMPTS if settings.method == "ipopt" else ({},)
     for attempt in attempts:
         if any(key in user for key in attempt if key != "max_iter"):
             continue  # the user chose that option: no other strategy is tried for it
-        options = {**attempt, **user} if settings.method == "ipopt" else settings.ipopt
+        options = {**attempt, **user}
         optimum = optimize(problem, settings.method, theta0, settings.pattern, options)
         if optimum.success:
             break

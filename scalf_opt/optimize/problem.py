@@ -205,9 +205,13 @@ class SwingProblem:
         out = self.kernel.evaluate_exact(self.pipeline.accounting, self.samples(theta))
         return {"power": out[0:2], "p_mech": out[2:4], "c": out[4:]}
 
+    def _energy_j(self, outputs: dict[str, np.ndarray]) -> float:
+        """The swing energy [J] of :meth:`outputs`: the trapezoidal integral of the power."""
+        return float(np.sum(outputs["power"] @ self.weights))
+
     def energy_j(self, theta: np.ndarray) -> float:
         """Exact swing energy of a member [J], feasible or not."""
-        return float(np.sum(self.outputs(theta)["power"] @ self.weights))
+        return self._energy_j(self.outputs(theta))
 
     def energy_and_bound_excess(self, theta: np.ndarray) -> tuple[float, float]:
         """A member's exact swing energy [J] and how far it crosses its limits.
@@ -218,7 +222,7 @@ class SwingProblem:
         motion is not finite. The ground and clearance rows are not included.
         """
         out = self.outputs(theta)
-        energy = float(np.sum(out["power"] @ self.weights))
+        energy = self._energy_j(out)
         k = len(self.bounds)
         c = out["c"][:k]
         if not np.all(np.isfinite(c)):
@@ -248,7 +252,7 @@ class SwingProblem:
         if violation > 0.0:
             row, sample = np.unravel_index(int(np.argmax(beyond)), beyond.shape)
             return Evaluation(float("inf"), self._reason(int(row), int(sample)), violation)
-        return Evaluation(float(np.sum(out["power"] @ self.weights)), None, 0.0)
+        return Evaluation(self._energy_j(out), None, 0.0)
 
     def _reason(self, row: int, sample: int) -> str:
         name = self.kernel.rows[row]
