@@ -255,12 +255,12 @@ IPOPT_ATTEMPTS: tuple[dict[str, Any], ...] = (
     {"mu_strategy": "monotone", "nlp_scaling_method": "none", "max_iter": 3000},
 )
 """Ipopt's strategies, tried in turn from the same start until one converges. The adaptive
-barrier update (Ipopt's options in :mod:`scalf_opt.optimize.nlp`) is the fastest and solves
-every family on SCalf within a few hundred iterations; on optima riding actuator limits (HyQ's
-cylinders at their 1960 N pull, foot-space families of order 5 and more) it can wander for
-thousands of iterations where the monotone update converges in a few hundred, and HyQ's
-``fourier-12`` (RF) converges only without Ipopt's gradient-based scaling. Options the user sets
-(``Settings.ipopt``) win; a strategy that would change one of them is skipped."""
+barrier update (Ipopt's options in :mod:`scalf_opt.optimize.nlp`) is the fastest; on optima
+riding actuator limits (HyQ's cylinders at their 1960 N pull, foot-space families of order 5
+and more) it can wander for thousands of iterations where the monotone update converges in a
+few hundred, and HyQ's ``fourier-12`` (RF) converges only without Ipopt's gradient-based
+scaling. Options the user sets (``Settings.ipopt``) win; a strategy that would change one of
+them is skipped."""
 
 
 def _solve_leg(
