@@ -173,3 +173,13 @@ def test_a_typo_is_one_line_with_a_suggestion(argv, expected, capsys):
     err = capsys.readouterr().err
     assert info.value.code == 2 and err.count("\n") == 1
     assert err.startswith("scalf-opt: error: ") and expected in err and "--help" in err
+
+
+def test_the_package_offers_exactly_the_api_lazily():
+    """``scalf_opt`` repeats the API's names (so that ``import scalf_opt`` loads nothing heavy):
+    the two lists must stay the same, and every name must resolve to the API's object."""
+    import scalf_opt.api
+
+    assert scalf_opt.__all__ == ["__version__", *scalf_opt.api.__all__]
+    for name in scalf_opt.api.__all__:
+        assert getattr(scalf_opt, name) is getattr(scalf_opt.api, name)
