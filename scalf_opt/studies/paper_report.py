@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from pathlib import Path
 
@@ -148,9 +147,8 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         cells = []
         for leg in PAIR:
             b = rep.bounds[leg]
-            left = 100 * b.remaining_j / b.check_energy_j
-            state = f"~{left:.1f} % left" if math.isfinite(left) else "not converged"
-            cells += [f"{b.check_energy_j:.3f}", f"({b.family.name}, {state})"]
+            state = b.status_text() if b.success else f"**NOT CONVERGED**: {b.status_text()}"
+            cells += [f"{b.check_energy_j:.3f}", f"({state})"]
         lines.append("| free-trajectory bound | " + " | ".join(cells) + " |")
     if rep.free_stance is not None and rep.free_stance.success:
         split = rep.free_stance.split_j()

@@ -277,7 +277,7 @@ def test_optimize_starts_and_regenerative_refusal(tmp_path, capsys):
 
 def test_optimize_free_method_and_free_stance(tmp_path, capsys):
     code, out, _ = run(
-        ["optimize", "--method", "free", "--robot", "hyq", "--leg", "RF", "--out", str(tmp_path)],
+        ["optimize", "--family", "free", "--robot", "hyq", "--leg", "RF", "--out", str(tmp_path)],
         capsys,
     )
     assert code == 0 and "RF: free-trajectory bound" in out
