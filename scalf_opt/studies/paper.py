@@ -205,6 +205,7 @@ def table6_rows(rep: Reproduction) -> list[dict[str, float | str]]:
                 cycle.legs[leg].energy_j, ref.legs[leg].energy_j
             )
         row["total_energy_j"] = cycle.energy_j
+        row["reference_total_energy_j"] = ref.energy_j
         row["total_change_pct"] = change_percent(cycle.energy_j, ref.energy_j)
         row["average_power_w"] = cycle.average_power_w
         row["cost_of_transport"] = cycle.cost_of_transport

@@ -199,13 +199,17 @@ def test_the_member_closest_to_a_path_recovers_it(model):
 
 
 def test_the_pattern_search_on_a_rich_family_starts_at_the_reference(model):
+    from scalf_opt.optimize.solvers import solver
     from scalf_opt.optimize.starts import closest_to_reference, default_start
 
     problem = SwingProblem(model, "LH", make_family("joint-6"))
-    label, theta = default_start(problem, "pattern")
+    label, theta = default_start(problem, solver("pattern"))
     assert label == "closest to the reference"
     np.testing.assert_array_equal(theta, closest_to_reference(problem))
     # that member is close to the reference in energy too (it is its least-squares fit)
     reference = model.swing("LH", make_family("reference")).energy_j.sum()
     assert problem.energy_j(theta) == pytest.approx(reference, rel=0.1)
-    assert default_start(SwingProblem(model, "LH", make_family("paper")), "pattern")[0] == "zero"
+    assert (
+        default_start(SwingProblem(model, "LH", make_family("paper")), solver("pattern"))[0]
+        == "zero"
+    )

@@ -24,7 +24,7 @@ from scalf_opt.files import write_atomic
 from scalf_opt.viz.browser import find_chromium, render_page
 from scalf_opt.viz.html import scene_page, viewer_script
 from scalf_opt.viz.scene import SceneOptions, build_scene
-from scalf_opt.viz.view import view
+from scalf_opt.api.presentation import view
 from tests.viz.conftest import COARSE_RATE_HZ
 
 MIN_CHANGED_SHARE = 0.10
