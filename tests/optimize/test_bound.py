@@ -9,8 +9,8 @@ import pytest
 from scalf_opt.energy.limits import violations
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
-from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.locomotion.swing.bspline import BSplineFamily
+from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.bound import (
     SAMPLES_PER_SPAN,
     _projection,

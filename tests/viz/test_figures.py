@@ -14,15 +14,19 @@ from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.landscape import energy_landscape
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import run_ipopt
+from scalf_opt.studies.search import search_study
 from scalf_opt.viz.cycle_figures import foot_force_figure, joint_figure
 from scalf_opt.viz.energy_figure import energy_bars_figure
 from scalf_opt.viz.figure_set import FIGURE_NAMES, write_figures
 from scalf_opt.viz.plotting import close, save_figure
-from scalf_opt.studies.search import search_study
 from scalf_opt.viz.search_figure import search_figure
 from scalf_opt.viz.stick_figure import foot_path_figure, leg_snapshot_figure
-from tests.viz.conftest import optimized_trajectory, reference_trajectory
-from tests.viz.conftest import COARSE_RATE_HZ, coarse_pipeline
+from tests.viz.conftest import (
+    COARSE_RATE_HZ,
+    coarse_pipeline,
+    optimized_trajectory,
+    reference_trajectory,
+)
 
 SMALL_GRID = 7
 
