@@ -149,6 +149,9 @@ ACCOUNTINGS: dict[str, PowerAccounting] = {
 }
 """Every accounting by name (the choices of ``--accounting``, in this order)."""
 
+PAPER_ACCOUNTING = AbsolutePower.name
+"""The paper's accounting (decision 9), everybody's default."""
+
 
 def accounting(name: str) -> PowerAccounting:
     """The accounting called ``name``.

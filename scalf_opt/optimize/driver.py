@@ -284,9 +284,7 @@ def _solve_leg(
     optimum = solver(settings.method).solve(problem, theta0, settings.solver_options)
     check = math.inf
     if optimum.success:
-        fine_pipeline = pipeline.with_gait(
-            with_rate(pipeline.gait, check_rate_hz(pipeline.gait))
-        )
+        fine_pipeline = pipeline.with_gait(with_rate(pipeline.gait, check_rate_hz(pipeline.gait)))
         check, crossed = SwingProblem(fine_pipeline, leg, family).energy_and_bound_excess(
             optimum.theta
         )
