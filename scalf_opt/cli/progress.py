@@ -1,22 +1,16 @@
 """Progress on long work: a bar on a terminal, a heartbeat line on stderr everywhere else.
 
 On a terminal (and not under CI) a tqdm bar on stderr shows the current step. When the output
-is a pipe or a log, a line ``scalf-opt: <what>: <step> (<elapsed> s)`` goes to stderr at least
-every :data:`HEARTBEAT_S` seconds while the work lasts, so a long solve is never silent; work
-that ends sooner prints nothing. ``--quiet`` turns both off.
+is a pipe or a log, a :class:`~scalf_opt.heartbeat.Heartbeat` writes the current step to stderr
+at least every 10 s while the work lasts. ``--quiet`` turns both off.
 """
 
 from __future__ import annotations
 
-import sys
-import threading
-import time
 from types import TracebackType
 
 from scalf_opt.cli.console import progress_enabled
-
-HEARTBEAT_S = 10.0
-"""The longest silence on stderr during long work when the output is not a terminal [s]."""
+from scalf_opt.heartbeat import HEARTBEAT_S, Heartbeat
 
 
 class ProgressBar:
@@ -37,33 +31,19 @@ class ProgressBar:
         heartbeat_s: float = HEARTBEAT_S,
     ) -> None:
         self._bar = None
-        self._what = what
-        self._label = "starting"
-        self._start = time.monotonic()
-        self._stop = threading.Event()
-        self._thread: threading.Thread | None = None
+        self._heartbeat: Heartbeat | None = None
         if enabled and progress_enabled():
             from tqdm import tqdm
 
             self._bar = tqdm(total=total, desc=what, unit="step", leave=False, dynamic_ncols=True)
         elif enabled:
-            self._thread = threading.Thread(
-                target=self._beat, args=(heartbeat_s,), name="scalf-opt-heartbeat", daemon=True
-            )
+            self._heartbeat = Heartbeat(what, heartbeat_s)
         self._started = False
-
-    def _beat(self, every_s: float) -> None:
-        while not self._stop.wait(every_s):
-            elapsed = time.monotonic() - self._start
-            try:
-                sys.stderr.write(f"scalf-opt: {self._what}: {self._label} ({elapsed:.0f} s)\n")
-                sys.stderr.flush()
-            except (OSError, ValueError):  # stderr closed: nobody is listening
-                return
 
     def step(self, label: str) -> None:
         """Start the next step, ``label`` describing it (the previous one is done)."""
-        self._label = label
+        if self._heartbeat is not None:
+            self._heartbeat.doing = label
         if self._bar is None:
             return
         if self._started:
@@ -72,8 +52,8 @@ class ProgressBar:
         self._bar.set_postfix_str(label, refresh=True)
 
     def __enter__(self) -> ProgressBar:
-        if self._thread is not None:
-            self._thread.start()
+        if self._heartbeat is not None:
+            self._heartbeat.__enter__()
         return self
 
     def __exit__(
@@ -82,9 +62,8 @@ class ProgressBar:
         value: BaseException | None,
         traceback: TracebackType | None,
     ) -> None:
-        self._stop.set()
-        if self._thread is not None:
-            self._thread.join()
+        if self._heartbeat is not None:
+            self._heartbeat.__exit__(kind, value, traceback)
         if self._bar is not None:
             if kind is None and self._started:
                 self._bar.update(1)
