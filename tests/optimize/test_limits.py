@@ -164,23 +164,23 @@ def test_starts_are_deterministic_and_the_best_is_kept(model):
 
 
 def test_a_failed_start_is_reported_not_fatal(model, monkeypatch):
-    from scalf_opt.optimize import driver
+    from scalf_opt.optimize import solve
 
-    real = driver.optimize
+    real = solve.run_ipopt
     seen: list[tuple] = []
     retried = []
 
-    def flaky(problem, method, theta0, pattern, ipopt):
+    def flaky(problem, theta0, ipopt):
         key = tuple(theta0)
         if key not in seen:
             seen.append(key)
-        optimum = real(problem, method, theta0, pattern, ipopt)
+        optimum = real(problem, theta0, ipopt)
         if seen.index(key) == 1:  # every solve from the second start fails, its retry too
             optimum.success, optimum.status = False, "Maximum_Iterations_Exceeded"
             retried.append((ipopt or {}).get("mu_strategy"))
         return optimum
 
-    monkeypatch.setattr(driver, "optimize", flaky)
+    monkeypatch.setattr(solve, "run_ipopt", flaky)
     run = optimize_swings(model, ("RF",), make_family("joint-3"), Settings(starts=3))
     result = run.legs["RF"]
     assert run.success and result.success
