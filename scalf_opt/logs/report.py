@@ -8,16 +8,21 @@ _PERIOD_SOURCES = {
     "--period": "given",
     "contact": "median time between touch-downs",
     "gait": "the gait's",
+    "motion": "the motion's, from the lengths' self-similarity",
 }
 
 _PHASE_SOURCES = {
     "contact": "contact column",
     "schedule": "trot schedule (t = 0: RF and LH touch down)",
 }
+# a bag's time origin is its first message (scalf_opt.logs.bag_log)
 
 
-def log_report(analysis: LogAnalysis) -> str:
-    """Per leg and phase the mechanical energy per cycle; the robot's average power."""
+def log_report(analysis: LogAnalysis, velocity_source: str = "filter") -> str:
+    """Per leg and phase the mechanical energy per cycle; the robot's average power.
+
+    ``velocity_source`` is ``measured`` when the log's own cylinder speeds were used.
+    """
     first = analysis.as_dict()
     filt = first["filter"]
     lines = [
@@ -26,7 +31,9 @@ def log_report(analysis: LogAnalysis) -> str:
         f"gait period {analysis.period_s:.4g} s ({_PERIOD_SOURCES[analysis.period_source]}); "
         f"phases from the {_PHASE_SOURCES[analysis.phase_source]}",
         f"cylinder velocity: degree-{filt['degree']} least-squares fit over "
-        f"{1e3 * filt['window_s']:.0f} ms ({filt['samples']} samples)",
+        f"{1e3 * filt['window_s']:.0f} ms ({filt['samples']} samples)"
+        if velocity_source == "filter"
+        else "cylinder velocity: the log's own (measured speeds, no filter)",
         "",
         "       mechanical energy sum |F v|, mean per complete cycle",
         "leg   cycles   swing [J]   stance [J]   cycle [J]   friction heat [J]",

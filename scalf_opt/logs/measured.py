@@ -1,0 +1,267 @@
+"""A log's energy with measured speeds, its period from the motion, and the plan beside it.
+
+:func:`analyze_measured` extends :func:`~scalf_opt.logs.analysis.analyze_log` (which checks the
+log, finds the cycles and phases and differentiates the lengths) where a log knows more:
+
+* speeds: when every leg's cylinder speeds were logged (a bag's ``velocity``, the export's
+  speed columns), the mechanical power ``|F v|`` takes them as they are, with no filter; the
+  windows, phases and stroke checks stay the analysis's own;
+* the period: a log without contact (a bag) and without ``--period`` gets the period of its
+  motion: the lag ``T`` that minimises the mean squared difference of every cylinder length
+  with itself ``T`` later (:func:`motion_period_s`), rather than assuming the gait's;
+* the plan: per leg the planned mechanical energy per cycle beside the measured one, and the
+  robot's mechanical power over one cycle, measured (mean over the complete cycles, folded on
+  the period from the trot's schedule origin) against planned, for the figure.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, replace
+from typing import Any
+
+import numpy as np
+
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import LogError
+from scalf_opt.logs.analysis import LegEnergy, LogAnalysis, analyze_log, leg_cylinders
+from scalf_opt.logs.analysis import window_integral as integral
+from scalf_opt.logs.derivative import (
+    DEFAULT_DEGREE,
+    DEFAULT_HALF_WINDOW_S,
+    half_window_samples,
+    local_polynomial_derivative,
+)
+from scalf_opt.logs.log_file import CylinderLog, LegLog
+from scalf_opt.locomotion.trot import stance_start_s
+
+FOLD_BINS = 200
+"""Points of the folded power curve over one cycle."""
+
+MIN_PERIOD_S = 0.1
+"""The shortest period searched [s]; the longest leaves this much of the log to compare."""
+
+
+@dataclass(frozen=True)
+class MeasuredAnalysis:
+    """A log's energies and what the log itself told about them.
+
+    Attributes:
+        analysis: The energies (with the measured speeds when the log has them).
+        velocity_source: ``measured`` (the log's speeds) or ``filter`` (the lengths
+            differentiated).
+        power_w: Per leg, the sample times [s] and the mechanical power ``|F v|`` [W].
+    """
+
+    analysis: LogAnalysis
+    velocity_source: str
+    power_w: dict[str, tuple[np.ndarray, np.ndarray]]
+
+    def folded_power_w(self, bins: int = FOLD_BINS) -> tuple[np.ndarray, np.ndarray]:
+        """The robot's mechanical power over one cycle: cycle times [s] and the mean [W].
+
+        Each leg's power, interpolated at ``bins`` points of each complete cycle of that leg's
+        windows, is averaged over its cycles and placed at its cycle time (``t mod T``, the
+        schedule's origin); the legs' curves are summed.
+        """
+        period = self.analysis.period_s
+        phase = np.arange(bins) * period / bins
+        total = np.zeros(bins)
+        for leg, (t, power) in self.power_w.items():
+            windows = self.analysis.legs[leg].windows_s
+            curves = [np.interp(a + phase, t, power) for a, _ in windows]
+            start = windows[0][0] % period
+            mean = np.mean(curves, axis=0)
+            # sample k of the mean is at cycle time start + phase_k
+            total += np.interp(phase, np.mod(start + phase, period), mean, period=period)
+        return phase, total
+
+
+def leg_mechanical_power_w(
+    pipeline: EnergyPipeline,
+    leg: str,
+    data: LegLog,
+    speed_m_s: np.ndarray | None,
+    half_window_s: float = DEFAULT_HALF_WINDOW_S,
+    degree: int = DEFAULT_DEGREE,
+) -> tuple[np.ndarray, np.ndarray]:
+    """Mechanical power ``|F v|`` and friction heat rate [W] of each sample, shape (n,).
+
+    The same chain as the analysis (angle from length, moment arm, the model's power formula),
+    with ``speed_m_s`` [m/s] when given, else the lengths' derivative by the analysis's filter.
+    """
+    cylinders = leg_cylinders(pipeline, leg)
+    t = data.t_s
+    theta = np.vstack(
+        [np.array(c.angle_from_length_rad(data.length_m[j])).ravel() for j, c in enumerate(cylinders)]
+    )
+    arm = np.vstack([np.array(c.moment_arm_m(theta[j])).ravel() for j, c in enumerate(cylinders)])
+    if speed_m_s is None:
+        half = half_window_samples(1.0 / float(np.median(np.diff(t))), half_window_s, degree)
+        speed_m_s = local_polynomial_derivative(t, data.length_m, half, degree)
+    fn = pipeline.physics(leg).power_function("paper").map(t.size)
+    power, loss = (np.array(v).sum(axis=0) for v in fn(theta, speed_m_s / arm, data.force_n * arm))
+    return power - loss, loss
+
+
+def _stance_mask(log_leg: LegLog, pipeline: EnergyPipeline, leg: str, period_s: float) -> Any:
+    if log_leg.contact is not None:
+        return log_leg.contact
+    gait = pipeline.gait
+    offset = stance_start_s(gait, leg) * period_s / gait.period_s
+    return np.mod(log_leg.t_s - offset, period_s) < gait.duty_cycle * period_s
+
+
+def motion_period_s(log: CylinderLog) -> float:
+    """The period of the legs' motion [s] (module docstring).
+
+    The cylinder lengths, on a uniform grid at the log's median step, give the mean squared
+    difference ``D(lag)`` of the motion with itself a lag later; the period is the first lag
+    where ``D`` has a local minimum below a fifth of its mean, refined to a fraction of a step
+    by a parabola through it and its neighbours.
+
+    Raises:
+        LogError: The log is too short to hold two periods, or its motion is not periodic.
+    """
+    steps = np.concatenate([np.diff(d.t_s) for d in log.legs.values()])
+    dt = float(np.median(steps))
+    start = max(float(d.t_s[0]) for d in log.legs.values())
+    end = min(float(d.t_s[-1]) for d in log.legs.values())
+    grid = np.arange(start, end, dt)
+    signals = np.vstack(
+        [np.interp(grid, d.t_s, d.length_m[j]) for d in log.legs.values() for j in range(2)]
+    )
+    signals -= signals.mean(axis=1, keepdims=True)
+    n = grid.size
+    lo = max(2, int(MIN_PERIOD_S / dt))
+    hi = n - lo - 2
+    if hi <= lo + 2:
+        raise LogError(
+            f"{log.source}: {end - start:.3g} s of motion is too short to find its period "
+            "(give --period)"
+        )
+    lags = np.arange(hi + 1)
+    difference = np.array(
+        [np.mean((signals[:, lag:] - signals[:, : n - lag]) ** 2) for lag in lags]
+    )
+    threshold = 0.2 * float(np.mean(difference[lo:hi]))
+    for lag in range(lo, hi):
+        d = difference
+        if d[lag] <= d[lag - 1] and d[lag] <= d[lag + 1] and d[lag] < threshold:
+            curvature = d[lag - 1] - 2 * d[lag] + d[lag + 1]
+            shift = 0.5 * (d[lag - 1] - d[lag + 1]) / curvature if curvature > 0 else 0.0
+            return float((lag + shift) * dt)
+    raise LogError(
+        f"{log.source}: the motion repeats at no lag between {lo * dt:.3g} and {hi * dt:.3g} s: "
+        "not a periodic gait, or too short (give --period)"
+    )
+
+
+def analyze_measured(
+    log: CylinderLog,
+    pipeline: EnergyPipeline,
+    period_s: float | None = None,
+    half_window_s: float = DEFAULT_HALF_WINDOW_S,
+    degree: int = DEFAULT_DEGREE,
+) -> MeasuredAnalysis:
+    """The log's energies, with its speeds and its motion's period (module docstring).
+
+    Raises:
+        LogError: Everything :func:`~scalf_opt.logs.analysis.analyze_log` refuses; a log without
+            contact too short or not periodic enough to find its period.
+    """
+    from_motion = period_s is None and not log.has_contact
+    if from_motion:
+        period_s = motion_period_s(log)
+    analysis = analyze_log(log, pipeline, period_s, half_window_s, degree)
+    if from_motion:
+        analysis = replace(analysis, period_source="motion")
+    speeds = {leg: getattr(d, "speed_m_s", None) for leg, d in log.legs.items()}
+    measured = all(s is not None for s in speeds.values())
+    power: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+    legs: dict[str, LegEnergy] = {}
+    for leg, data in log.legs.items():
+        mechanical, loss = leg_mechanical_power_w(
+            pipeline, leg, data, speeds[leg] if measured else None, half_window_s, degree
+        )
+        power[leg] = (data.t_s, mechanical)
+        if not measured:
+            continue
+        old = analysis.legs[leg]
+        windows = old.windows_s
+        stance = _stance_mask(data, pipeline, leg, analysis.period_s)
+        count = len(windows)
+        per_phase = {
+            name: sum(integral(data.t_s, mechanical * mask, a, b) for a, b in windows) / count
+            for name, mask in (("stance", stance), ("swing", ~stance))
+        }
+        legs[leg] = LegEnergy(
+            leg=leg,
+            windows_s=windows,
+            mechanical_j={**per_phase, "cycle": per_phase["stance"] + per_phase["swing"]},
+            per_cycle_j=[integral(data.t_s, mechanical, a, b) for a, b in windows],
+            friction_heat_j=sum(integral(data.t_s, loss, a, b) for a, b in windows) / count,
+        )
+    if measured:
+        analysis = replace(analysis, legs=legs)
+    return MeasuredAnalysis(analysis, "measured" if measured else "filter", power)
+
+
+@dataclass(frozen=True)
+class PlanComparison:
+    """The plan a log should have followed: its energies and its power over one cycle.
+
+    Attributes:
+        source: The plan's ``summary.json``.
+        period_s: The plan's period [s].
+        mechanical_j: Per leg, the planned mechanical energy ``sum |tau qd|`` per cycle [J].
+        t_s: Cycle times of the planned power, shape (n,) [s] (0: RF touches down).
+        power_w: The robot's planned mechanical power at ``t_s`` [W].
+    """
+
+    source: str
+    period_s: float
+    mechanical_j: dict[str, float]
+    t_s: np.ndarray
+    power_w: np.ndarray
+
+    @property
+    def average_power_w(self) -> float:
+        """The plan's mechanical average power [W]."""
+        return sum(self.mechanical_j.values()) / self.period_s
+
+    def compare(self, analysis: LogAnalysis) -> dict[str, Any]:
+        """Plain data: per leg in the log, measured and planned energy and their change [%]."""
+        legs = {}
+        for leg, energy in analysis.legs.items():
+            planned = self.mechanical_j[leg]
+            measured = energy.mechanical_j["cycle"]
+            legs[leg] = {
+                "measured_j": measured,
+                "planned_j": planned,
+                "change_percent": 100.0 * (measured - planned) / planned,
+            }
+        measured_w = sum(v["measured_j"] for v in legs.values()) / analysis.period_s
+        planned_w = sum(v["planned_j"] for v in legs.values()) / self.period_s
+        return {
+            "plan": self.source,
+            "legs": legs,
+            "measured_average_power_w": measured_w,
+            "planned_average_power_w": planned_w,
+            "change_percent": 100.0 * (measured_w - planned_w) / planned_w,
+        }
+
+
+def plan_comparison(export: Any) -> PlanComparison:
+    """The comparison data of a one-cycle :class:`~scalf_opt.io.plan_export.PlanExport`."""
+    from scalf_opt.io.plan_export import planned_mechanical_energy_j
+
+    power = sum(
+        np.abs(v["tau"] * v["qd"]).sum(axis=0) for v in export.values.values()
+    )
+    return PlanComparison(
+        str(export.saved.source),
+        export.saved.gait.period_s,
+        planned_mechanical_energy_j(export.cycle),
+        export.t_s,
+        np.asarray(power, dtype=float),
+    )
