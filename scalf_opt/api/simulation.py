@@ -7,6 +7,8 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from scalf_opt.api.gaits import read_gait
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
@@ -16,6 +18,9 @@ from scalf_opt.io.results import to_json
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.robot import Robot
 from scalf_opt.types import Accounting
+
+JOINT_STATE_RATE_HZ = 1000.0
+"""Rate of a simulation bag's ``/joint_states`` [Hz] (a joint driver's usual rate)."""
 
 MAX_SIM_CYCLES = 200
 """Most gait cycles one simulation may run (about 10 minutes of MuJoCo on one core)."""
@@ -64,7 +69,12 @@ class SimulationResult:
         ]
 
     def write_log(self, path: str | Path, seed: int = 0) -> Path:
-        """Write the cylinder log SCalf's sensors would record of the run (80 Hz, 0.1 mm, 70 N).
+        """Write the log of the run: the cylinder CSV, or with ``.mcap`` a ROS 2 bag.
+
+        The CSV (and the bag's ``/cylinder_states``) is what SCalf's sensors would record
+        (80 Hz, 0.1 mm, 70 N). The bag adds ``/joint_states``: every joint's angle, rate and
+        torque at 1 kHz, the joint-state topic a ROS 2 driver publishes (the rate is the joint's
+        over the simulation step that follows, so that ``tau qd`` is that step's power).
 
         Raises:
             LogError: A leg has no hydraulic cylinders.
@@ -83,7 +93,35 @@ class SimulationResult:
             for leg in cylinders
         }
         log = sensor_log(motions, cylinders, SensorModel(), seed, str(path))
+        if Path(path).suffix == ".mcap":
+            return self._write_bag(Path(path), log)
         return write_atomic(path, log_csv_text(log))
+
+    def _write_bag(self, path: Path, log: Any) -> Path:
+        from scalf_opt.io.ros_bag import JointStateSeries, cylinder_joint_name, write_bag
+
+        record = self.record
+        stride = max(1, round(1.0 / (JOINT_STATE_RATE_HZ * record.timestep_s)))
+        legs = list(record.q_rad)
+        names = tuple(n for leg in legs for n in self.robot.leg(leg).joint_names)
+        joints = JointStateSeries(
+            "/joint_states",
+            names,
+            record.t_s[::stride],
+            np.vstack([record.q_rad[leg][:, ::stride] for leg in legs]),
+            np.vstack([record.qd_rad_s[leg][:, ::stride] for leg in legs]),
+            np.vstack([record.tau_nm[leg][:, ::stride] for leg in legs]),
+        )
+        first = log.legs[legs[0]]  # the sensors sample every leg at the same instants
+        sensors = JointStateSeries(
+            "/cylinder_states",
+            tuple(cylinder_joint_name(n) for n in names),
+            first.t_s,
+            np.vstack([log.legs[leg].length_m for leg in legs]),
+            None,
+            np.vstack([log.legs[leg].force_n for leg in legs]),
+        )
+        return write_bag(path, [joints, sensors])
 
 
 def simulate(

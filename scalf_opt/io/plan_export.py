@@ -111,19 +111,25 @@ def check_rate(gait: Gait, rate_hz: float) -> None:
         gait.stance_duration_s * rate_hz <= MAX_SAMPLES_PER_PHASE / 2
     ):
         return
+    finest = MAX_SAMPLES_PER_PHASE / 2 / gait.stance_duration_s
+    if gait.stance_duration_s * rate_hz > MAX_SAMPLES_PER_PHASE / 2:
+        raise ConfigError(
+            f"a rate of {rate_hz:g} Hz is finer than the {finest:g} Hz the gait's phases allow",
+            field="rate_hz",
+        )
     step = _fitting_step_hz(edges)
     lower = max(step, math.floor(rate_hz / step) * step)
     upper = math.ceil(rate_hz / step) * step
     raise ConfigError(
         f"a rate of {rate_hz:g} Hz puts no sample on the touch-downs and lift-offs of the gait "
         f"(T = {gait.period_s:g} s, duty {gait.duty_cycle:g}): give a multiple of {step:g} Hz, "
-        f"e.g. {lower:g} or {upper:g} Hz, at most {MAX_SAMPLES_PER_PHASE / 2 / gait.stance_duration_s:g} Hz",
+        f"e.g. {lower:g} or {upper:g} Hz",
         field="rate_hz",
     )
 
 
 def _fitting_step_hz(edges: list[float]) -> float:
-    """The smallest rate that is a whole number of samples on every edge (edges in ms)."""
+    """The smallest rate that puts a whole number of samples on every edge [Hz] (edges [s])."""
     ms = [round(e * 1e6) for e in edges if round(e * 1e6) > 0]  # microseconds
     g = 0
     for m in ms:
@@ -199,9 +205,7 @@ class PlanExport:
                 record[stem] = v[name].tolist()
             record["foot_m"] = {"x": v["foot"][0].tolist(), "z": v["foot"][1].tolist()}
             if "cyl_len" in v:
-                record["cylinders"] = {
-                    stem: v[name].tolist() for name, stem in CYLINDER_FIELDS
-                }
+                record["cylinders"] = {stem: v[name].tolist() for name, stem in CYLINDER_FIELDS}
             legs[leg] = record
         gait = self.saved.gait
         return {

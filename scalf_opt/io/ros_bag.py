@@ -42,9 +42,7 @@ def _rosbags() -> Any:
         import rosbags.rosbag2
         import rosbags.typesys
     except ImportError as exc:  # pragma: no cover - the extra is part of "all"
-        raise ConfigError(
-            "ROS 2 bags need the 'ros' extra: pip install 'scalf-opt[ros]'"
-        ) from exc
+        raise ConfigError("ROS 2 bags need the 'ros' extra: pip install 'scalf-opt[ros]'") from exc
     return rosbags
 
 
@@ -173,7 +171,8 @@ def write_bag(
 
 
 def _bag_error(path: Path, exc: Exception) -> LogError:
-    reason = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    text = str(exc).strip()
+    reason = text.splitlines()[0].rstrip(".") if text else type(exc).__name__
     return LogError(f"{path}: not a readable ROS 2 bag ({reason}; truncated or not a bag?)")
 
 
@@ -189,7 +188,7 @@ def read_joint_states(path: str | Path, topic: str) -> JointStateSeries:
     path = Path(path)
     if not path.exists():
         raise LogError(f"{path}: the bag does not exist")
-    rb = _rosbags()
+    _rosbags()
     from rosbags.highlevel import AnyReader
 
     try:
@@ -216,7 +215,7 @@ def read_joint_states(path: str | Path, topic: str) -> JointStateSeries:
         columns: dict[str, list[np.ndarray]] = {"position": [], "velocity": [], "effort": []}
         try:
             for index, (conn, ns, raw) in enumerate(reader.messages(connections=connections)):
-                msg = reader.deserialize(raw, conn.msgtype)
+                msg: Any = reader.deserialize(raw, conn.msgtype)
                 stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
                 t = stamp if stamp > 0 else ns * 1e-9
                 here = tuple(msg.name)
@@ -248,7 +247,7 @@ def read_joint_states(path: str | Path, topic: str) -> JointStateSeries:
         reader.close()
     if names is None:
         raise LogError(f"{path}: topic {topic!r} has no messages")
-    series = {}
+    series: dict[str, np.ndarray | None] = {}
     for field, values in columns.items():
         sizes = {v.size for v in values}
         if sizes == {0}:
@@ -257,14 +256,13 @@ def read_joint_states(path: str | Path, topic: str) -> JointStateSeries:
             series[field] = np.array(values).T
         else:
             raise LogError(f"{path}: topic {topic}: {field} is missing from some messages")
-    if series["position"] is None:
+    position = series["position"]
+    if position is None:
         raise LogError(f"{path}: topic {topic}: the messages have no position")
     t_s = np.array(times)
     if t_s.size and not math.isfinite(float(t_s[-1])):
         raise LogError(f"{path}: topic {topic}: a time stamp is not finite")
-    return JointStateSeries(
-        topic, names, t_s, series["position"], series["velocity"], series["effort"]
-    )
+    return JointStateSeries(topic, names, t_s, position, series["velocity"], series["effort"])
 
 
 CYLINDER_SUFFIX = "_cylinder"

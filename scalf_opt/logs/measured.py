@@ -23,6 +23,7 @@ import numpy as np
 
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import LogError
+from scalf_opt.locomotion.trot import stance_start_s
 from scalf_opt.logs.analysis import LegEnergy, LogAnalysis, analyze_log, leg_cylinders
 from scalf_opt.logs.analysis import window_integral as integral
 from scalf_opt.logs.derivative import (
@@ -32,7 +33,6 @@ from scalf_opt.logs.derivative import (
     local_polynomial_derivative,
 )
 from scalf_opt.logs.log_file import CylinderLog, LegLog
-from scalf_opt.locomotion.trot import stance_start_s
 
 FOLD_BINS = 200
 """Points of the folded power curve over one cycle."""
@@ -92,7 +92,10 @@ def leg_mechanical_power_w(
     cylinders = leg_cylinders(pipeline, leg)
     t = data.t_s
     theta = np.vstack(
-        [np.array(c.angle_from_length_rad(data.length_m[j])).ravel() for j, c in enumerate(cylinders)]
+        [
+            np.array(c.angle_from_length_rad(data.length_m[j])).ravel()
+            for j, c in enumerate(cylinders)
+        ]
     )
     arm = np.vstack([np.array(c.moment_arm_m(theta[j])).ravel() for j, c in enumerate(cylinders)])
     if speed_m_s is None:
@@ -255,9 +258,7 @@ def plan_comparison(export: Any) -> PlanComparison:
     """The comparison data of a one-cycle :class:`~scalf_opt.io.plan_export.PlanExport`."""
     from scalf_opt.io.plan_export import planned_mechanical_energy_j
 
-    power = sum(
-        np.abs(v["tau"] * v["qd"]).sum(axis=0) for v in export.values.values()
-    )
+    power = sum(np.abs(v["tau"] * v["qd"]).sum(axis=0) for v in export.values.values())
     return PlanComparison(
         str(export.saved.source),
         export.saved.gait.period_s,

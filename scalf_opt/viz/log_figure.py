@@ -36,23 +36,15 @@ def log_plan_figure(
     fig, (ax_p, ax_e) = plt.subplots(
         1, 2, figsize=(12, 4.4), gridspec_kw={"width_ratios": [2.2, 1]}
     )
-    period = float(planned_t_s[-1] + (planned_t_s[1] - planned_t_s[0]))
-    ax_p.plot(
-        np.append(planned_t_s, period),
-        np.append(planned_w, planned_w[0]),
-        color="tab:blue",
-        lw=1.5,
-        label=f"planned: {np.trapezoid(np.append(planned_w, planned_w[0]), dx=planned_t_s[1]):.0f} J",
-    )
-    step = measured_t_s[1] - measured_t_s[0]
-    ax_p.plot(
-        np.append(measured_t_s, measured_t_s[-1] + step),
-        np.append(measured_w, measured_w[0]),
-        color="tab:orange",
-        lw=1.5,
-        label=f"measured (mean over the cycles): "
-        f"{np.trapezoid(np.append(measured_w, measured_w[0]), dx=step):.0f} J",
-    )
+    for t, power, color, label in (
+        (planned_t_s, planned_w, "tab:blue", "planned"),
+        (measured_t_s, measured_w, "tab:orange", "measured (mean over the cycles)"),
+    ):
+        # periodic: close the curve at the period with the first sample
+        closed_t = np.append(t, t[-1] + (t[1] - t[0]))
+        closed_w = np.append(power, power[0])
+        energy = np.trapezoid(closed_w, closed_t)
+        ax_p.plot(closed_t, closed_w, color=color, lw=1.5, label=f"{label}: {energy:.1f} J")
     ax_p.set_xlabel("cycle time [s] (0: RF and LH touch down)")
     ax_p.set_ylabel("mechanical power sum |F v| of all legs [W]")
     ax_p.set_title(title, fontsize=9)

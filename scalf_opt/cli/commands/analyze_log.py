@@ -8,6 +8,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from scalf_opt.cli.options import (
     GAIT_OPTIONS,
@@ -125,7 +126,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     return 0
 
 
-def plan_report(comparison: dict) -> str:  # type: ignore[type-arg]
+def plan_report(comparison: dict[str, Any]) -> str:
     """The log against the plan: per leg and for the robot."""
     lines = [
         "",
