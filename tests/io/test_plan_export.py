@@ -7,10 +7,10 @@ import pytest
 
 from scalf_opt.api import analyze_log, export_plan
 from scalf_opt.cli import main
+from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
 from scalf_opt.io.plan_export import planned_mechanical_energy_j
 from scalf_opt.logs.analysis import leg_cylinders
-from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.types import LEG_NAMES
 
 
@@ -60,7 +60,9 @@ def test_rates_and_accelerations_are_the_angles_derivatives(export):
         v = export.values[leg]
         q, qd, qdd = v["q"], v["qd"], v["qdd"]
         contact = v["contact"]
-        same = np.all([contact[k : contact.size - 4 + k] == contact[2:-2] for k in range(5)], axis=0)
+        same = np.all(
+            [contact[k : contact.size - 4 + k] == contact[2:-2] for k in range(5)], axis=0
+        )
         for y, dy in ((q, qd), (qd, qdd)):
             np.testing.assert_allclose(
                 fourth_order_derivative(y, dt)[:, same],
@@ -102,7 +104,9 @@ def test_every_rate_is_an_evaluation_not_an_interpolation(optimum, scalf, export
 
 def test_the_csv_at_1000_hz_gives_back_the_plans_energy(optimum, tmp_path, capsys):
     path = tmp_path / "plan.csv"
-    code = main(["export", "--from", str(optimum), "--rate", "1000", "--cycles", "4", "--out", str(path)])
+    code = main(
+        ["export", "--from", str(optimum), "--rate", "1000", "--cycles", "4", "--out", str(path)]
+    )
     assert code == 0 and f"wrote {path}" in capsys.readouterr().out
     result = analyze_log(path, plan=optimum)
     comparison = result.to_dict()["plan_comparison"]
