@@ -96,7 +96,7 @@ def test_every_rate_is_an_evaluation_not_an_interpolation(optimum, scalf, export
         for name in ("q", "qd", "qdd", "tau", "cyl_force"):
             fine = export.values[leg][name][:, : 2 * slow.t_s.size : 2]
             np.testing.assert_allclose(slow.values[leg][name], fine, rtol=1e-9, atol=1e-9)
-    with pytest.raises(ConfigError, match="333 Hz puts no sample .* 332 or 336 Hz"):
+    with pytest.raises(ConfigError, match=r"333 Hz puts no sample .* 332 or 336 Hz"):
         export_plan(optimum, scalf, rate_hz=333)
     with pytest.raises(ConfigError, match="cycles"):
         export_plan(optimum, scalf, rate_hz=1000, cycles=0)

@@ -76,7 +76,8 @@ def driver_signals(fine, scalf, start_s=0.137, jitter=True, extra=True):
             position.append(np.zeros(index.size))
             velocity.append(np.zeros(index.size))
             effort.append(np.full(index.size, 3.0))
-        for j, (role, urdf) in enumerate(zip(("hfe", "kfe"), scalf.leg(leg).joint_names, strict=True)):
+        joints = zip(("hfe", "kfe"), scalf.leg(leg).joint_names, strict=True)
+        for j, (role, urdf) in enumerate(joints):
             names.append(f"{DRIVER_NAMES[leg]}_{role}")
             mapping[names[-1]] = urdf
             position.append(v["q"][j, index])
