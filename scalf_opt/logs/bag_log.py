@@ -36,7 +36,6 @@ from scalf_opt.io.ros_bag import JointStateSeries, cylinder_joint_name, read_joi
 from scalf_opt.logs.analysis import leg_cylinders
 from scalf_opt.logs.log_file import (
     ALL_COLUMNS,
-    CONTACT,
     MAX_LOG_BYTES,
     CylinderLog,
     LegLog,
@@ -112,6 +111,8 @@ def bag_log(
         LogError: The bag cannot be read, no such topic, a leg with one joint missing, no
             leg's joints at all, a joint topic without efforts, a cylinder topic without forces.
     """
+    if names:
+        _names_of(pipeline, "joints", names)  # a mapping to no joint: before reading the bag
     series = read_joint_states(path, topic)
     chosen = signals or _choose_signals(series, pipeline, names)
     mapping = _names_of(pipeline, chosen, names)
@@ -251,12 +252,3 @@ def read_any_log(
         raise LogError(f"{path}: not a text file ({exc.reason})") from exc
     return read_log(path)
 
-
-__all__ = [
-    "CONTACT",
-    "MeasuredLegLog",
-    "bag_log",
-    "export_csv_log",
-    "is_export_csv",
-    "read_any_log",
-]
