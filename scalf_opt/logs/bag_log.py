@@ -251,4 +251,3 @@ def read_any_log(
     except UnicodeDecodeError as exc:
         raise LogError(f"{path}: not a text file ({exc.reason})") from exc
     return read_log(path)
-
