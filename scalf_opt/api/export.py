@@ -34,7 +34,15 @@ class ExportResult:
         return int(self.export.t_s.size)
 
     def write(self, path: str | Path) -> Path:
-        """Write the export; ``.csv``, ``.json`` or ``.mcap`` (a ROS 2 bag) by the suffix."""
+        """Write the export, atomically; its format by the suffix.
+
+        ``.csv``, ``.json`` (with the provenance) or ``.mcap`` (a ROS 2 bag).
+        """
+        if Path(path).suffix == ".json":
+            from scalf_opt.files import write_atomic
+            from scalf_opt.io.results import to_json
+
+            return write_atomic(path, to_json(self.to_dict()))
         return Path(self.export.write(path))
 
     def to_dict(self) -> dict[str, Any]:

@@ -1,6 +1,7 @@
 """``export``: the saved optimum at any rate, checked against independent physics and read back."""
 
 import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -116,6 +117,12 @@ def test_the_csv_at_1000_hz_gives_back_the_plans_energy(optimum, tmp_path, capsy
     assert abs(comparison["change_percent"]) < 0.5
     for leg in LEG_NAMES:
         assert abs(comparison["legs"][leg]["change_percent"]) < 0.5
+    # docs/plan-to-robot.md quotes it
+    page = (Path(__file__).parents[2] / "docs" / "plan-to-robot.md").read_text()
+    watts = (comparison["measured_average_power_w"], comparison["planned_average_power_w"])
+    assert "{:.2f} W measured, {:.2f} W planned".format(*watts) in page
+    changes = [comparison["legs"][leg]["change_percent"] for leg in LEG_NAMES]
+    assert f"per leg {min(changes):+.2f} % to {max(changes):+.2f} %" in page
 
 
 def test_the_json_and_the_bag_carry_the_urdf_names(export, scalf, tmp_path):

@@ -1,6 +1,9 @@
 """The loop closed in simulation: export the optimum as a bag, run it in MuJoCo, log the run as a
 ROS 2 bag, analyze the bag against the plan, and get what the CSV path gets."""
 
+import re
+from pathlib import Path
+
 import pytest
 
 from scalf_opt.api import analyze_log, export_plan, simulate
@@ -56,3 +59,22 @@ def test_export_simulate_and_analyze_the_bag(optimum, scalf, tmp_path):
         simulated = windowed_mechanical_energy_j(pipeline, run.record, leg, windows[leg].windows_s)
         measured = joints["mechanical_energy_per_cycle_j"][leg]
         assert measured == pytest.approx(simulated, rel=TRAPEZOID_RTOL)
+
+
+def test_the_pages_numbers_are_these_commands(optimum, tmp_path, capsys):
+    """docs/plan-to-robot.md quotes these commands' output (the same 3-cycle run)."""
+    page = (Path(__file__).parents[2] / "docs" / "plan-to-robot.md").read_text()
+    bag, csv = tmp_path / "run.mcap", tmp_path / "run.csv"
+    sim = ["simulate", "--from", str(optimum), "--cycles", "3", "--out", str(tmp_path), "-q"]
+    assert main([*sim, "--log", str(bag)]) == 0 and main([*sim, "--log", str(csv)]) == 0
+    for log, topic in ((bag, "/joint_states"), (bag, "/cylinder_states"), (csv, None)):
+        argv = ["analyze-log", str(log), "--plan", str(optimum)]
+        assert main(argv + (["--topic", topic] if topic else [])) == 0
+        out = capsys.readouterr().out
+        line = next(x for x in out.splitlines() if x.startswith("average power:"))
+        measured, _, change = re.findall(r"[-+]?[\d.]+ (?:W|%)", line)
+        assert f"| {measured} | {change} |" in page, line
+        if topic == "/joint_states":
+            assert line in page
+            for row in out.splitlines()[5:10]:
+                assert row in page

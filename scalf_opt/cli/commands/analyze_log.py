@@ -136,11 +136,16 @@ def plan_report(comparison: dict[str, Any]) -> str:
     for leg, v in comparison["legs"].items():
         lines.append(
             f"{leg:4s}  {v['measured_j']:12.3f}  {v['planned_j']:12.3f}  "
-            f"{v['change_percent']:+7.2f} %"
+            f"{_signed(v['change_percent']):+7.2f} %"
         )
     lines.append(
         f"average power: {comparison['measured_average_power_w']:.2f} W measured, "
         f"{comparison['planned_average_power_w']:.2f} W planned "
-        f"({comparison['change_percent']:+.2f} %)"
+        f"({_signed(comparison['change_percent']):+.2f} %)"
     )
     return "\n".join(lines)
+
+
+def _signed(percent: float) -> float:
+    """``percent`` rounded to the printed 0.01, without a sign on zero (no "-0.00 %")."""
+    return round(percent, 2) + 0.0
