@@ -66,13 +66,14 @@ def export_plan(
     Args:
         source: A directory written by ``optimize --out`` (or its ``summary.json``).
         robot: The robot it was computed on (default: SCalf).
-        rate_hz: Sample rate [Hz]; it must put a sample on every touch-down and lift-off (the
-            error names the nearest rates that do: for the paper's trot any multiple of 4 Hz).
+        rate_hz: Sample rate [Hz]; one that puts no sample on every touch-down and lift-off
+            becomes the nearest that does (the paper's trot: any multiple of 4 Hz; the result's
+            ``export.rate_hz``).
         cycles: Gait cycles, 1..1000.
         command: The command line, recorded in the provenance.
 
     Raises:
-        ConfigError: A bad or foreign ``summary.json``, a rate that misses a phase edge, bad
+        ConfigError: A bad or foreign ``summary.json``, a rate too coarse or too fine, bad
             cycles.
     """
     from scalf_opt.io.plan_export import export_plan as sample

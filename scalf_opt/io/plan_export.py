@@ -13,10 +13,11 @@ rate (not resampled from ``samples.csv``): per leg and instant ``t_k = k / rate`
 * for a joint driven by a hydraulic cylinder: its length [m], speed [m/s] and force [N].
 
 The cycle is periodic, so ``cycles`` copies follow each other seamlessly: the sample after the
-last is the first. ``t = 0`` is RF's (and LH's) touch-down. The rate must put a sample on every
-touch-down and lift-off (``rate * T_stance``, ``rate * T_swing`` and ``rate`` times each leg's
-touch-down time whole numbers), so that the stream is uniform and every sample an exact
-evaluation; the error names the nearest rates that do.
+last is the first. ``t = 0`` is RF's (and LH's) touch-down. A sample falls on every touch-down
+and lift-off, so that the stream is uniform and every sample an exact evaluation: a rate that
+does not (``rate * T_stance``, ``rate * T_swing`` and ``rate`` times each leg's touch-down time
+not whole numbers) is replaced by the nearest that does (:func:`fitted_rate`; the paper's 0.5 s
+trot: any multiple of 4 Hz), and the export says so.
 
 Formats, by the output's suffix: ``.csv`` (one row per instant and leg), ``.json`` (per leg,
 arrays), ``.mcap`` (a ROS 2 bag: ``sensor_msgs/JointState`` on ``/plan/joint_states`` and, for
@@ -45,8 +46,8 @@ from scalf_opt.io.ros_bag import (
     write_bag,
 )
 from scalf_opt.io.saved import SavedSwings
-from scalf_opt.locomotion.gait import MAX_SAMPLES_PER_PHASE, Gait
-from scalf_opt.locomotion.trot import stance_start_s
+from scalf_opt.locomotion.gait import MAX_SAMPLES_PER_PHASE, MIN_SAMPLES_PER_PHASE, Gait
+from scalf_opt.locomotion.trot import TROT_PHASE_OFFSET
 from scalf_opt.model.robot import Robot
 from scalf_opt.types import JOINT_ROLES, LEG_NAMES
 
@@ -93,48 +94,55 @@ def _whole(value: float) -> int | None:
     return n if abs(value - n) <= _ALIGN * max(1.0, abs(value)) else None
 
 
-def check_rate(gait: Gait, rate_hz: float) -> None:
-    """Refuse a rate that puts no sample on a touch-down or lift-off (module docstring).
+MAX_PATTERN = 10_000
+"""Most samples per cycle the pattern of touch-downs and lift-offs may need."""
+
+
+def fitted_rate(gait: Gait, rate_hz: float) -> tuple[float, int]:
+    """The rate nearest ``rate_hz`` that samples every touch-down and lift-off [Hz], and N.
+
+    A cycle of ``N`` samples puts one on every phase edge (each leg's touch-down at its trot
+    offset, its lift-off ``duty`` later) when ``N`` times each edge's fraction of the period is
+    a whole number: ``N`` is a multiple of the smallest such ``M`` (2 for a 50 % trot), the one
+    nearest ``rate * T``. The rate is then ``N / T`` [Hz]: ``rate_hz`` itself when it fits (the
+    paper's 0.5 s trot: any multiple of 4 Hz), else the nearest that does.
 
     Raises:
-        ConfigError: The rate is not a finite number > 0, too fine, or misses a phase edge
-            (the message names the nearest rates that fit).
+        ConfigError: The rate is not a finite number > 0, too coarse (fewer than
+            :data:`~scalf_opt.locomotion.gait.MIN_SAMPLES_PER_PHASE` intervals in a phase) or too
+            fine, or the duty cycle admits no such ``N`` below :data:`MAX_PATTERN`.
     """
     if isinstance(rate_hz, bool) or not isinstance(rate_hz, int | float):
         raise ConfigError(f"the rate must be a number [Hz], got {rate_hz!r}", field="rate_hz")
     if not (math.isfinite(rate_hz) and rate_hz > 0):
         raise ConfigError(f"the rate must be a finite number > 0 Hz, got {rate_hz!r}")
-    edges = [gait.stance_duration_s, gait.swing_duration_s] + [
-        stance_start_s(gait, leg) for leg in LEG_NAMES
-    ]
-    if all(_whole(edge * rate_hz) is not None for edge in edges) and (
-        gait.stance_duration_s * rate_hz <= MAX_SAMPLES_PER_PHASE / 2
-    ):
-        return
-    finest = MAX_SAMPLES_PER_PHASE / 2 / gait.stance_duration_s
-    if gait.stance_duration_s * rate_hz > MAX_SAMPLES_PER_PHASE / 2:
+    fractions = [gait.duty_cycle] + [TROT_PHASE_OFFSET[leg] for leg in LEG_NAMES]
+    pattern = next(
+        (m for m in range(1, MAX_PATTERN + 1) if all(_whole(f * m) is not None for f in fractions)),
+        None,
+    )
+    if pattern is None:
+        raise ConfigError(
+            f"gait field duty_cycle = {gait.duty_cycle!r}: no uniform rate puts a sample on every "
+            f"touch-down and lift-off (give a duty cycle with fewer digits)",
+            field="duty_cycle",
+        )
+    n = pattern * max(1, round(rate_hz * gait.period_s / pattern))
+    shortest = min(gait.duty_cycle, 1.0 - gait.duty_cycle) * n
+    if shortest < MIN_SAMPLES_PER_PHASE:
+        least = MIN_SAMPLES_PER_PHASE / min(gait.stance_duration_s, gait.swing_duration_s)
+        raise ConfigError(
+            f"a rate of {rate_hz:g} Hz is too coarse for the gait's phases: give at least "
+            f"{least:g} Hz",
+            field="rate_hz",
+        )
+    if 2 * max(gait.duty_cycle, 1.0 - gait.duty_cycle) * n > MAX_SAMPLES_PER_PHASE:
+        finest = MAX_SAMPLES_PER_PHASE / 2 / gait.stance_duration_s
         raise ConfigError(
             f"a rate of {rate_hz:g} Hz is finer than the {finest:g} Hz the gait's phases allow",
             field="rate_hz",
         )
-    step = _fitting_step_hz(edges)
-    lower = max(step, math.floor(rate_hz / step) * step)
-    upper = math.ceil(rate_hz / step) * step
-    raise ConfigError(
-        f"a rate of {rate_hz:g} Hz puts no sample on the touch-downs and lift-offs of the gait "
-        f"(T = {gait.period_s:g} s, duty {gait.duty_cycle:g}): give a multiple of {step:g} Hz, "
-        f"e.g. {lower:g} or {upper:g} Hz",
-        field="rate_hz",
-    )
-
-
-def _fitting_step_hz(edges: list[float]) -> float:
-    """The smallest rate that puts a whole number of samples on every edge [Hz] (edges [s])."""
-    ms = [round(e * 1e6) for e in edges if round(e * 1e6) > 0]  # microseconds
-    g = 0
-    for m in ms:
-        g = math.gcd(g, m)
-    return 1e6 / g if g else 1.0
+    return n / gait.period_s, n
 
 
 @dataclass(frozen=True)
@@ -151,6 +159,7 @@ class PlanExport:
         values: Per leg, arrays by field: ``contact`` (n,) bool, ``q``, ``qd``, ``qdd``, ``tau``,
             ``foot`` (2, n), and for cylinder legs ``cyl_len``, ``cyl_vel``, ``cyl_force`` (2, n).
         cycle: The planned cycle at this rate (the plan's energies).
+        requested_rate_hz: The rate asked for, when :attr:`rate_hz` is the nearest that fits.
     """
 
     robot: Robot
@@ -161,6 +170,7 @@ class PlanExport:
     joints: dict[str, tuple[str, str]]
     values: dict[str, dict[str, np.ndarray]]
     cycle: RobotCycle
+    requested_rate_hz: float | None = None
 
     @property
     def has_cylinders(self) -> bool:
@@ -212,6 +222,7 @@ class PlanExport:
             "source": str(self.saved.source),
             "robot": self.robot.name,
             "rate_hz": self.rate_hz,
+            "requested_rate_hz": self.requested_rate_hz,
             "cycles": self.cycles,
             "period_s": gait.period_s,
             "duty_cycle": gait.duty_cycle,
@@ -297,13 +308,9 @@ def planned_mechanical_energy_j(cycle: RobotCycle) -> dict[str, float]:
     }
 
 
-def plan_rate_hz(gait: Gait, at_least_hz: float = 1000.0) -> float:
-    """The lowest rate of at least ``at_least_hz`` that samples every phase edge [Hz]."""
-    edges = [gait.stance_duration_s, gait.swing_duration_s] + [
-        stance_start_s(gait, leg) for leg in LEG_NAMES
-    ]
-    step = _fitting_step_hz(edges)
-    return step * max(1, math.ceil(at_least_hz / step - 1e-9))
+def plan_rate_hz(gait: Gait, rate_hz: float = 1000.0) -> float:
+    """The rate nearest ``rate_hz`` that samples every phase edge (:func:`fitted_rate`) [Hz]."""
+    return fitted_rate(gait, rate_hz)[0]
 
 
 def export_plan(robot: Robot, saved: SavedSwings, rate_hz: float, cycles: int = 1) -> PlanExport:
@@ -320,23 +327,21 @@ def export_plan(robot: Robot, saved: SavedSwings, rate_hz: float, cycles: int = 
         )
     saved.check_robot(robot)
     saved.require_all_legs()
-    check_rate(saved.gait, float(rate_hz))
-    rate_hz = float(rate_hz)
     gait = saved.gait
-    per_phase = [_whole(gait.phase_duration_s(p) * rate_hz) for p in ("stance", "swing")]
+    requested_hz = float(rate_hz)
+    rate_hz, n_cycle = fitted_rate(gait, requested_hz)
+    per_phase = [round(n_cycle * gait.duty_cycle), n_cycle - round(n_cycle * gait.duty_cycle)]
     # the pipeline's phase grids have an even number of intervals: evaluate at twice the rate
     # when a phase has an odd number of samples, and keep every other one
-    factor = 1 if all(n is not None and n % 2 == 0 for n in per_phase) else 2
+    factor = 1 if all(n % 2 == 0 for n in per_phase) else 2
     cycle = _evaluate_cycle(robot, saved, replace(gait, sample_rate_hz=factor * rate_hz))
-    n_cycle = _whole(gait.period_s * rate_hz)
-    assert n_cycle is not None  # check_rate
     values: dict[str, dict[str, np.ndarray]] = {}
     joints: dict[str, tuple[str, str]] = {}
     for leg, leg_cycle in cycle.legs.items():
         one: dict[str, np.ndarray] = {}
         stance, swing = leg_cycle.stance, leg_cycle.swing
         for phase, n in ((stance, per_phase[0]), (swing, per_phase[1])):
-            if phase.t_phase_s.size != factor * n + 1:  # type: ignore[operator]
+            if phase.t_phase_s.size != factor * n + 1:
                 raise AssertionError("the phase grid is not the export's")  # pragma: no cover
         fields = [name for name, _ in JOINT_FIELDS] + ["foot"]
         fields += [name for name, _ in CYLINDER_FIELDS if f"{name}_hip" in stance.values]
@@ -349,12 +354,12 @@ def export_plan(robot: Robot, saved: SavedSwings, rate_hz: float, cycles: int = 
             else:
                 rows = [stance.values[name], swing.values[name]]
             one[name] = np.hstack([r[:, ::factor][:, :-1] for r in rows])
-        one["contact"] = np.arange(n_cycle) < per_phase[0]  # type: ignore[operator]
-        shift = _whole(stance_start_s(gait, leg) * rate_hz) or 0
+        one["contact"] = np.arange(n_cycle) < per_phase[0]
+        shift = round(TROT_PHASE_OFFSET[leg] * n_cycle)
         values[leg] = {
             name: np.tile(np.roll(array, shift, axis=-1), (1,) * (array.ndim - 1) + (cycles,))
             for name, array in one.items()
         }
         joints[leg] = tuple(robot.leg(leg).joint_names)  # type: ignore[assignment]
-    t_s = np.arange(cycles * n_cycle) / rate_hz
-    return PlanExport(robot, saved, rate_hz, cycles, t_s, joints, values, cycle)
+    t_s = np.arange(cycles * n_cycle) * (gait.period_s / n_cycle)
+    return PlanExport(robot, saved, rate_hz, cycles, t_s, joints, values, cycle, requested_hz)

@@ -4,8 +4,9 @@
 log, finds the cycles and phases and differentiates the lengths) where a log knows more:
 
 * speeds: when every leg's cylinder speeds were logged (a bag's ``velocity``, the export's
-  speed columns), the mechanical power ``|F v|`` takes them as they are, with no filter; the
-  windows, phases and stroke checks stay the analysis's own;
+  speed columns), the mechanical power ``sum |F v|`` takes them as they are, with no filter
+  (else the analysis's filter differentiates the lengths); the windows, phases and stroke
+  checks stay the analysis's own;
 * the period: a log without contact (a bag) and without ``--period`` gets the period of its
   motion: the lag ``T`` that minimises the mean squared difference of every cylinder length
   with itself ``T`` later (:func:`motion_period_s`), rather than assuming the gait's;
@@ -84,10 +85,11 @@ def leg_mechanical_power_w(
     half_window_s: float = DEFAULT_HALF_WINDOW_S,
     degree: int = DEFAULT_DEGREE,
 ) -> tuple[np.ndarray, np.ndarray]:
-    """Mechanical power ``|F v|`` and friction heat rate [W] of each sample, shape (n,).
+    """Mechanical power ``sum_j |F_j v_j|`` and the drives' loss rate [W] of each sample, (n,).
 
-    The same chain as the analysis (angle from length, moment arm, the model's power formula),
-    with ``speed_m_s`` [m/s] when given, else the lengths' derivative by the analysis's filter.
+    ``speed_m_s`` [m/s] when given, else the lengths' derivative by the analysis's filter. The
+    loss rate is the model's at that state (angle from the length, torque and rate through the
+    moment arm: SCalf's cylinder friction heat), as the analysis charges it.
     """
     cylinders = leg_cylinders(pipeline, leg)
     t = data.t_s
@@ -102,8 +104,8 @@ def leg_mechanical_power_w(
         half = half_window_samples(1.0 / float(np.median(np.diff(t))), half_window_s, degree)
         speed_m_s = local_polynomial_derivative(t, data.length_m, half, degree)
     fn = pipeline.physics(leg).power_function("paper").map(t.size)
-    power, loss = (np.array(v).sum(axis=0) for v in fn(theta, speed_m_s / arm, data.force_n * arm))
-    return power - loss, loss
+    _, loss = (np.array(v).sum(axis=0) for v in fn(theta, speed_m_s / arm, data.force_n * arm))
+    return np.abs(data.force_n * speed_m_s).sum(axis=0), loss
 
 
 def _stance_mask(log_leg: LegLog, pipeline: EnergyPipeline, leg: str, period_s: float) -> Any:
@@ -180,6 +182,9 @@ def analyze_measured(
         analysis = replace(analysis, period_source="motion")
     speeds = {leg: getattr(d, "speed_m_s", None) for leg, d in log.legs.items()}
     measured = all(s is not None for s in speeds.values())
+    # the energies of the power series below: with the filter, the analysis's own on a
+    # cylinder-charging robot (SCalf, to round-off: tests/logs/test_bags.py), and |F v| too on
+    # one whose drives charge no joint power (HyQ's valve-controlled cylinders)
     power: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     legs: dict[str, LegEnergy] = {}
     for leg, data in log.legs.items():
@@ -187,8 +192,6 @@ def analyze_measured(
             pipeline, leg, data, speeds[leg] if measured else None, half_window_s, degree
         )
         power[leg] = (data.t_s, mechanical)
-        if not measured:
-            continue
         old = analysis.legs[leg]
         windows = old.windows_s
         stance = _stance_mask(data, pipeline, leg, analysis.period_s)
@@ -204,8 +207,7 @@ def analyze_measured(
             per_cycle_j=[integral(data.t_s, mechanical, a, b) for a, b in windows],
             friction_heat_j=sum(integral(data.t_s, loss, a, b) for a, b in windows) / count,
         )
-    if measured:
-        analysis = replace(analysis, legs=legs)
+    analysis = replace(analysis, legs=legs)
     return MeasuredAnalysis(analysis, "measured" if measured else "filter", power)
 
 

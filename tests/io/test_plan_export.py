@@ -97,8 +97,13 @@ def test_every_rate_is_an_evaluation_not_an_interpolation(optimum, scalf, export
         for name in ("q", "qd", "qdd", "tau", "cyl_force"):
             fine = export.values[leg][name][:, : 2 * slow.t_s.size : 2]
             np.testing.assert_allclose(slow.values[leg][name], fine, rtol=1e-9, atol=1e-9)
-    with pytest.raises(ConfigError, match=r"333 Hz puts no sample .* 332 or 336 Hz"):
-        export_plan(optimum, scalf, rate_hz=333)
+    # 333 Hz puts no sample on the touch-downs: the nearest rate that does, 332 Hz
+    odd = export_plan(optimum, scalf, rate_hz=333).export
+    assert (odd.rate_hz, odd.requested_rate_hz, odd.t_s.size) == (332.0, 333.0, 166)
+    np.testing.assert_array_equal(odd.values["RF"]["contact"][:83], True)
+    assert not odd.values["RF"]["contact"][83:].any()
+    with pytest.raises(ConfigError, match="too coarse"):
+        export_plan(optimum, scalf, rate_hz=10)
     with pytest.raises(ConfigError, match="cycles"):
         export_plan(optimum, scalf, rate_hz=1000, cycles=0)
 
@@ -164,7 +169,8 @@ def test_the_plans_mechanical_energy_is_its_pipelines(export):
 
 def test_bad_exports_are_refused_in_one_line(optimum, tmp_path, capsys):
     for argv, message in (
-        (["--rate", "333", "--out", str(tmp_path / "p.csv")], "332 or 336 Hz"),
+        (["--rate", "10", "--out", str(tmp_path / "p.csv")], "give at least 16 Hz"),
+        (["--rate", "nan", "--out", str(tmp_path / "p.csv")], "finite number > 0"),
         (["--rate", "100", "--out", str(tmp_path / "p.txt")], "unknown format '.txt'"),
         (["--rate", "100", "--out", str(tmp_path / "p.csv"), "--robot", "hyq"], "provenance"),
     ):

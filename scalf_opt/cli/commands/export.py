@@ -31,8 +31,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         type=float,
         required=True,
         metavar="HZ",
-        help="sample rate [Hz]; a sample must fall on every touch-down and lift-off (the "
-        "paper's trot: any multiple of 4 Hz)",
+        help="sample rate [Hz]; a sample falls on every touch-down and lift-off: a rate that "
+        "puts none there becomes the nearest that does (the paper's trot: any multiple of 4 Hz)",
     )
     parser.add_argument(
         "--out",
@@ -66,7 +66,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     joints = [name for pair in export.joints.values() for name in pair]
     cylinders = ", cylinder length, speed and force" if export.has_cylinders else ""
     args.console.text(
-        f"{export.saved.label}: {result.samples} instants per leg at {export.rate_hz:g} Hz "
+        f"{export.saved.label}: {result.samples} instants per leg at {export.rate_hz:.6g} Hz "
         f"({export.cycles} cycle{'s' if export.cycles > 1 else ''} of "
         f"{export.saved.gait.period_s:g} s), joints {', '.join(joints)}"
     )
@@ -74,5 +74,12 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         "per joint: angle, velocity, acceleration, feed-forward torque; per leg: contact, foot "
         f"(x, z) in the hip frame{cylinders}"
     )
+    if export.rate_hz != export.requested_rate_hz:
+        period = export.saved.gait.period_s
+        args.console.text(
+            f"note: {export.rate_hz:.6g} Hz, not {export.requested_rate_hz:g} Hz: the nearest rate "
+            f"that puts a sample on every touch-down and lift-off of the {period:g} s cycle "
+            f"({round(export.rate_hz * period)} samples); the time stamps are exact"
+        )
     args.console.text(f"wrote {path}")
     return 0
