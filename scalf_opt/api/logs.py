@@ -28,6 +28,8 @@ class LogResult:
             (:class:`scalf_opt.logs.measured.MeasuredAnalysis`).
         plan: The plan the log is compared with (:class:`scalf_opt.logs.measured.PlanComparison`),
             or ``None``.
+        joint_log: The log held joints of a robot without cylinders: its mechanical energy is
+            ``sum |tau qd|`` and its ``friction_heat_j`` what the drives draw beyond it.
     """
 
     robot: Robot
@@ -35,6 +37,7 @@ class LogResult:
     command: tuple[str, ...] | None = None
     measured: Any = None
     plan: Any = None
+    joint_log: bool = False
 
     @property
     def average_power_w(self) -> float:
@@ -46,6 +49,7 @@ class LogResult:
         data = {"provenance": provenance(self.robot, self.command), **self.analysis.as_dict()}
         if self.measured is not None:
             data["velocity_source"] = self.measured.velocity_source
+        data["log_kind"] = "joint" if self.joint_log else "cylinder"
         if self.plan is not None:
             data["plan_comparison"] = self.plan.compare(self.analysis)
         return data
@@ -121,7 +125,8 @@ def analyze_log(
     """
     from scalf_opt.io.ros_bag import is_bag
     from scalf_opt.logs.bag_log import read_any_log
-    from scalf_opt.logs.measured import analyze_measured
+    from scalf_opt.logs.joint_log import JointLog, analyze_joint_log
+    from scalf_opt.logs.measured import MeasuredAnalysis, analyze_measured
 
     if period_s is not None and not period_s > 0:
         raise ConfigError(f"the period must be > 0, got {period_s}", field="period_s")
@@ -142,11 +147,21 @@ def analyze_log(
         comparison = plan_comparison(export_plan(robot, saved, plan_rate_hz(gait)))
     pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot))
     log = read_any_log(path, pipeline, topic, signals, joint_names)  # type: ignore[arg-type]
-    if not is_bag(path) and period_s is None and not log.has_contact:
+    if isinstance(log, JointLog):
+        analysis, power, source = analyze_joint_log(log, pipeline, period_s)
+        measured = MeasuredAnalysis(analysis, source, power)
+    elif not is_bag(path) and period_s is None and not log.has_contact:
         period_s = pipeline.gait.period_s  # a CSV without contact: the gait's, as ever
         measured = analyze_measured(log, pipeline, period_s)
         analysis = replace(measured.analysis, period_source="gait")
         measured = replace(measured, analysis=analysis)
     else:
         measured = analyze_measured(log, pipeline, period_s)
-    return LogResult(robot, measured.analysis, command_tuple(command), measured, comparison)
+    return LogResult(
+        robot,
+        measured.analysis,
+        command_tuple(command),
+        measured,
+        comparison,
+        isinstance(log, JointLog),
+    )

@@ -34,6 +34,7 @@ from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import LogError
 from scalf_opt.io.ros_bag import JointStateSeries, cylinder_joint_name, read_joint_states
 from scalf_opt.logs.analysis import leg_cylinders
+from scalf_opt.logs.joint_log import JointLegLog, JointLog
 from scalf_opt.logs.log_file import (
     ALL_COLUMNS,
     MAX_LOG_BYTES,
@@ -97,8 +98,10 @@ def bag_log(
     topic: str,
     signals: Signals | None = None,
     names: Mapping[str, str] | None = None,
-) -> CylinderLog:
+) -> CylinderLog | JointLog:
     """Read one joint-state topic of a ROS 2 bag as a cylinder log (module docstring).
+
+    The joints of a robot without cylinders make a :class:`~scalf_opt.logs.joint_log.JointLog`.
 
     Args:
         path: The bag.
@@ -122,6 +125,8 @@ def bag_log(
     if series.effort is None:
         raise LogError(f"{source}: the messages have no {what}: the energy needs them")
     legs: dict[str, LegLog] = {}
+    joint_legs: dict[str, JointLegLog] = {}
+    without_cylinders = chosen == "joints" and not _has_cylinders(pipeline)
     t = series.t_s - series.t_s[0]
     for leg in LEG_NAMES:
         joints = pipeline.robot.leg(leg).joint_names
@@ -139,6 +144,9 @@ def bag_log(
         position = series.position[index]
         effort = series.effort[index]
         velocity = None if series.velocity is None else series.velocity[index]
+        if without_cylinders:
+            joint_legs[leg] = JointLegLog(t, position, velocity, effort, None, np.arange(t.size))
+            continue
         if chosen == "cylinders":
             length, force, speed = position, effort, velocity
         else:
@@ -146,6 +154,8 @@ def bag_log(
         legs[leg] = MeasuredLegLog(
             t, length, force, None, np.arange(t.size), None if speed is None else speed
         )
+    if joint_legs:
+        return JointLog(source, joint_legs)
     if not legs:
         expected = ", ".join(list(mapping)[:4]) + ", ..."
         raise LogError(
@@ -154,6 +164,16 @@ def bag_log(
             "map the names with --joint NAME=URDF_JOINT"
         )
     return CylinderLog(source, legs)
+
+
+def _has_cylinders(pipeline: EnergyPipeline) -> bool:
+    """Whether every leg's hip pitch and knee are driven by hydraulic cylinders."""
+    try:
+        for leg in LEG_NAMES:
+            leg_cylinders(pipeline, leg)
+    except LogError:
+        return False
+    return True
 
 
 def _through_cylinders(
@@ -177,21 +197,18 @@ def is_export_csv(text: str) -> bool:
     return EXPORT_MARKER in [cell.strip() for cell in header]
 
 
-def export_csv_log(text: str, source: str) -> CylinderLog:
-    """The cylinder columns of ``scalf-opt export``'s CSV, with the speeds, as a cylinder log.
+def export_csv_log(text: str, source: str) -> CylinderLog | JointLog:
+    """``scalf-opt export``'s CSV as a log: cylinders with their speeds, else joints.
+
+    With cylinder columns, a cylinder log; without (a robot without cylinders), a joint log.
 
     Raises:
-        LogError: The cylinder log parser's row-and-column errors, or an export without the
-            cylinder columns (a robot without cylinders).
+        LogError: The cylinder log parser's row-and-column errors (the joints': the same kind).
     """
     rows = list(csv.reader(io.StringIO(text)))
     header = [cell.strip() for cell in rows[0]]
-    missing = [c for c in (*ALL_COLUMNS, *SPEED_COLUMNS) if c not in header]
-    if missing:
-        raise LogError(
-            f"{source}: row 1, column {missing[0]}: missing (an export of a robot without "
-            "cylinders has no cylinder columns)"
-        )
+    if not all(c in header for c in (*ALL_COLUMNS, *SPEED_COLUMNS)):
+        return _export_joint_log(rows, header, source)
     keep = [header.index(c) for c in ALL_COLUMNS]
     speeds = [header.index(c) for c in SPEED_COLUMNS]
     buffer = io.StringIO()
@@ -219,13 +236,66 @@ def export_csv_log(text: str, source: str) -> CylinderLog:
     return CylinderLog(log.source, legs)
 
 
+JOINT_COLUMNS = tuple(
+    f"{role}_{stem}"
+    for stem in ("angle_rad", "velocity_rad_s", "torque_nm")
+    for role in JOINT_ROLES
+)
+"""The export's joint columns a joint log reads: angles, rates, torques (hip, knee)."""
+
+
+def _export_joint_log(rows: list[list[str]], header: list[str], source: str) -> JointLog:
+    for column in ("t_s", "leg", "contact", *JOINT_COLUMNS):
+        if column not in header:
+            raise LogError(f"{source}: row 1, column {column}: missing from the header")
+    at = {c: header.index(c) for c in header}
+    samples: dict[str, list[list[float]]] = {leg: [] for leg in LEG_NAMES}
+    numbers: dict[str, list[int]] = {leg: [] for leg in LEG_NAMES}
+    for number, cells in enumerate(rows[1:], start=2):
+        if not any(cell.strip() for cell in cells):
+            continue
+        if len(cells) != len(header):
+            raise LogError(
+                f"{source}: row {number}: {len(cells)} cells, the header has {len(header)}"
+            )
+        leg = cells[at["leg"]].strip()
+        if leg not in samples:
+            raise LogError(f"{source}: row {number}, column leg: {leg!r} is not a leg")
+        values = []
+        for column in ("t_s", "contact", *JOINT_COLUMNS):
+            try:
+                value = float(cells[at[column]])
+            except ValueError:
+                value = float("nan")
+            if not np.isfinite(value):
+                raise LogError(
+                    f"{source}: row {number}, column {column}: {cells[at[column]]!r} is not a "
+                    "finite number"
+                )
+            values.append(value)
+        if samples[leg] and values[0] <= samples[leg][-1][0]:
+            raise LogError(f"{source}: row {number}, column t_s: the time does not increase")
+        samples[leg].append(values)
+        numbers[leg].append(number)
+    legs = {}
+    for leg in LEG_NAMES:
+        if samples[leg]:
+            d = np.array(samples[leg]).T
+            legs[leg] = JointLegLog(
+                d[0], d[2:4], d[4:6], d[6:8], d[1] > 0.5, np.array(numbers[leg])
+            )
+    if not legs:
+        raise LogError(f"{source}: row 2: the log has no samples")
+    return JointLog(source, legs)
+
+
 def read_any_log(
     path: str | Path,
     pipeline: EnergyPipeline,
     topic: str | None = None,
     signals: Signals | None = None,
     names: Mapping[str, str] | None = None,
-) -> CylinderLog:
+) -> CylinderLog | JointLog:
     """A bag (by its suffix or folder), ``export``'s CSV, or the cylinder-log CSV.
 
     Raises:

@@ -8,8 +8,8 @@ log, finds the cycles and phases and differentiates the lengths) where a log kno
   (else the analysis's filter differentiates the lengths); the windows, phases and stroke
   checks stay the analysis's own;
 * the period: a log without contact (a bag) and without ``--period`` gets the period of its
-  motion: the lag ``T`` that minimises the mean squared difference of every cylinder length
-  with itself ``T`` later (:func:`motion_period_s`), rather than assuming the gait's;
+  motion: the lag ``T`` at which every cylinder length best repeats itself
+  (:func:`motion_period_s`), rather than assuming the gait's;
 * the plan: per leg the planned mechanical energy per cycle beside the measured one, and the
   robot's mechanical power over one cycle, measured (mean over the complete cycles, folded on
   the period from the trot's schedule origin) against planned, for the figure.
@@ -23,7 +23,6 @@ from typing import Any
 import numpy as np
 
 from scalf_opt.energy.pipeline import EnergyPipeline
-from scalf_opt.errors import LogError
 from scalf_opt.locomotion.trot import stance_start_s
 from scalf_opt.logs.analysis import LegEnergy, LogAnalysis, analyze_log, leg_cylinders
 from scalf_opt.logs.analysis import window_integral as integral
@@ -33,13 +32,11 @@ from scalf_opt.logs.derivative import (
     half_window_samples,
     local_polynomial_derivative,
 )
+from scalf_opt.logs.joint_log import period_of_motion_s
 from scalf_opt.logs.log_file import CylinderLog, LegLog
 
 FOLD_BINS = 200
 """Points of the folded power curve over one cycle."""
-
-MIN_PERIOD_S = 0.1
-"""The shortest period searched [s]; the longest leaves this much of the log to compare."""
 
 
 @dataclass(frozen=True)
@@ -117,48 +114,15 @@ def _stance_mask(log_leg: LegLog, pipeline: EnergyPipeline, leg: str, period_s: 
 
 
 def motion_period_s(log: CylinderLog) -> float:
-    """The period of the legs' motion [s] (module docstring).
+    """The period of the legs' motion [s], from their cylinder lengths.
 
-    The cylinder lengths, on a uniform grid at the log's median step, give the mean squared
-    difference ``D(lag)`` of the motion with itself a lag later; the period is the first lag
-    where ``D`` has a local minimum below a fifth of its mean, refined to a fraction of a step
-    by a parabola through it and its neighbours.
+    See :func:`~scalf_opt.logs.joint_log.period_of_motion_s`.
 
     Raises:
         LogError: The log is too short to hold two periods, or its motion is not periodic.
     """
-    steps = np.concatenate([np.diff(d.t_s) for d in log.legs.values()])
-    dt = float(np.median(steps))
-    start = max(float(d.t_s[0]) for d in log.legs.values())
-    end = min(float(d.t_s[-1]) for d in log.legs.values())
-    grid = np.arange(start, end, dt)
-    signals = np.vstack(
-        [np.interp(grid, d.t_s, d.length_m[j]) for d in log.legs.values() for j in range(2)]
-    )
-    signals -= signals.mean(axis=1, keepdims=True)
-    n = grid.size
-    lo = max(2, int(MIN_PERIOD_S / dt))
-    hi = n - lo - 2
-    if hi <= lo + 2:
-        raise LogError(
-            f"{log.source}: {end - start:.3g} s of motion is too short to find its period "
-            "(give --period)"
-        )
-    lags = np.arange(hi + 1)
-    difference = np.array(
-        [np.mean((signals[:, lag:] - signals[:, : n - lag]) ** 2) for lag in lags]
-    )
-    threshold = 0.2 * float(np.mean(difference[lo:hi]))
-    for lag in range(lo, hi):
-        d = difference
-        if d[lag] <= d[lag - 1] and d[lag] <= d[lag + 1] and d[lag] < threshold:
-            curvature = d[lag - 1] - 2 * d[lag] + d[lag + 1]
-            shift = 0.5 * (d[lag - 1] - d[lag + 1]) / curvature if curvature > 0 else 0.0
-            return float((lag + shift) * dt)
-    raise LogError(
-        f"{log.source}: the motion repeats at no lag between {lo * dt:.3g} and {hi * dt:.3g} s: "
-        "not a periodic gait, or too short (give --period)"
-    )
+    series = [(d.t_s, d.length_m) for d in log.legs.values()]
+    return period_of_motion_s(log.source, series)
 
 
 def analyze_measured(

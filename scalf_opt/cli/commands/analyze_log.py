@@ -116,7 +116,8 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     )
     written = [result.write_figure(args.figure)] if args.figure is not None else []
     source = result.measured.velocity_source if result.measured is not None else "filter"
-    args.console.text(log_report(result.analysis, source).rstrip("\n"))
+    kind = "joint" if result.joint_log else "cylinder"
+    args.console.text(log_report(result.analysis, source, kind).rstrip("\n"))
     data = result.to_dict()
     if "plan_comparison" in data:
         args.console.text(plan_report(data["plan_comparison"]))

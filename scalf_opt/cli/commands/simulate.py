@@ -73,7 +73,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     if args.source is not None and (args.gait is not None or gait_overrides(args)):
         raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
     robot = load_robot(args)
-    if args.log is not None:
+    if args.log is not None and args.log.suffix == ".csv":
         from scalf_opt.energy.pipeline import EnergyPipeline
         from scalf_opt.logs.analysis import leg_cylinders
 
