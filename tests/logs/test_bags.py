@@ -168,3 +168,32 @@ def test_bad_bags_are_refused_in_one_line(case, message, fine, scalf, tmp_path, 
     assert re.search(message, err), err
     with pytest.raises(LogError):
         analyze_log(bag, scalf, topic=asked, joint_names=mapping)
+
+
+def test_a_robot_without_cylinders_logs_its_joints(solo12, tmp_path, capsys):
+    """Solo-12 (electric): the export's CSV and bag are joint logs, sum |tau qd| is the plan's."""
+    opt = tmp_path / "opt"
+    assert main(["optimize", "--robot", "solo12", "--out", str(opt), "-q"]) == 0
+    export = export_plan(opt, solo12, rate_hz=1000, cycles=4)
+    assert not export.export.has_cylinders
+    for path, topic in (
+        (tmp_path / "plan.csv", None),
+        (tmp_path / "plan.mcap", "/plan/joint_states"),
+    ):
+        export.write(path)
+        result = analyze_log(path, solo12, topic=topic, plan=opt)
+        data = result.to_dict()
+        assert data["log_kind"] == "joint" and data["velocity_source"] == "measured"
+        assert data["period_source"] == ("motion" if topic else "contact")
+        comparison = data["plan_comparison"]
+        assert abs(comparison["change_percent"]) < 0.5, comparison
+        # what the drives draw beyond |tau qd|: the plan's own drive energy less its mechanical
+        planned = export.export.cycle
+        drawn = sum(leg.energy_j for leg in planned.legs.values())
+        measured = sum(
+            e.mechanical_j["cycle"] + e.friction_heat_j for e in result.analysis.legs.values()
+        )
+        assert measured == pytest.approx(drawn, rel=0.01)
+    code = main(["analyze-log", str(tmp_path / "plan.csv"), "--robot", "solo12"])
+    out = capsys.readouterr().out
+    assert code == 0 and out.startswith("joint log ") and "sum |tau qd|" in out
