@@ -7,6 +7,7 @@ by a fraction of a step, a recording that starts at no particular phase of the g
 
 import json
 import re
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -194,6 +195,12 @@ def test_a_robot_without_cylinders_logs_its_joints(solo12, tmp_path, capsys):
             e.mechanical_j["cycle"] + e.friction_heat_j for e in result.analysis.legs.values()
         )
         assert measured == pytest.approx(drawn, rel=0.01)
-    code = main(["analyze-log", str(tmp_path / "plan.csv"), "--robot", "solo12"])
+    capsys.readouterr()
+    code = main(
+        ["analyze-log", str(tmp_path / "plan.csv"), "--robot", "solo12", "--plan", str(opt)]
+    )
     out = capsys.readouterr().out
     assert code == 0 and out.startswith("joint log ") and "sum |tau qd|" in out
+    # docs/plan-to-robot.md quotes it
+    page = (Path(__file__).parents[2] / "docs" / "plan-to-robot.md").read_text()
+    assert out.strip().splitlines()[-1] in page
