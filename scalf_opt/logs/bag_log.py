@@ -158,10 +158,15 @@ def bag_log(
         return JointLog(source, joint_legs)
     if not legs:
         expected = ", ".join(list(mapping)[:4]) + ", ..."
+        held = ", ".join(series.names[:8]) + (", ..." if len(series.names) > 8 else "")
+        what = f"{pipeline.robot.name}'s {chosen}"
+        if signals is None and not names:
+            what = f"{pipeline.robot.name}'s leg joints nor their cylinders (<joint>_cylinder)"
+            expected = ", ".join(list(_names_of(pipeline, "joints", None))[:4]) + ", ..."
         raise LogError(
-            f"{source}: the messages name none of the robot's {chosen} (expected {expected}; "
-            f"they hold {', '.join(series.names[:8])}{', ...' if len(series.names) > 8 else ''}); "
-            "map the names with --joint NAME=URDF_JOINT"
+            f"{source}: the messages name none of {what} (expected {expected}; they hold "
+            f"{held}): give the robot (--robot, --urdf) or map the names with "
+            "--joint NAME=URDF_JOINT"
         )
     return CylinderLog(source, legs)
 
