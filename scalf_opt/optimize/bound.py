@@ -62,6 +62,20 @@ SAMPLES_PER_SPAN = 8
 optima of 16 to 128 spans at 8 per span agree with their energies at ten times the rate within
 0.3 % and cross no limit between samples; at 4 per span the energy was 0.9 % off."""
 
+WARM_START_OPTIONS: dict[str, Any] = {
+    "mu_strategy": "monotone",
+    "mu_init": 1e-5,
+    "warm_start_init_point": "yes",
+    "warm_start_bound_push": 1e-9,
+    "warm_start_slack_bound_push": 1e-9,
+    "warm_start_mult_bound_push": 1e-9,
+}
+"""Ipopt's options on a level after the first, which starts at the previous level's optimum (an
+exact member of the finer family): a small, monotone barrier parameter and the start kept close
+to its active bounds, instead of Ipopt's default of pushing it back into the interior. Measured
+on SCalf's RF leg, 128 spans from the 64-span optimum: 92 iterations and 4.3 s of CPU instead of
+139 and 8.1 s, and a lower optimum (11.293 J instead of 11.300 J)."""
+
 SLOWEST_RATIO = 0.5
 """The least ratio of successive savings the remainder estimate assumes (first order)."""
 
@@ -215,7 +229,8 @@ def bound_for(
         best: LegResult | None = None
         rate = 0.0
         for theta0 in candidates:
-            run = optimize_swings(level, (leg,), family, Settings(), {leg: theta0})
+            settings = Settings() if previous is None else Settings(ipopt=WARM_START_OPTIONS)
+            run = optimize_swings(level, (leg,), family, settings, {leg: theta0})
             leg_result = run.legs[leg]
             if best is None or (
                 leg_result.success
