@@ -4,7 +4,7 @@ VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 
-.PHONY: run test lint format bench lock clean
+.PHONY: run test docs lint format bench lock clean
 
 # Every package is installed at the version pinned in constraints.txt (refresh it with `make lock`).
 $(STAMP): pyproject.toml constraints.txt
@@ -21,6 +21,10 @@ test: $(STAMP)
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
 	MPLBACKEND=Agg $(BIN)/python -m pytest -q -n auto
+
+# The documentation site (MkDocs, Material theme) into site/, offline; open site/index.html.
+docs: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
 
 lint: $(STAMP)
 	$(BIN)/ruff check .
@@ -44,4 +48,4 @@ lock:
 	@echo "constraints.txt refreshed: review the diff, run make test, commit it"
 
 clean:
-	rm -rf $(VENV) build *.egg-info .pytest_cache .mypy_cache .ruff_cache
+	rm -rf $(VENV) build site *.egg-info .pytest_cache .mypy_cache .ruff_cache

@@ -32,7 +32,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "reference and the default optimum, joint-6 by Ipopt)",
     )
     parser.add_argument(
-        "--out", type=Path, default=Path("figures"), help="output directory (default figures)"
+        "--out",
+        type=Path,
+        default=Path("results/figures"),
+        help="output directory (default results/figures)",
     )
     parser.add_argument(
         "--format",

@@ -40,8 +40,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--out",
         type=Path,
-        default=Path("results/simulation"),
-        help="write simulation.json and simulation.png here (default results/simulation)",
+        default=Path("results/simulate"),
+        help="write simulation.json and simulation.png here (default results/simulate)",
     )
     parser.add_argument(
         "--log",

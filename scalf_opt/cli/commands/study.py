@@ -20,7 +20,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--scheduler", metavar="ADDRESS", help="a Dask scheduler, e.g. tcp://host:8786"
     )
     parser.add_argument(
-        "--out", type=Path, help="output folder (default results/<study file name>)"
+        "--out", type=Path, help="output folder (default results/study/<study file stem>)"
     )
 
 
@@ -34,7 +34,7 @@ def run(args: argparse.Namespace) -> int:
     if args.workers is not None and args.scheduler is not None:
         raise ConfigError("give --workers or --scheduler, not both")
     study = read_study(args.file)
-    out = args.out if args.out is not None else Path("results") / args.file.stem
+    out = args.out if args.out is not None else Path("results") / "study" / args.file.stem
     result = run_study(study, out, choose_runner(args.workers, args.scheduler))
     args.console.text(results_table(study.name, result))
     if result.failed:

@@ -31,7 +31,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "reference and the default optimum, joint-6 by Ipopt)",
     )
     parser.add_argument(
-        "--out", type=Path, default=Path("scene.html"), help="the HTML file (default scene.html)"
+        "--out",
+        type=Path,
+        default=Path("results/view/scene.html"),
+        help="the HTML file (default results/view/scene.html)",
     )
     parser.add_argument(
         "--cycles", type=int, default=3, help="gait cycles walked and animated (default 3)"

@@ -1,0 +1,147 @@
+"""Regenerate the command outputs embedded in the documentation, so that no number is typed.
+
+A block of command output in a page (or the README) is marked by the command that printed it::
+
+    <!-- output: scalf-opt evaluate --robot hyq | head -12 -->
+    ```console
+    $ scalf-opt evaluate --robot hyq | head -12
+    ... what it printed ...
+    ```
+
+``<!-- output slow: ... -->`` marks a command that takes more than a few seconds (the tests re-run
+it only with the ``slow`` ones). The commands of one page run in order in one scratch folder, so a
+later command can read what an earlier one wrote (``optimize --out`` then ``simulate --from``);
+``scalf-opt`` is this interpreter's ``python -m scalf_opt``, ``python`` this interpreter (a script
+path is taken from the repository). ``| head -N`` keeps the first N lines.
+
+Usage: ``python docs/gen_outputs.py [--check] [--fast] [FILE.md ...]`` (default: the README and
+every page). ``--check`` changes nothing and exits 1 when a block differs from what its command
+prints now; ``--fast`` leaves out the ``slow`` commands.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shlex
+import subprocess
+import sys
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+RUN_TIME = re.compile(r"(iterations, |in |took )\d+(\.\d+)? s\b")
+"""A run time in an output: it never repeats, so blocks are compared without it."""
+MARKER = re.compile(
+    r"<!-- output(?P<slow> slow)?: (?P<command>[^\n]*?) -->\n```console\n(?P<body>.*?)```\n",
+    re.DOTALL,
+)
+
+
+@dataclass(frozen=True)
+class Block:
+    """One marked output block of a page."""
+
+    command: str
+    slow: bool
+    body: str
+    start: int
+    end: int
+
+
+def blocks(text: str) -> list[Block]:
+    """The marked output blocks of a page, in order."""
+    return [
+        Block(m["command"], bool(m["slow"]), m["body"], m.start(), m.end())
+        for m in MARKER.finditer(text)
+    ]
+
+
+def pages() -> list[Path]:
+    """The README and every documentation page."""
+    return [ROOT / "README.md", *sorted((ROOT / "docs").rglob("*.md"))]
+
+
+def _argv(command: str) -> tuple[list[str], int | None]:
+    head = None
+    if "|" in command:
+        command, tail = (part.strip() for part in command.split("|", 1))
+        match = re.fullmatch(r"head -(\d+)", tail)
+        if not match:
+            raise ValueError(f"only '| head -N' may follow a command: {tail!r}")
+        head = int(match[1])
+    words = shlex.split(command)
+    if words[0] == "scalf-opt":
+        argv = [sys.executable, "-m", "scalf_opt", *words[1:]]
+    elif words[0] == "python":
+        script = ROOT / words[1]
+        argv = [sys.executable, str(script if script.is_file() else words[1]), *words[2:]]
+    else:
+        raise ValueError(f"a documented command starts with scalf-opt or python: {command!r}")
+    return argv, head
+
+
+def run(command: str, cwd: Path) -> str:
+    """What ``command`` prints in ``cwd``, as the block shows it (its line, then its output)."""
+    argv, head = _argv(command)
+    env = {**os.environ, "MPLBACKEND": "Agg", "COLUMNS": "100", "PYTHONPATH": str(ROOT)}
+    proc = subprocess.run(argv, cwd=cwd, capture_output=True, text=True, env=env, check=False)
+    if proc.returncode not in (0, 3):
+        raise RuntimeError(f"{command} exited {proc.returncode}: {proc.stderr.strip()}")
+    lines = proc.stdout.splitlines()
+    if head is not None:
+        lines = lines[:head]
+    return "\n".join([f"$ {command}", *lines]) + "\n"
+
+
+def same_output(a: str, b: str) -> bool:
+    """Whether two outputs are the same but for run times."""
+    return RUN_TIME.sub(r"\1<time> s", a) == RUN_TIME.sub(r"\1<time> s", b)
+
+
+def regenerate(page: Path, fast: bool = False) -> tuple[str, list[tuple[Block, str]]]:
+    """The page with every block's output renewed, and the blocks whose output changed."""
+    text = page.read_text(encoding="utf-8")
+    changed: list[tuple[Block, str]] = []
+    pieces: list[str] = []
+    last = 0
+    with tempfile.TemporaryDirectory(prefix="scalf-opt-docs-") as scratch:
+        for block in blocks(text):
+            pieces.append(text[last : block.start])
+            last = block.end
+            body = block.body
+            if not (fast and block.slow):
+                renewed = run(block.command, Path(scratch))
+                if not same_output(renewed, block.body):
+                    changed.append((block, renewed))
+                    body = renewed
+            slow = " slow" if block.slow else ""
+            pieces.append(f"<!-- output{slow}: {block.command} -->\n```console\n{body}```\n")
+    pieces.append(text[last:])
+    return "".join(pieces), changed
+
+
+def main() -> int:
+    """Regenerate (or check) the pages given, or all of them."""
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("pages", nargs="*", type=Path)
+    parser.add_argument("--check", action="store_true", help="change nothing; exit 1 on a diff")
+    parser.add_argument("--fast", action="store_true", help="leave out the slow commands")
+    args = parser.parse_args()
+    stale = 0
+    for page in args.pages or pages():
+        if not blocks(page.read_text(encoding="utf-8")):
+            continue
+        text, changed = regenerate(page, fast=args.fast)
+        for block, _ in changed:
+            print(f"{page}: {block.command}: {'differs' if args.check else 'renewed'}")
+        stale += len(changed)
+        if changed and not args.check:
+            page.write_text(text, encoding="utf-8")
+    return 1 if args.check and stale else 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
