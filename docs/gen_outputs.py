@@ -11,7 +11,7 @@ A block of command output in a page (or the README) is marked by the command tha
 ``<!-- output slow: ... -->`` marks a command that takes more than a few seconds (the tests re-run
 it only with the ``slow`` ones). The commands of one page run in order in one scratch folder, so a
 later command can read what an earlier one wrote (``optimize --out`` then ``simulate --from``);
-``scalf-opt`` is this interpreter's ``python -m scalf_opt``, ``python`` this interpreter (a script
+``examples/`` is there too; ``scalf-opt`` is this interpreter's ``python -m scalf_opt``, ``python`` this interpreter (a script
 path is taken from the repository). ``| head -N`` keeps the first N lines.
 
 Usage: ``python docs/gen_outputs.py [--check] [--fast] [FILE.md ...]`` (default: the README and
@@ -108,6 +108,7 @@ def regenerate(page: Path, fast: bool = False) -> tuple[str, list[tuple[Block, s
     pieces: list[str] = []
     last = 0
     with tempfile.TemporaryDirectory(prefix="scalf-opt-docs-") as scratch:
+        (Path(scratch) / "examples").symlink_to(ROOT / "examples")  # the inputs pages refer to
         for block in blocks(text):
             pieces.append(text[last : block.start])
             last = block.end
