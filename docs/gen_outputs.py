@@ -11,8 +11,10 @@ A block of command output in a page (or the README) is marked by the command tha
 ``<!-- output slow: ... -->`` marks a command that takes more than a few seconds (the tests re-run
 it only with the ``slow`` ones). The commands of one page run in order in one scratch folder, so a
 later command can read what an earlier one wrote (``optimize --out`` then ``simulate --from``);
-``examples/`` is there too; ``scalf-opt`` is this interpreter's ``python -m scalf_opt``, ``python`` this interpreter (a script
-path is taken from the repository). ``| head -N`` keeps the first N lines.
+``examples/`` is there too. ``scalf-opt`` is this interpreter's ``python -m scalf_opt``,
+``python`` this interpreter (a script path is taken from the repository). ``| head -N`` keeps
+the first N lines, ``| tail -N`` the last N. ``<!-- output markdown: ... -->`` marks a command
+that prints Markdown (tables), embedded as it is up to ``<!-- end of output -->``.
 
 Usage: ``python docs/gen_outputs.py [--check] [--fast] [FILE.md ...]`` (default: the README and
 every page). ``--check`` changes nothing and exits 1 when a block differs from what its command
@@ -35,7 +37,8 @@ ROOT = Path(__file__).resolve().parents[1]
 RUN_TIME = re.compile(r"(iterations, |in |took )\d+(\.\d+)? s\b")
 """A run time in an output: it never repeats, so blocks are compared without it."""
 MARKER = re.compile(
-    r"<!-- output(?P<slow> slow)?: (?P<command>[^\n]*?) -->\n```console\n(?P<body>.*?)```\n",
+    r"<!-- output(?P<slow> slow)?(?P<markdown> markdown)?: (?P<command>[^\n]*?) -->\n"
+    r"(?:```console\n(?P<body>.*?)```\n|(?P<text>.*?)<!-- end of output -->\n)",
     re.DOTALL,
 )
 
@@ -46,6 +49,7 @@ class Block:
 
     command: str
     slow: bool
+    markdown: bool
     body: str
     start: int
     end: int
@@ -54,7 +58,14 @@ class Block:
 def blocks(text: str) -> list[Block]:
     """The marked output blocks of a page, in order."""
     return [
-        Block(m["command"], bool(m["slow"]), m["body"], m.start(), m.end())
+        Block(
+            m["command"],
+            bool(m["slow"]),
+            bool(m["markdown"]),
+            m["text"] if m["markdown"] else m["body"],
+            m.start(),
+            m.end(),
+        )
         for m in MARKER.finditer(text)
     ]
 
@@ -68,10 +79,10 @@ def _argv(command: str) -> tuple[list[str], int | None]:
     head = None
     if "|" in command:
         command, tail = (part.strip() for part in command.split("|", 1))
-        match = re.fullmatch(r"head -(\d+)", tail)
+        match = re.fullmatch(r"(head|tail) -(\d+)", tail)
         if not match:
-            raise ValueError(f"only '| head -N' may follow a command: {tail!r}")
-        head = int(match[1])
+            raise ValueError(f"only '| head -N' or '| tail -N' may follow a command: {tail!r}")
+        head = int(match[2]) if match[1] == "head" else -int(match[2])
     words = shlex.split(command)
     if words[0] == "scalf-opt":
         argv = [sys.executable, "-m", "scalf_opt", *words[1:]]
@@ -83,16 +94,36 @@ def _argv(command: str) -> tuple[list[str], int | None]:
     return argv, head
 
 
-def run(command: str, cwd: Path) -> str:
-    """What ``command`` prints in ``cwd``, as the block shows it (its line, then its output)."""
+def run(
+    command: str, cwd: Path, markdown: bool = False, printed: dict[str, str] | None = None
+) -> str:
+    """What ``command`` prints in ``cwd``, as the block shows it.
+
+    A console block shows the command's line, then its output; a Markdown block (a command that
+    prints Markdown tables) the output alone, its headings as bold lines, without the ``wrote``
+    line. ``printed`` keeps each command's output for the next block that shows the same command
+    (another part of its output), so that it runs once per page.
+    """
     argv, head = _argv(command)
-    env = {**os.environ, "MPLBACKEND": "Agg", "COLUMNS": "100", "PYTHONPATH": str(ROOT)}
-    proc = subprocess.run(argv, cwd=cwd, capture_output=True, text=True, env=env, check=False)
-    if proc.returncode not in (0, 3):
-        raise RuntimeError(f"{command} exited {proc.returncode}: {proc.stderr.strip()}")
-    lines = proc.stdout.splitlines()
+    key = shlex.join(argv)
+    if printed is None or key not in printed:
+        env = {**os.environ, "MPLBACKEND": "Agg", "COLUMNS": "100", "PYTHONPATH": str(ROOT)}
+        proc = subprocess.run(argv, cwd=cwd, capture_output=True, text=True, env=env, check=False)
+        if proc.returncode not in (0, 3):
+            raise RuntimeError(f"{command} exited {proc.returncode}: {proc.stderr.strip()}")
+        if printed is not None:
+            printed[key] = proc.stdout
+        stdout = proc.stdout
+    else:
+        stdout = printed[key]
+    lines = stdout.splitlines()
+    if markdown:
+        lines = [line for line in lines if not line.startswith("wrote ")]
     if head is not None:
-        lines = lines[:head]
+        lines = lines[:head] if head >= 0 else lines[head:]
+    if markdown:
+        lines = [re.sub(r"^#+ (.*)$", r"**\1**", line) for line in lines]
+        return "\n".join(lines).strip("\n") + "\n"
     return "\n".join([f"$ {command}", *lines]) + "\n"
 
 
@@ -106,6 +137,7 @@ def regenerate(page: Path, fast: bool = False) -> tuple[str, list[tuple[Block, s
     text = page.read_text(encoding="utf-8")
     changed: list[tuple[Block, str]] = []
     pieces: list[str] = []
+    printed: dict[str, str] = {}
     last = 0
     with tempfile.TemporaryDirectory(prefix="scalf-opt-docs-") as scratch:
         (Path(scratch) / "examples").symlink_to(ROOT / "examples")  # the inputs pages refer to
@@ -114,12 +146,17 @@ def regenerate(page: Path, fast: bool = False) -> tuple[str, list[tuple[Block, s
             last = block.end
             body = block.body
             if not (fast and block.slow):
-                renewed = run(block.command, Path(scratch))
+                renewed = run(block.command, Path(scratch), block.markdown, printed)
                 if not same_output(renewed, block.body):
                     changed.append((block, renewed))
                     body = renewed
-            slow = " slow" if block.slow else ""
-            pieces.append(f"<!-- output{slow}: {block.command} -->\n```console\n{body}```\n")
+            kind = (" slow" if block.slow else "") + (" markdown" if block.markdown else "")
+            if block.markdown:
+                pieces.append(
+                    f"<!-- output{kind}: {block.command} -->\n{body}<!-- end of output -->\n"
+                )
+            else:
+                pieces.append(f"<!-- output{kind}: {block.command} -->\n```console\n{body}```\n")
     pieces.append(text[last:])
     return "".join(pieces), changed
 
