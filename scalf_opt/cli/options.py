@@ -29,8 +29,15 @@ GAIT_OPTIONS: dict[str, tuple[str, type, str]] = {
 def add_robot(parser: argparse.ArgumentParser) -> None:
     """``--urdf PATH`` or ``--robot NAME``."""
     group = parser.add_mutually_exclusive_group()
-    group.add_argument("--urdf", type=Path, help="URDF file (default: SCalf's)")
-    group.add_argument("--robot", choices=robot_names(), help="a known robot instead of --urdf")
+    group.add_argument(
+        "--urdf", type=Path, metavar="FILE", help="the robot's URDF file (default: SCalf's)"
+    )
+    group.add_argument(
+        "--robot",
+        choices=robot_names(),
+        metavar="NAME",
+        help=f"a known robot instead of --urdf: {', '.join(robot_names())}",
+    )
 
 
 def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
@@ -40,7 +47,7 @@ def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
         "the robot's default trot (the paper's, scaled to its legs), then the gait file's fields, "
         "then these options",
     )
-    group.add_argument("--gait", type=Path, help="gait file (TOML, a [gait] table)")
+    group.add_argument("--gait", type=Path, metavar="FILE", help="gait file (TOML, a [gait] table)")
     for field, (option, kind, text) in GAIT_OPTIONS.items():
         group.add_argument(option, dest=field, type=kind, metavar="X", help=text)
     if accounting:
@@ -49,6 +56,26 @@ def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
             choices=choices(Accounting),
             default="paper",
             help="joint power accounting (default: the paper's |tau*qd| + drive losses)",
+        )
+
+
+def warn_without_effect(args: argparse.Namespace, robot: Robot) -> None:
+    """One line on stderr when ``--accounting`` was given but none of the robot's drives uses it.
+
+    A drive that meters its own input power (valve-controlled cylinders, electric motors) does
+    not charge the joint's mechanical power through the accounting, so the option changes
+    nothing on a robot that has only such drives.
+    """
+    given = any(a == "--accounting" or a.startswith("--accounting=") for a in args.argv)
+    if not given:
+        return
+    from scalf_opt.actuators.sidecar import drives_for
+
+    drives = drives_for(robot).values()
+    if drives and not any(d.charges_joint_power for d in drives):
+        args.console.note(
+            f"warning: --accounting {args.accounting} has no effect on {robot.name}: its drives "
+            "meter their own input power"
         )
 
 

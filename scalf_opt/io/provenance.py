@@ -20,6 +20,21 @@ def sha256_of(path: Any) -> str:
     return digest.hexdigest()
 
 
+def run_provenance(command: Sequence[str] | None = None, **about: str) -> dict[str, Any]:
+    """The ``provenance`` record of a result that is not one robot's (a study).
+
+    Args:
+        command: The command line that produced it (``None`` from the Python API).
+        about: What it is about, e.g. ``study="speed.toml"``.
+    """
+    return {
+        "tool": "scalf-opt",
+        "version": __version__,
+        **about,
+        "command": shlex.join(command) if command is not None else None,
+    }
+
+
 def provenance(robot: Robot, command: Sequence[str] | None = None) -> dict[str, Any]:
     """The ``provenance`` record of a result file.
 

@@ -13,12 +13,18 @@ from scalf_opt.cli.options import (
     gait_overrides,
     load_gait,
     load_robot,
+    warn_without_effect,
 )
 from scalf_opt.errors import ConfigError
 from scalf_opt.types import LEG_NAMES
 
 NAME = "simulate"
 HELP = "simulate the trot in MuJoCo: trunk motion, foot forces, joint energy against the model"
+EXAMPLES = (
+    ("scalf-opt simulate", "the reference swing in MuJoCo (results/simulate)"),
+    ("scalf-opt simulate --from results/optimum", "a saved optimum, beside the reference"),
+    ("scalf-opt simulate --log results/log.csv", "and the log SCalf's sensors would record"),
+)
 JSON = True
 
 
@@ -35,28 +41,37 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "(default: the reference swing)",
     )
     parser.add_argument(
-        "--cycles", type=int, default=10, help="gait cycles to simulate, >= 2 (default 10)"
+        "--cycles",
+        type=int,
+        default=10,
+        metavar="N",
+        help="gait cycles to simulate, >= 2 (default 10)",
     )
     parser.add_argument(
         "--out",
         type=Path,
         default=Path("results/simulate"),
+        metavar="DIR",
         help="write simulation.json and simulation.png here (default results/simulate)",
     )
     parser.add_argument(
         "--log",
         type=Path,
-        metavar="FILE.csv",
+        metavar="FILE",
         help="also write the cylinder log the robot's sensors would record (80 Hz, 0.1 mm, "
         "70 N), for `scalf-opt analyze-log`",
     )
     parser.add_argument(
-        "--seed", type=int, default=0, help="seed of the log's sensor noise (default 0)"
+        "--seed",
+        type=int,
+        default=0,
+        metavar="N",
+        help="seed of the log's sensor noise (default 0)",
     )
     parser.add_argument(
         "--servo-bandwidth",
         type=float,
-        metavar="HZ",
+        metavar="X",
         help="natural frequency of the joints' PD loops (default 30 Hz)",
     )
 
@@ -70,6 +85,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     if args.source is not None and (args.gait is not None or gait_overrides(args)):
         raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
     robot = load_robot(args)
+    warn_without_effect(args, robot)
     if args.log is not None:
         from scalf_opt.energy.pipeline import EnergyPipeline
         from scalf_opt.logs.analysis import leg_cylinders

@@ -11,10 +11,16 @@ from scalf_opt.cli.options import (
     load_gait,
     load_robot,
     refuse_gait_with_saved,
+    warn_without_effect,
 )
 
 NAME = "view"
 HELP = "write an offline 3-D view (one HTML file) of the robot walking its foot paths"
+EXAMPLES = (
+    ("scalf-opt view", "the reference and the default optimum (results/view/scene.html)"),
+    ("scalf-opt view --from results/optimum --color-by power", "a saved optimum, by power"),
+    ("scalf-opt view --robot solo12 --out solo12.html", "another robot, another file"),
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
@@ -34,10 +40,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--out",
         type=Path,
         default=Path("results/view/scene.html"),
+        metavar="FILE",
         help="the HTML file (default results/view/scene.html)",
     )
     parser.add_argument(
-        "--cycles", type=int, default=3, help="gait cycles walked and animated (default 3)"
+        "--cycles",
+        type=int,
+        default=3,
+        metavar="N",
+        help="gait cycles walked and animated (default 3)",
     )
     parser.add_argument(
         "--color-by",
@@ -48,13 +59,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--playback-speed",
         type=float,
+        metavar="X",
         default=1.0,
         help="animation speed against real time (default 1; 0.25 is four times slower)",
     )
     parser.add_argument(
         "--screenshot",
         type=Path,
-        metavar="PNG",
+        metavar="FILE",
         help="also write a PNG of the page rendered by a headless Chromium",
     )
 
@@ -81,6 +93,7 @@ def run(args: argparse.Namespace) -> int:
     )
     refuse_gait_with_saved(args)
     robot = load_robot(args)
+    warn_without_effect(args, robot)
     try:
         _, shown = shown_trajectories(
             robot, load_gait(args, robot), args.from_dirs, args.accounting
