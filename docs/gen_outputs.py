@@ -9,16 +9,18 @@ A block of command output in a page (or the README) is marked by the command tha
     ```
 
 ``<!-- output slow: ... -->`` marks a command that takes more than a few seconds (the tests re-run
-it only with the ``slow`` ones). The commands of one page run in order in one scratch folder, so a
-later command can read what an earlier one wrote (``optimize --out`` then ``simulate --from``);
-``examples/`` is there too. ``scalf-opt`` is this interpreter's ``python -m scalf_opt``,
+it only with the ``slow`` ones); ``<!-- output manual: ... -->`` one that takes minutes (renewed
+only with ``--manual``; no test re-runs it). The commands of one page run in order in one scratch
+folder, so a later command can read what an earlier one wrote (``optimize --out`` then
+``simulate --from``); ``examples/`` is there too. ``scalf-opt`` is this interpreter's
+``python -m scalf_opt``,
 ``python`` this interpreter (a script path is taken from the repository). ``| head -N`` keeps
 the first N lines, ``| tail -N`` the last N. ``<!-- output markdown: ... -->`` marks a command
 that prints Markdown (tables), embedded as it is up to ``<!-- end of output -->``.
 
-Usage: ``python docs/gen_outputs.py [--check] [--fast] [FILE.md ...]`` (default: the README and
-every page). ``--check`` changes nothing and exits 1 when a block differs from what its command
-prints now; ``--fast`` leaves out the ``slow`` commands.
+Usage: ``python docs/gen_outputs.py [--check] [--fast] [--manual] [FILE.md ...]`` (default: the
+README and every page). ``--check`` changes nothing and exits 1 when a block differs from what
+its command prints now; ``--fast`` leaves out the ``slow`` commands.
 """
 
 from __future__ import annotations
@@ -34,10 +36,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
-RUN_TIME = re.compile(r"(iterations, |in |took )\d+(\.\d+)? s\b")
+RUN_TIME = re.compile(r"(iterations, |in |took |tried, )\d+(\.\d+)? s\b")
 """A run time in an output: it never repeats, so blocks are compared without it."""
 MARKER = re.compile(
-    r"<!-- output(?P<slow> slow)?(?P<markdown> markdown)?: (?P<command>[^\n]*?) -->\n"
+    r"<!-- output(?P<slow> slow| manual)?(?P<markdown> markdown)?: (?P<command>[^\n]*?) -->\n"
     r"(?:```console\n(?P<body>.*?)```\n|(?P<text>.*?)<!-- end of output -->\n)",
     re.DOTALL,
 )
@@ -50,6 +52,7 @@ class Block:
     command: str
     slow: bool
     markdown: bool
+    manual: bool
     body: str
     start: int
     end: int
@@ -62,6 +65,7 @@ def blocks(text: str) -> list[Block]:
             m["command"],
             bool(m["slow"]),
             bool(m["markdown"]),
+            m["slow"] == " manual",
             m["text"] if m["markdown"] else m["body"],
             m.start(),
             m.end(),
@@ -132,8 +136,14 @@ def same_output(a: str, b: str) -> bool:
     return RUN_TIME.sub(r"\1<time> s", a) == RUN_TIME.sub(r"\1<time> s", b)
 
 
-def regenerate(page: Path, fast: bool = False) -> tuple[str, list[tuple[Block, str]]]:
-    """The page with every block's output renewed, and the blocks whose output changed."""
+def regenerate(
+    page: Path, fast: bool = False, manual: bool = False
+) -> tuple[str, list[tuple[Block, str]]]:
+    """The page with every block's output renewed, and the blocks whose output changed.
+
+    ``fast`` leaves out the ``slow`` and ``manual`` commands; ``manual`` ones (minutes long) run
+    only when ``manual`` is true.
+    """
     text = page.read_text(encoding="utf-8")
     changed: list[tuple[Block, str]] = []
     pieces: list[str] = []
@@ -145,12 +155,14 @@ def regenerate(page: Path, fast: bool = False) -> tuple[str, list[tuple[Block, s
             pieces.append(text[last : block.start])
             last = block.end
             body = block.body
-            if not (fast and block.slow):
+            if not ((fast and block.slow) or (block.manual and not manual)):
                 renewed = run(block.command, Path(scratch), block.markdown, printed)
                 if not same_output(renewed, block.body):
                     changed.append((block, renewed))
                     body = renewed
-            kind = (" slow" if block.slow else "") + (" markdown" if block.markdown else "")
+            kind = (" manual" if block.manual else " slow" if block.slow else "") + (
+                " markdown" if block.markdown else ""
+            )
             if block.markdown:
                 pieces.append(
                     f"<!-- output{kind}: {block.command} -->\n{body}<!-- end of output -->\n"
@@ -167,12 +179,15 @@ def main() -> int:
     parser.add_argument("pages", nargs="*", type=Path)
     parser.add_argument("--check", action="store_true", help="change nothing; exit 1 on a diff")
     parser.add_argument("--fast", action="store_true", help="leave out the slow commands")
+    parser.add_argument(
+        "--manual", action="store_true", help="also run the manual ones (minutes each)"
+    )
     args = parser.parse_args()
     stale = 0
     for page in args.pages or pages():
         if not blocks(page.read_text(encoding="utf-8")):
             continue
-        text, changed = regenerate(page, fast=args.fast)
+        text, changed = regenerate(page, fast=args.fast, manual=args.manual)
         for block, _ in changed:
             print(f"{page}: {block.command}: {'differs' if args.check else 'renewed'}")
         stale += len(changed)
