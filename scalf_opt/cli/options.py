@@ -125,6 +125,25 @@ def load_gait(args: argparse.Namespace, robot: Robot, base: Gait | None = None) 
         raise
 
 
+def gait_origin(args: argparse.Namespace, robot: Robot, base: str | None = None) -> str:
+    """Which gait a command walks and where it came from, in one line for its report.
+
+    Args:
+        args: The command's options (``--gait`` and the gait options).
+        robot: The robot, whose default trot is the base unless ``base`` says otherwise.
+        base: Where the base gait came from instead (a saved optimum's).
+    """
+    from scalf_opt.locomotion.scaling import default_gait_origin
+
+    parts = [base or default_gait_origin(robot)]
+    if getattr(args, "gait", None) is not None:
+        parts.append(f"under the gait file {args.gait}")
+    given = [GAIT_OPTIONS[f][0] for f in gait_overrides(args)]
+    if given:
+        parts.append("under " + ", ".join(given))
+    return "gait: " + ", ".join(parts)
+
+
 def refuse_gait_with_saved(args: argparse.Namespace) -> None:
     """A result directory (``--from``) brings its own gait: refuse gait options beside it.
 

@@ -9,6 +9,7 @@ from scalf_opt.cli.options import (
     add_gait,
     add_robot,
     check_output_dir,
+    gait_origin,
     load_gait,
     load_robot,
     warn_without_effect,
@@ -61,6 +62,8 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         comparison = ("paper (Table 6)", paper_data.REFERENCE_AVERAGE_POWER_W)
     written = result.write(args.out) if args.out is not None else []
     console = args.console
+    saved = f"the gait saved with the optimum {args.swing}" if args.swing is not None else None
+    console.text(gait_origin(args, robot, saved))
     console.text(evaluate_report(result.cycle, robot.name, title=title, comparison=comparison))
     saved_rate = result.swing.rate_hz if result.swing is not None else None
     if saved_rate is not None and saved_rate > gait.sample_rate_hz:

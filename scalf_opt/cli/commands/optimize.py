@@ -9,6 +9,7 @@ from scalf_opt.cli.options import (
     add_gait,
     add_robot,
     check_output_dir,
+    gait_origin,
     leg_name,
     load_gait,
     load_robot,
@@ -122,6 +123,7 @@ def run(args: argparse.Namespace) -> int:
             command=args.argv,
         )
     console = args.console
+    console.text(gait_origin(args, robot))
     written = result.write(args.out) if result.success and args.out is not None else []
     if result.run is not None:
         console.text(optimization_report(result.run))

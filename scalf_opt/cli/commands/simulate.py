@@ -10,6 +10,7 @@ from scalf_opt.cli.options import (
     add_robot,
     check_output_dir,
     check_output_file,
+    gait_origin,
     gait_overrides,
     load_gait,
     load_robot,
@@ -107,6 +108,8 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     written = result.write(args.out)
     if args.log is not None:
         written.append(result.write_log(args.log, args.seed))
+    saved = f"the gait saved with the swings of {args.source}" if args.source else None
+    args.console.text(gait_origin(args, robot, saved))
     args.console.text(simulation_report(result.data, result.title))
     args.console.json(result.to_dict())
     args.console.text(f"wrote {', '.join(map(str, written))}")

@@ -76,10 +76,11 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
             ("shank", old.shank_length_m, new.shank_length_m, *_link_masses(old, new, 1)),
         ):
             say(f"{leg:5s} {label:6s}  {a:.5f} -> {b:.5f}    {ma:.4f} -> {mb:.4f}")
+    gait = default_gait_for(derived)
     say(
-        f"total mass {robot.total_mass_kg:.3f} -> {derived.total_mass_kg:.3f} kg; default stance "
-        f"height {default_gait_for(robot).stance_height_m:.4f} -> "
-        f"{default_gait_for(derived).stance_height_m:.4f} m"
+        f"total mass {robot.total_mass_kg:.3f} -> {derived.total_mass_kg:.3f} kg; the variant "
+        f"walks {robot.name}'s default trot (T={gait.period_s:.4g} s, S={gait.step_length_m:.4g} "
+        f"m, z0={gait.stance_height_m:.4g} m) unless given a gait"
     )
     say("wrote " + ", ".join(str(p) for p in variant.written))
     args.console.json(_variant_data(args, robot, derived, scales, variant.written))
