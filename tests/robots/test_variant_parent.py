@@ -86,7 +86,7 @@ def test_a_variant_of_a_robot_with_meshes_can_be_viewed(tmp_path, capsys):
 def test_a_bad_record_is_refused_naming_the_file(tmp_path):
     record = tmp_path / "x_variant.toml"
     record.write_text('[variant]\nparent_robot = "nobody"\n')
-    with pytest.raises(ConfigError, match="x_variant.toml: parent_robot 'nobody'"):
+    with pytest.raises(ConfigError, match=r"x_variant\.toml: parent_robot 'nobody'"):
         read_variant_record(record)
     record.write_text('[variant]\nparent_urdf = "missing.urdf"\n')
     with pytest.raises(ConfigError, match="no such file"):
