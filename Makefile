@@ -5,7 +5,7 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 CORE   := $(VENV)/.installed-core
 
-.PHONY: run test lint format bench lock clean
+.PHONY: run test docs lint format bench lock clean
 
 # Every package is installed at the version pinned in constraints.txt (refresh it with `make lock`).
 # `make test` installs every extra; `make run` only what the paper reproduction needs (the core:
@@ -30,6 +30,10 @@ test: $(STAMP)
 	$(BIN)/mypy
 	MPLBACKEND=Agg $(BIN)/python -m pytest -q -n auto
 
+# The documentation site (MkDocs, Material theme) into site/, offline; open site/index.html.
+docs: $(STAMP)
+	NO_MKDOCS_2_WARNING=1 $(BIN)/mkdocs build --strict
+
 lint: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/mypy
@@ -52,4 +56,4 @@ lock:
 	@echo "constraints.txt refreshed: review the diff, run make test, commit it"
 
 clean:
-	rm -rf $(VENV) build *.egg-info .pytest_cache .mypy_cache .ruff_cache
+	rm -rf $(VENV) build site *.egg-info .pytest_cache .mypy_cache .ruff_cache

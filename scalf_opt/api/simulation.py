@@ -48,13 +48,12 @@ class SimulationResult:
         """Plain data: ``simulation.json``."""
         return self.data
 
-    def write(self, out_dir: str | Path) -> list[Path]:
-        """Write ``simulation.json`` and ``simulation.png`` into ``out_dir`` (atomically)."""
-        from scalf_opt.viz.figures import save_atomic
+    def figure(self) -> Any:
+        """The figure of ``simulation.png`` (a matplotlib ``Figure``)."""
         from scalf_opt.viz.simulation_figure import simulation_figure
 
-        out, record = Path(out_dir), self.record
-        figure = simulation_figure(
+        record = self.record
+        return simulation_figure(
             record.t_s,
             record.trunk[1],
             record.start_trunk_height_m,
@@ -62,7 +61,14 @@ class SimulationResult:
             {leg: force[1] for leg, force in record.grf_n.items()},
             float(self.data["model_stance_force_mean_n"]["RF"]),
             self.title,
+            startup_s=float(self.data["gait"]["period_s"]),
         )
+
+    def write(self, out_dir: str | Path) -> list[Path]:
+        """Write ``simulation.json`` and ``simulation.png`` into ``out_dir`` (atomically)."""
+        from scalf_opt.viz.figures import save_atomic
+
+        out, figure = Path(out_dir), self.figure()
         return [
             write_atomic(out / "simulation.json", to_json(self.data)),
             save_atomic(figure, out / "simulation.png"),

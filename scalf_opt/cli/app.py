@@ -58,7 +58,7 @@ def _close(word: str, candidates: list[str]) -> str:
     return f"; did you mean {close[0]!r}?" if close else ""
 
 
-def _common_options(with_json: bool) -> Parser:
+def _common_options(with_json: bool, with_verbose: bool) -> Parser:
     common = Parser(add_help=False)
     group = common.add_argument_group("output")
     if with_json:
@@ -70,13 +70,22 @@ def _common_options(with_json: bool) -> Parser:
     group.add_argument(
         "-q", "--quiet", action="store_true", help="print nothing but errors (files are written)"
     )
-    group.add_argument(
-        "-v", "--verbose", action="store_true", help="show the solvers' own logs (Ipopt's)"
-    )
+    if with_verbose:
+        group.add_argument(
+            "-v", "--verbose", action="store_true", help="show the solvers' own logs (Ipopt's)"
+        )
     group.add_argument(
         "--debug", action="store_true", help="show the traceback of an unexpected failure"
     )
     return common
+
+
+def _examples(examples: Sequence[tuple[str, str]]) -> str:
+    """The ``--help`` epilog: each example command line and what it does."""
+    lines = ["examples:"]
+    for line, what in examples:
+        lines += [f"  {line}", f"      {what}"]
+    return "\n".join(lines)
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -93,7 +102,11 @@ def build_parser() -> argparse.ArgumentParser:
             command.NAME,
             help=command.HELP,
             description=command.HELP,
-            parents=[_common_options(getattr(command, "JSON", False))],
+            epilog=_examples(command.EXAMPLES),
+            formatter_class=argparse.RawDescriptionHelpFormatter,
+            parents=[
+                _common_options(getattr(command, "JSON", False), getattr(command, "VERBOSE", False))
+            ],
         )
         command.add_arguments(p)
         p.set_defaults(run=command.run)
@@ -109,6 +122,7 @@ def main(argv: Sequence[str] | None = None) -> int:
     if extra:  # reported by the command's own parser, which knows its options
         args.commands[args.command].error(f"unrecognized arguments: {' '.join(extra)}")
     args.argv = ["scalf-opt", *argv]
+    args.verbose = getattr(args, "verbose", False)
     console = Console(quiet=args.quiet, json_output=getattr(args, "json", False))
     args.console = console
     with stop_on_signals():

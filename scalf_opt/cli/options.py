@@ -30,8 +30,15 @@ GAIT_OPTIONS: dict[str, tuple[str, type, str]] = {
 def add_robot(parser: argparse.ArgumentParser) -> None:
     """``--urdf PATH`` or ``--robot NAME``."""
     group = parser.add_mutually_exclusive_group()
-    group.add_argument("--urdf", type=Path, help="URDF file (default: SCalf's)")
-    group.add_argument("--robot", choices=robot_names(), help="a known robot instead of --urdf")
+    group.add_argument(
+        "--urdf", type=Path, metavar="FILE", help="the robot's URDF file (default: SCalf's)"
+    )
+    group.add_argument(
+        "--robot",
+        choices=robot_names(),
+        metavar="NAME",
+        help=f"a known robot instead of --urdf: {', '.join(robot_names())}",
+    )
 
 
 def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
@@ -41,7 +48,7 @@ def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
         "the robot's default trot (the paper's, scaled to its legs), then the gait file's fields, "
         "then these options",
     )
-    group.add_argument("--gait", type=Path, help="gait file (TOML, a [gait] table)")
+    group.add_argument("--gait", type=Path, metavar="FILE", help="gait file (TOML, a [gait] table)")
     for field, (option, kind, text) in GAIT_OPTIONS.items():
         group.add_argument(option, dest=field, type=kind, metavar="X", help=text)
     if accounting:
@@ -61,6 +68,26 @@ def add_accept_unconverged(parser: argparse.ArgumentParser) -> None:
         help="exit 0 even when an optimum, a bound level or the stance search did not converge "
         "(it is still marked so in every output); without it such a run exits 3",
     )
+
+
+def warn_without_effect(args: argparse.Namespace, robot: Robot) -> None:
+    """One line on stderr when ``--accounting`` was given but none of the robot's drives uses it.
+
+    A drive that meters its own input power (valve-controlled cylinders, electric motors) does
+    not charge the joint's mechanical power through the accounting, so the option changes
+    nothing on a robot that has only such drives.
+    """
+    given = any(a == "--accounting" or a.startswith("--accounting=") for a in args.argv)
+    if not given:
+        return
+    from scalf_opt.actuators.sidecar import drives_for
+
+    drives = drives_for(robot).values()
+    if drives and not any(d.charges_joint_power for d in drives):
+        args.console.note(
+            f"warning: --accounting {args.accounting} has no effect on {robot.name}: its drives "
+            "meter their own input power"
+        )
 
 
 def leg_name(text: str) -> str:
@@ -107,6 +134,25 @@ def load_gait(args: argparse.Namespace, robot: Robot, base: Gait | None = None) 
             option = GAIT_OPTIONS[exc.field][0]
             raise GaitError(f"{option} {overrides[exc.field]:g}: {exc}", field=exc.field) from exc
         raise
+
+
+def gait_origin(args: argparse.Namespace, robot: Robot, base: str | None = None) -> str:
+    """Which gait a command walks and where it came from, in one line for its report.
+
+    Args:
+        args: The command's options (``--gait`` and the gait options).
+        robot: The robot, whose default trot is the base unless ``base`` says otherwise.
+        base: Where the base gait came from instead (a saved optimum's).
+    """
+    from scalf_opt.locomotion.scaling import default_gait_origin
+
+    parts = [base or default_gait_origin(robot)]
+    if getattr(args, "gait", None) is not None:
+        parts.append(f"under the gait file {args.gait}")
+    given = [GAIT_OPTIONS[f][0] for f in gait_overrides(args)]
+    if given:
+        parts.append("under " + ", ".join(given))
+    return "gait: " + ", ".join(parts)
 
 
 def refuse_gait_with_saved(args: argparse.Namespace) -> None:

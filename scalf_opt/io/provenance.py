@@ -20,18 +20,43 @@ def sha256_of(path: Any) -> str:
     return digest.hexdigest()
 
 
+def run_provenance(command: Sequence[str] | None = None, **about: str) -> dict[str, Any]:
+    """The ``provenance`` record of a result that is not one robot's (a study).
+
+    Args:
+        command: The command line that produced it (``None`` from the Python API).
+        about: What it is about, e.g. ``study="speed.toml"``.
+    """
+    return {
+        "tool": "scalf-opt",
+        "version": __version__,
+        **about,
+        "command": shlex.join(command) if command is not None else None,
+    }
+
+
 def provenance(robot: Robot, command: Sequence[str] | None = None) -> dict[str, Any]:
     """The ``provenance`` record of a result file.
+
+    The gait itself is in the result; ``default_gait`` says where the gait the command started
+    from came from (the command line says which gait file or options changed it), and
+    ``variant_of`` names a variant's parent.
 
     Args:
         robot: The robot the results are for.
         command: The command line that produced them (``None`` from the Python API).
     """
-    return {
+    from scalf_opt.locomotion.scaling import default_gait_origin
+
+    record: dict[str, Any] = {
         "tool": "scalf-opt",
         "version": __version__,
         "robot": robot.name,
         "urdf": str(robot.urdf_path),
         "urdf_sha256": sha256_of(robot.urdf_path),
         "command": shlex.join(command) if command is not None else None,
+        "default_gait": default_gait_origin(robot),
     }
+    if robot.parent is not None:
+        record["variant_of"] = {"robot": robot.parent.name, "urdf": str(robot.parent.urdf_path)}
+    return record

@@ -13,7 +13,9 @@ plus shank length; SCalf's is 0.85586 m) the default gait is dynamically similar
 with the duty cycle ``d = 0.5``, 10 cycles, and every phase sampled with the same number of
 samples as SCalf's (51). The stance height is the robot's own
 (:attr:`~scalf_opt.model.robot.Robot.nominal_stance_height_m`: its standing posture, or SCalf's
-0.75 m scaled by ``k``). For SCalf ``k = 1`` exactly and this is the paper's trot.
+0.75 m scaled by ``k``). For SCalf ``k = 1`` exactly and this is the paper's trot. A variant
+(:attr:`~scalf_opt.model.robot.Robot.parent`) walks its parent's default trot instead, so that
+its energy differs from the parent's only through its geometry.
 """
 
 from __future__ import annotations
@@ -41,7 +43,24 @@ def similar_gait(k: float, stance_height_m: float) -> Gait:
 
 
 def default_gait_for(robot: Robot) -> Gait:
-    """The robot's default trot: SCalf's, Froude-scaled to its leg length, at its stance height."""
+    """The robot's default trot: SCalf's, Froude-scaled to its leg length, at its stance height.
+
+    A variant's is its parent's (see the module's docstring).
+    """
+    if robot.parent is not None:
+        return default_gait_for(robot.parent)
     height = robot.nominal_stance_height_m
     k = length_scale(robot.leg_length_m)
     return similar_gait(k, height if height is not None else Gait().stance_height_m * k)
+
+
+def default_gait_origin(robot: Robot) -> str:
+    """Where the robot's default trot comes from, in words, for reports and provenance."""
+    if robot.parent is not None:
+        return (
+            f"the default trot of {robot.parent.name} ({robot.parent.urdf_path.name}), the robot "
+            f"{robot.name} is a variant of: {default_gait_origin(robot.parent)}"
+        )
+    if math.isclose(length_scale(robot.leg_length_m), 1.0, rel_tol=1e-9):
+        return "the paper's trot (Section 6.1)"
+    return f"the paper's trot scaled to {robot.name}'s legs at the same Froude number"

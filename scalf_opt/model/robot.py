@@ -89,6 +89,8 @@ class Robot:
             ``standing`` state); it fixes each leg's IK branch.
         actuator_path: The robot's actuator file, when it is not the one beside the URDF
             (``None``: ``<urdf stem>_actuators.toml`` beside it, if there is one).
+        parent: The robot this one is a variant of (``scalf-opt variant``), whose default
+            trot it walks, so that a variant differs from its parent only by its geometry.
     """
 
     model: pin.Model
@@ -98,6 +100,7 @@ class Robot:
     nominal_stance_height_m: float | None = None
     reference_q: np.ndarray | None = None
     actuator_path: Path | None = None
+    parent: Robot | None = None
 
     @classmethod
     def from_urdf(

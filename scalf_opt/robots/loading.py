@@ -84,5 +84,17 @@ def load_robot(
     standing = f'name="{RobotEntry.STANDING_STATE}"'
     has_posture = srdf_path.is_file() and standing in srdf_path.read_text(errors="replace")
     srdf = (srdf_path, RobotEntry.STANDING_STATE) if has_posture else None
-    robot = Robot.from_urdf(path, names, None, None, srdf, actuator_path)
-    return _with_stance_height(robot, None)
+    robot = _with_stance_height(Robot.from_urdf(path, names, None, None, srdf, actuator_path), None)
+    return _with_parent(robot)
+
+
+def _with_parent(robot: Robot) -> Robot:
+    """A variant (a ``<stem>_variant.toml`` record beside its URDF) with its parent robot."""
+    from scalf_opt.robots.variants import read_variant_record, variant_record_for
+
+    record_path = variant_record_for(robot.urdf_path)
+    if not record_path.is_file():
+        return robot
+    record = read_variant_record(record_path)
+    parent = load_robot(name=record.parent_robot, urdf=record.parent_urdf)
+    return replace(robot, parent=parent)

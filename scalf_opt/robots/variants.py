@@ -45,7 +45,7 @@ import pinocchio as pin
 
 from scalf_opt.actuators.sidecar import robot_sidecar_path, sidecar_path_for
 from scalf_opt.errors import ConfigError, ModelError
-from scalf_opt.files import write_atomic
+from scalf_opt.files import read_toml, write_atomic
 from scalf_opt.model.inertia import inertia_problems
 from scalf_opt.model.naming import legs_file_for
 from scalf_opt.model.robot import Robot
@@ -313,11 +313,127 @@ def variant_xml(robot: Robot, scales: VariantScales) -> str:
                 if inertial.inertia is not None:
                     inertial.inertia = np.array(inertial.inertia) * scales.trunk_mass_scale
     tree = urdf.write_xml()
+    _keep_mesh_references(source, tree.getroot())
     note = ", ".join(f"{k} {v:g}" for k, v in asdict(scales).items())
     tree.getroot().insert(
         0, etree.Comment(f" variant of {source.name} by scalf-opt variant: {note} ")
     )
     return str(etree.tostring(tree, pretty_print=True, encoding="unicode"))
+
+
+def _mesh_references(root: Any) -> dict[tuple[str, str, int], Any]:
+    """Every ``<mesh>`` element of a URDF tree by (link, visual or collision, index)."""
+    found = {}
+    for link in root.iter("link"):
+        for kind in ("visual", "collision"):
+            for i, element in enumerate(link.findall(kind)):
+                mesh = element.find("geometry/mesh")
+                if mesh is not None:
+                    found[(link.get("name"), kind, i)] = mesh
+    return found
+
+
+def _keep_mesh_references(source: Path, root: Any) -> None:
+    """Write each mesh reference as the original URDF has it.
+
+    A ``package://`` reference stays one, not the absolute path the URDF parser resolved it to,
+    so the variant's meshes are found the way the original's are, wherever it is written.
+    example-robot-data's own ``package://example-robot-data/robots/NAME/...`` becomes
+    ``package://NAME/...``, the robot description's package, which is found from anywhere.
+    """
+    from defusedxml.ElementTree import fromstring
+
+    original = fromstring(source.read_bytes(), forbid_dtd=True)
+    before = _mesh_references(original)
+    for key, mesh in _mesh_references(root).items():
+        if key in before:
+            filename = before[key].get("filename", "")
+            mesh.set("filename", filename.replace(ERD_PACKAGE, "package://", 1))
+
+
+ERD_PACKAGE = "package://example-robot-data/robots/"
+"""How example-robot-data's URDFs name their own meshes."""
+
+
+def _check_relative_meshes(robot: Robot, out: Path) -> None:
+    """A mesh given relative to the original's folder is reachable only from that folder."""
+    from defusedxml.ElementTree import fromstring
+
+    if out.resolve().parent == robot.urdf_path.resolve().parent:
+        return
+    root = fromstring(robot.urdf_path.read_bytes(), forbid_dtd=True)
+    for mesh in root.iter("mesh"):
+        filename = mesh.get("filename", "")
+        if "://" not in filename:
+            raise ConfigError(
+                f"{out}: {robot.urdf_path.name} names its mesh {filename!r} relative to its own "
+                f"folder; write the variant into {robot.urdf_path.parent} so that it stays "
+                "reachable"
+            )
+
+
+VARIANT_RECORD_SUFFIX = "_variant.toml"
+
+
+def variant_record_for(urdf_path: Path) -> Path:
+    """The record of a variant's parent and scales: ``<urdf stem>_variant.toml`` beside it."""
+    return urdf_path.with_name(f"{urdf_path.stem}{VARIANT_RECORD_SUFFIX}")
+
+
+def _record_text(robot: Robot, scales: VariantScales, out: Path) -> str:
+    known = CATALOG.get(robot.name)
+    if known is not None and robot.parent is None and known.urdf() == robot.urdf_path:
+        parent = f'parent_robot = "{robot.name}"     # a catalog robot'
+    else:
+        parent = f'parent_urdf = "{robot.urdf_path.resolve().as_posix()}"'
+    lines = [
+        f"# {out.name} is a variant of {robot.name}, written by scalf-opt variant. It walks its",
+        "# parent's default trot (a gait file or gait options still win), so that its energy",
+        "# differs from the parent's only through the scales below.",
+        "[variant]",
+        parent,
+        *(f"{name} = {value!r}" for name, value in asdict(scales).items()),
+    ]
+    return "\n".join(lines) + "\n"
+
+
+@dataclass(frozen=True)
+class VariantRecord:
+    """What a variant's record says.
+
+    Attributes:
+        parent_robot: The parent's catalog name, if it is a catalog robot.
+        parent_urdf: The parent's URDF otherwise.
+        scales: The scales that made the variant.
+    """
+
+    parent_robot: str | None
+    parent_urdf: Path | None
+    scales: VariantScales
+
+
+def read_variant_record(path: Path) -> VariantRecord:
+    """Read a variant record.
+
+    Raises:
+        ConfigError: Not a record: unknown keys, no parent or two, a parent file that is missing.
+    """
+    data = read_toml(path, "variant record")
+    table = data.get("variant")
+    if set(data) != {"variant"} or not isinstance(table, dict):
+        raise ConfigError(f"{path}: a variant record has one [variant] table")
+    parent_robot = table.pop("parent_robot", None)
+    parent_urdf = table.pop("parent_urdf", None)
+    if (parent_robot is None) == (parent_urdf is None):
+        raise ConfigError(f"{path}: give parent_robot or parent_urdf (one of them)")
+    if parent_robot is not None and parent_robot not in CATALOG:
+        raise ConfigError(f"{path}: parent_robot {parent_robot!r} is not a known robot")
+    urdf = None
+    if parent_urdf is not None:
+        urdf = (path.parent / str(parent_urdf)).resolve()
+        if not urdf.is_file():
+            raise ConfigError(f"{path}: parent_urdf {parent_urdf!r}: no such file")
+    return VariantRecord(parent_robot, urdf, VariantScales.from_mapping(table, str(path)))
 
 
 def _check_physical(xml: str, out: Path) -> None:
@@ -342,6 +458,7 @@ def derive_variant(robot: Robot, scales: VariantScales, out: str | Path) -> Vari
         raise ConfigError(f"{out}: the variant's file name must end in .urdf")
     if out.resolve() == robot.urdf_path.resolve():
         raise ConfigError(f"{out}: is the robot's own URDF; write the variant elsewhere")
+    _check_relative_meshes(robot, out)
     xml = variant_xml(robot, scales)
     _check_physical(xml, out)
     header = (
@@ -359,6 +476,7 @@ def derive_variant(robot: Robot, scales: VariantScales, out: str | Path) -> Vari
     srdf = _srdf_of(robot)
     if srdf is not None:
         extras.append((out.with_suffix(".srdf"), srdf.read_text(encoding="utf-8")))
+    extras.append((variant_record_for(out), _record_text(robot, scales, out)))
     written = [write_atomic(out, xml)]
     written += [write_atomic(path, text) for path, text in extras]
     return Variant(out, robot.urdf_path, scales, tuple(written))

@@ -56,8 +56,8 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         "## Table 5: trajectory parameters",
         "",
         "C1 is the hip angle's `cos(3 pi s)` amplitude, C2 the knee angle's `cos(2 pi s)` "
-        "amplitude [deg] (see the README for the family); the paper's own basis was lost, so its "
-        "values are not comparable number for number.",
+        "amplitude [deg] (the family: the documentation's 'Swing families and optimizers'); "
+        "the paper's own basis was lost, so its values are not comparable number for number.",
         "",
         "| leg | run | C1 [deg] | C2 [deg] | iterations | evaluations | swing energy [J] "
         "| status |",
@@ -134,7 +134,7 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
             "",
             "The lowest swing energy a smooth swing reaches under the same end conditions, "
             "constraints and energy: dense cubic B-splines of the joint angles, refined until the "
-            "energy still to gain is estimated below 1 % (see the README). Gaps compare the "
+            "energy still to gain is estimated below 1 % (see the documentation). Gaps compare the "
             "energies at ten times each optimization's rate.",
             "",
             "| swing | RF swing [J] | RF gap | LH swing [J] | LH gap |",

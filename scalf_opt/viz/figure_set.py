@@ -9,9 +9,12 @@ joint_powers       hip and knee charged power, with each joint's energy       Fi
 foot_forces        ground reaction forces of every foot over a cycle          Figure 13
 foot_paths         swing and stance foot paths in the leg frame               Figure 12
 leg_snapshots      stick figures of the leg through the swing                 Figures 17, 18
-pattern_search     pattern search and Ipopt over the (C1, C2) landscape       Figure 8 (+ landscape)
+search_landscape   pattern search and Ipopt over the (C1, C2) landscape       Figure 8 (+ landscape)
 energy_bars        energy per leg, phase and joint                            Table 6
 =================  =========================================================  =====================
+
+(``scalf-opt paper`` draws the paper's Figure 8 itself, the search's accepted points alone, as
+``pattern_search.png``; the landscape here has its own name.)
 """
 
 from __future__ import annotations
@@ -38,10 +41,36 @@ FIGURE_NAMES = (
     "foot_forces",
     "foot_paths",
     "leg_snapshots",
-    "pattern_search",
+    "search_landscape",
     "energy_bars",
 )
 """The figures, in the order they are written."""
+
+
+def figure_drawers(
+    robot: Robot,
+    trajectories: Sequence[Trajectory],
+    search: dict[str, LegSearch],
+    legs: Sequence[str] = FIRST_PAIR,
+) -> dict[str, Callable[[], Figure]]:
+    """Each figure's name (:data:`FIGURE_NAMES`) and the function that draws it (nothing drawn yet).
+
+    Args:
+        robot: The robot.
+        trajectories: What to compare, the reference first.
+        search: The pattern search and Ipopt over their landscape, per leg.
+        legs: The legs drawn where a figure shows some legs.
+    """
+    return {
+        "joint_angles": lambda: joint_figure(trajectories, "angle", legs),
+        "joint_torques": lambda: joint_figure(trajectories, "torque", legs),
+        "joint_powers": lambda: joint_figure(trajectories, "power", legs),
+        "foot_forces": lambda: foot_force_figure(trajectories[0].cycle, robot.trunk_mass_kg),
+        "foot_paths": lambda: foot_path_figure(trajectories, legs),
+        "leg_snapshots": lambda: leg_snapshot_figure(robot, trajectories, legs),
+        "search_landscape": lambda: search_figure(search),
+        "energy_bars": lambda: energy_bars_figure(trajectories),
+    }
 
 
 def write_figures(
@@ -79,16 +108,7 @@ def write_figures(
     directory = Path(out)
     if directory.exists() and not directory.is_dir():
         raise ConfigError(f"{directory}: exists and is not a directory")
-    drawers: dict[str, Callable[[], Figure]] = {
-        "joint_angles": lambda: joint_figure(trajectories, "angle", legs),
-        "joint_torques": lambda: joint_figure(trajectories, "torque", legs),
-        "joint_powers": lambda: joint_figure(trajectories, "power", legs),
-        "foot_forces": lambda: foot_force_figure(trajectories[0].cycle, robot.trunk_mass_kg),
-        "foot_paths": lambda: foot_path_figure(trajectories, legs),
-        "leg_snapshots": lambda: leg_snapshot_figure(robot, trajectories, legs),
-        "pattern_search": lambda: search_figure(search),
-        "energy_bars": lambda: energy_bars_figure(trajectories),
-    }
+    drawers = figure_drawers(robot, trajectories, search, legs)
     written = []
     for name in FIGURE_NAMES:
         fig = drawers[name]()

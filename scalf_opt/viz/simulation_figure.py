@@ -22,6 +22,7 @@ def simulation_figure(
     model_force_n: float,
     title: str,
     height_band_m: float = 0.004,
+    startup_s: float | None = None,
 ) -> Figure:
     """Three panels over time: trunk height, trunk pitch, vertical ground force per foot.
 
@@ -35,6 +36,8 @@ def simulation_figure(
         title: Figure title.
         height_band_m: Half-height of the band drawn around the planned height [m] (the
             paper's 4 mm).
+        startup_s: End of the start-up (the first gait cycle) [s], shaded: every number of
+            the simulation's report is taken after it.
     """
     fig, (ax_z, ax_p, ax_f) = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
     ax_z.plot(t_s, 1e3 * (trunk_height_m - planned_height_m), lw=1)
@@ -48,9 +51,18 @@ def simulation_figure(
     for leg, force in vertical_force_n.items():
         ax_f.plot(t_s, force, lw=1, label=leg)
     ax_f.axhline(model_force_n, color="grey", ls="--", lw=1, label="model")
+    if startup_s is not None:
+        for ax in (ax_z, ax_p, ax_f):
+            ax.axvspan(
+                float(t_s[0]),
+                startup_s,
+                color="0.85",
+                zorder=0,
+                label="start-up cycle (left out of the report)" if ax is ax_f else None,
+            )
     ax_f.set_ylabel("vertical ground force [N]")
     ax_f.set_xlabel("time [s]")
-    ax_f.legend(fontsize=8, ncol=5, loc="upper right")
+    ax_f.legend(fontsize=8, ncol=7, loc="upper center", bbox_to_anchor=(0.5, -0.22))
     for ax in (ax_z, ax_p, ax_f):
         ax.grid(True, alpha=0.3)
     fig.tight_layout()

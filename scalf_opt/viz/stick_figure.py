@@ -114,16 +114,21 @@ def foot_path_figure(
                 mid = foot.shape[1] // 2
                 ax.plot([foot[0, mid]] * 2, [0.0, gait.clearance_m], color="#555555", lw=0.8)
             ax.axhline(0.0, color="#8c6d46", lw=0.8, zorder=0)
-            feet = [t.cycle.legs[leg].swing.values["foot"] for t in trajectories]
-            x_lo = min(float(f[0].min()) for f in feet)
-            x_hi = max(float(f[0].max()) for f in feet)
-            top = max(float(f[1].max()) + ground for f in feet)
-            margin = 0.08 * (x_hi - x_lo)
+            ax.set_ylabel("height above\nthe ground [m]")
+            ax.set_title(f"{leg} foot, leg frame (x from the pitching hip)", fontsize=9, loc="left")
+        # the panels share their x axis: one set of limits that holds every leg's paths
+        feet = [
+            np.hstack([c.swing.values["foot"], c.stance.values["foot"]])
+            for c in (t.cycle.legs[leg] for t in trajectories for leg in legs)
+        ]
+        x_lo = min(float(f[0].min()) for f in feet)
+        x_hi = max(float(f[0].max()) for f in feet)
+        top = max(float(f[1].max()) + ground for f in feet)
+        margin = 0.08 * (x_hi - x_lo)
+        for ax in axes[:, 0]:
             ax.set_xlim(x_lo - margin, x_hi + margin)
             ax.set_ylim(-0.12 * top, 1.15 * top)
             ax.set_aspect("equal", adjustable="box")
-            ax.set_ylabel("height above\nthe ground [m]")
-            ax.set_title(f"{leg} foot, leg frame (x from the pitching hip)", fontsize=9, loc="left")
         axes[-1, 0].set_xlabel("x from the hip (forward) [m]")
         handles, labels = axes[0, 0].get_legend_handles_labels()
         fig.legend(handles, labels, loc="outside lower center", ncols=2)

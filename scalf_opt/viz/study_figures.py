@@ -33,6 +33,69 @@ _RESULT_KEYS = {
 }
 
 
+_UNITS = (
+    ("_m_s", "m/s"),
+    ("_hz", "Hz"),
+    ("_kg", "kg"),
+    ("_pct", "%"),
+    ("_m", "m"),
+    ("_s", "s"),
+    ("_j", "J"),
+    ("_w", "W"),
+)
+"""Column-name suffixes and the units they stand for (the longest first)."""
+
+_NAMES = {
+    "period_s": "gait period T",
+    "duty_cycle": "duty cycle",
+    "step_length_m": "step length S",
+    "clearance_m": "clearance H",
+    "stance_height_m": "stance height z0",
+    "sample_rate_hz": "sample rate",
+    "stance_x_offset_front_m": "front feet ahead of their hips",
+    "stance_x_offset_hind_m": "hind feet ahead of their hips",
+    "speed_m_s": "speed",
+    "total_mass_kg": "total mass",
+    "thigh_to_shank": "thigh / shank length",
+}
+"""Plain names of the columns a study sweeps or plots against."""
+
+
+def axis_label(column: str) -> str:
+    """A study column as an axis label: a plain name and its unit (``speed_m_s``: speed [m/s]).
+
+    ``gait.`` and ``variant.`` prefixes go; a scale reads ``thigh length scale [x]``; a column of
+    text (a robot, a family) is named as it is.
+    """
+    field = column.split(".")[-1]
+    if field in _NAMES:
+        name = _NAMES[field]
+    elif field.endswith("_scale"):
+        return field.replace("_", " ") + " [x]"
+    else:
+        name = field
+        for suffix, _ in _UNITS:
+            if field.endswith(suffix):
+                name = field.removesuffix(suffix)
+                break
+        name = name.replace("_", " ")
+    for suffix, unit in _UNITS:
+        if field.endswith(suffix):
+            return f"{name} [{unit}]"
+    return f"{name} [-]" if field in ("duty_cycle", "thigh_to_shank") else name
+
+
+def _value_label(column: str, value: Any) -> str:
+    """``clearance H 0.04 m``: a swept value in a legend."""
+    label = axis_label(column)
+    if label.endswith("]"):
+        name, _, unit = label[:-1].rpartition(" [")
+        if unit == "x":
+            return f"{name} x{value}"
+        return f"{name} {value}" if unit == "-" else f"{name} {value} {unit}"
+    return f"{label} {value}"
+
+
 def _is_number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
 
@@ -55,7 +118,7 @@ def _groups(rows: Sequence[dict[str, Any]], x: str) -> dict[str, list[dict[str, 
     varying = [k for k in swept if len({str(r.get(k)) for r in rows}) > 1 and not follows_x(k)]
     out: dict[str, list[dict[str, Any]]] = {}
     for row in rows:
-        label = ", ".join(f"{k.split('.')[-1]} {row.get(k)}" for k in varying) or "all cases"
+        label = ", ".join(_value_label(k, row.get(k)) for k in varying) or "all cases"
         out.setdefault(label, []).append(row)
     return out
 
@@ -112,8 +175,10 @@ def study_figure(rows: Sequence[dict[str, Any]], x: str, title: str) -> Figure:
         "energy per cycle [J]\n(dashed: reference)" if numeric else "energy per cycle [J]"
     )
     ax_s.set_ylabel("saving [%]")
-    ax_c.set_ylabel("cost of transport")
-    ax_c.set_xlabel(x)
+    ax_c.set_ylabel(
+        "cost of transport [-]\n(dashed: reference)" if numeric else "cost of transport [-]"
+    )
+    ax_c.set_xlabel(axis_label(x))
     ax_e.set_title(f"{title}: {len(ok)} of {len(rows)} cases solved")
     for ax in axes:
         ax.grid(True, alpha=0.3)

@@ -128,8 +128,11 @@ def test_other_robots_and_their_fixed_links(tmp_path, name):
 
 
 def test_the_pipeline_runs_on_a_variant(scaled, tmp_path, capsys):
+    # it stands like SCalf scaled to its legs, but walks its parent's trot (the paper's)
+    own = 0.75 * (1.2 * 0.45099 + 0.9 * 0.40487) / 0.85586
+    assert scaled.nominal_stance_height_m == pytest.approx(own)
     gait = default_gait_for(scaled)
-    assert gait.stance_height_m == pytest.approx(0.75 * (1.2 * 0.45099 + 0.9 * 0.40487) / 0.85586)
+    assert gait.stance_height_m == 0.75 and gait.period_s == 0.5
     problem = SwingProblem(EnergyPipeline(scaled, gait), "RF", make_family("joint-3"))
     assert run_ipopt(problem).success
     assert main(["evaluate", "--urdf", str(scaled.urdf_path), "--out", str(tmp_path)]) == 0

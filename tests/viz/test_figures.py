@@ -44,7 +44,7 @@ def every_figure(robot, pipeline, shown, study):
     yield "foot_forces", foot_force_figure(shown[0].cycle, robot.trunk_mass_kg)
     yield "foot_paths", foot_path_figure(shown)
     yield "leg_snapshots", leg_snapshot_figure(robot, shown)
-    yield "pattern_search", search_figure(study)
+    yield "search_landscape", search_figure(study)
     yield "energy_bars", energy_bars_figure(shown)
 
 

@@ -11,11 +11,8 @@ from pathlib import Path
 from typing import Any
 
 from scalf_opt.cli.options import (
-    GAIT_OPTIONS,
-    add_gait,
     add_robot,
     check_output_file,
-    gait_overrides,
     load_gait,
     load_robot,
 )
@@ -25,6 +22,14 @@ NAME = "analyze-log"
 HELP = (
     "mechanical energy per leg and phase from a robot's log: a cylinder CSV, the CSV of "
     "`export`, or a ROS 2 bag (MCAP, sqlite3)"
+)
+EXAMPLES = (
+    ("scalf-opt analyze-log results/log.csv", "the energy in a cylinder log (paper Table 7)"),
+    (
+        "scalf-opt analyze-log run.mcap --topic /joint_states --plan results/optimize",
+        "a ROS 2 bag against the plan the robot ran",
+    ),
+    ("scalf-opt analyze-log log.csv --period 0.5 --json", "a log without contacts, as JSON"),
 )
 JSON = True
 
@@ -76,7 +81,20 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         help="with --plan: write the measured against the planned power over one cycle",
     )
     add_robot(parser)
-    add_gait(parser, accounting=False)
+    parser.add_argument(
+        "--period",
+        dest="period_s",
+        type=float,
+        metavar="X",
+        help="the log's gait period [s] (default: the median time between its touch-downs, "
+        "else the motion's period, else the gait file's, else the robot's default trot's)",
+    )
+    parser.add_argument(
+        "--gait",
+        type=Path,
+        metavar="FILE",
+        help="gait file whose timing is used when the log has no contact column",
+    )
 
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
@@ -89,14 +107,11 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         raise ConfigError(f"--figure {args.figure}: give a .png file")
     check_output_file(args.figure, "--figure")
     robot = load_robot(args)
-    overrides = gait_overrides(args)
     # --period is the log's period; without it, the contacts', the motion's, the gait's
-    period = overrides.get("period_s")
+    period = args.period_s
     if args.plan is not None:
-        others = [GAIT_OPTIONS[f][0] for f in overrides if f != "period_s"]
-        if args.gait is not None or others:
-            given = "--gait" if args.gait is not None else others[0]
-            raise ConfigError(f"{given} and --plan: the plan brings its own gait")
+        if args.gait is not None:
+            raise ConfigError("--gait and --plan: the plan brings its own gait")
         gait = None
     else:
         gait = load_gait(args, robot)

@@ -5,10 +5,23 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from scalf_opt.cli.options import add_gait, add_robot, check_output_dir, load_gait, load_robot
+from scalf_opt.cli.options import (
+    add_gait,
+    add_robot,
+    check_output_dir,
+    gait_origin,
+    load_gait,
+    load_robot,
+    warn_without_effect,
+)
 
 NAME = "evaluate"
 HELP = "energy of the cubic-spline reference trajectory, or of a saved optimum (--swing)"
+EXAMPLES = (
+    ("scalf-opt evaluate", "the reference swing on SCalf's trot (the paper's Table 6)"),
+    ("scalf-opt evaluate --robot go1 --period 0.4 --out results/go1", "another robot and period"),
+    ("scalf-opt evaluate --swing results/optimum --rate 1000", "a saved optimum at 1 kHz"),
+)
 JSON = True
 
 
@@ -23,7 +36,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "folder) instead of the reference: at its gait by default; any rate and accounting, "
         "the same timing and stance",
     )
-    parser.add_argument("--out", type=Path, help="write summary.json and samples.csv here")
+    parser.add_argument(
+        "--out", type=Path, metavar="DIR", help="write summary.json and samples.csv in DIR"
+    )
 
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
@@ -35,6 +50,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
 
     check_output_dir(args.out)
     robot = load_robot(args)
+    warn_without_effect(args, robot)
     base = read_saved_swings(args.swing).gait if args.swing is not None else None
     gait = load_gait(args, robot, base)
     result = evaluate(robot, gait, accounting=args.accounting, swing=args.swing, command=args.argv)
@@ -46,6 +62,8 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         comparison = ("paper (Table 6)", paper_data.REFERENCE_AVERAGE_POWER_W)
     written = result.write(args.out) if args.out is not None else []
     console = args.console
+    saved = f"the gait saved with the optimum {args.swing}" if args.swing is not None else None
+    console.text(gait_origin(args, robot, saved))
     console.text(evaluate_report(result.cycle, robot.name, title=title, comparison=comparison))
     saved_rate = result.swing.rate_hz if result.swing is not None else None
     if saved_rate is not None and saved_rate > gait.sample_rate_hz:

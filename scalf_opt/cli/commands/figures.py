@@ -12,10 +12,16 @@ from scalf_opt.cli.options import (
     load_gait,
     load_robot,
     refuse_gait_with_saved,
+    warn_without_effect,
 )
 
 NAME = "figures"
 HELP = "draw the paper's figures (PNG and SVG): joints, forces, foot paths, search, energy"
+EXAMPLES = (
+    ("scalf-opt figures", "the paper's figures of the reference and the default optimum"),
+    ("scalf-opt figures --from results/optimum --format png", "a saved optimum, PNG only"),
+    ("scalf-opt figures --robot hyq --out results/hyq-figures", "another robot"),
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
@@ -32,7 +38,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "reference and the default optimum, joint-6 by Ipopt)",
     )
     parser.add_argument(
-        "--out", type=Path, default=Path("figures"), help="output directory (default figures)"
+        "--out",
+        type=Path,
+        default=Path("results/figures"),
+        metavar="DIR",
+        help="output directory (default results/figures)",
     )
     parser.add_argument(
         "--format",
@@ -44,6 +54,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--grid",
         type=int,
+        metavar="N",
         default=61,
         help="points per parameter of the pattern search's energy landscape (default 61)",
     )
@@ -62,6 +73,7 @@ def run(args: argparse.Namespace) -> int:
         raise ConfigError(f"--grid must be at least 3, got {args.grid}")
     refuse_gait_with_saved(args)
     robot = load_robot(args)
+    warn_without_effect(args, robot)
     gait = load_gait(args, robot)
     try:
         with ProgressBar(None, "figures", enabled=not args.quiet) as bar:

@@ -4,10 +4,15 @@ from __future__ import annotations
 
 import argparse
 
-from scalf_opt.cli.options import add_leg, add_robot, load_robot
+from scalf_opt.cli.options import GAIT_OPTIONS, add_leg, add_robot, load_robot
 
 NAME = "model"
 HELP = "print a leg's parameters as Pinocchio sees them"
+EXAMPLES = (
+    ("scalf-opt model", "SCalf's RF leg: masses, lengths, inertias, limits, drives, posture"),
+    ("scalf-opt model --robot hyq --leg LH", "another robot, another leg"),
+    ("scalf-opt model --urdf my_robot.urdf --json", "any quadruped's URDF, as JSON"),
+)
 JSON = True
 
 
@@ -17,8 +22,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--stance-height",
         type=float,
-        metavar="M",
-        help="hip height of the posture shown [m] (default: the robot's nominal stance height)",
+        metavar="X",
+        help=GAIT_OPTIONS["stance_height_m"][2],
     )
 
 
@@ -32,7 +37,12 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     leg = robot.leg(args.leg)
     height = args.stance_height or read_gait(robot=robot).stance_height_m
     drives = leg_drives(drives_for(robot), leg.joint_names)
-    data = model_summary(robot, args.leg, drives, height)
+    from scalf_opt.io.provenance import provenance
+
+    data = {
+        "provenance": provenance(robot, args.argv),
+        **model_summary(robot, args.leg, drives, height),
+    }
     args.console.text(model_report(data))
     args.console.json(data)
     return 0

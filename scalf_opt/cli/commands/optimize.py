@@ -10,9 +10,11 @@ from scalf_opt.cli.options import (
     add_gait,
     add_robot,
     check_output_dir,
+    gait_origin,
     leg_name,
     load_gait,
     load_robot,
+    warn_without_effect,
 )
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SOLVERS, solver_help
@@ -20,7 +22,13 @@ from scalf_opt.types import FIRST_PAIR, LEG_NAMES
 
 NAME = "optimize"
 HELP = "optimize the swing of one or more legs"
+EXAMPLES = (
+    ("scalf-opt optimize --out results/optimum", "Ipopt on joint-6 for RF and LH, written"),
+    ("scalf-opt optimize --family paper --method pattern", "the paper's pattern search"),
+    ("scalf-opt optimize --robot hyq --leg RF --bound", "and the free-trajectory bound"),
+)
 JSON = True
+VERBOSE = True
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
@@ -31,13 +39,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         type=leg_name,
         default="PAIR",
         choices=(*LEG_NAMES, "PAIR"),
-        metavar="{RF,LH,LF,RH,pair}",
-        help="the leg to optimize; 'pair' (default): RF and LH, whose optima LF and RH repeat "
-        "half a cycle later (the paper's symmetry); a single leg's twin repeats it too",
+        metavar="LEG",
+        help="the leg to optimize, RF, LH, LF, RH or pair (any case); pair (default): RF and "
+        "LH, whose optima LF and RH repeat half a cycle later (the paper's symmetry); a single "
+        "leg's twin repeats it too",
     )
     parser.add_argument(
         "--family",
         default=DEFAULT_FAMILY,
+        metavar="NAME",
         help=f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 "
         f"(default {DEFAULT_FAMILY}); or {FREE_FAMILY}: the free-trajectory bound (dense "
         "B-splines refined until the energy converges)",
@@ -51,11 +61,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--precision",
         type=float,
+        metavar="X",
         help="pattern-search precision (default 0.1, the paper's); --method pattern only",
     )
     parser.add_argument(
         "--starts",
         type=int,
+        metavar="N",
         default=1,
         help="deterministic starts per leg (default 1; the first is the default start): the "
         "best is kept, the spread reported",
@@ -72,7 +84,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "(front and hind) within the joint limits, reach, stroke and clearance; reports how "
         "much of the saving comes from the stance and how much from the swing",
     )
-    parser.add_argument("--out", type=Path, help="write summary.json and samples.csv here")
+    parser.add_argument(
+        "--out", type=Path, metavar="DIR", help="write summary.json and samples.csv in DIR"
+    )
     add_accept_unconverged(parser)
 
 
@@ -92,6 +106,7 @@ def run(args: argparse.Namespace) -> int:
 
     check_output_dir(args.out)
     robot = load_robot(args)
+    warn_without_effect(args, robot)
     gait = load_gait(args, robot)
     legs = FIRST_PAIR if args.leg == "PAIR" else (args.leg,)
     with ProgressBar(None, "optimize", enabled=not args.quiet) as bar:
@@ -111,6 +126,7 @@ def run(args: argparse.Namespace) -> int:
             command=args.argv,
         )
     console = args.console
+    console.text(gait_origin(args, robot))
     written = result.write(args.out) if result.success and args.out is not None else []
     if result.run is not None:
         console.text(optimization_report(result.run))

@@ -16,6 +16,13 @@ from scalf_opt.cli.options import (
 
 NAME = "paper"
 HELP = "reproduce the paper's Tables 5 and 6 (the main job)"
+JSON = True
+VERBOSE = True
+EXAMPLES = (
+    ("scalf-opt paper", "Tables 5 and 6 with the bound and the free stance (results/paper)"),
+    ("scalf-opt paper --quick --out results/quick", "the paper's comparison only"),
+    ("scalf-opt paper --json | head", "the same data as paper.json"),
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
@@ -25,6 +32,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--out",
         type=Path,
         default=Path("results/paper"),
+        metavar="DIR",
         help="output directory (default results/paper)",
     )
     parser.add_argument(
@@ -58,6 +66,7 @@ def run(args: argparse.Namespace) -> int:
     written = write_paper_outputs(rep, robot, args.out, args.argv)
     args.console.text(paper_markdown(rep, robot))
     args.console.text(f"wrote {args.out}/" + ", ".join(p.name for p in written))
+    args.console.json(result.to_dict())
     if not rep.all_solved:
         args.console.error("not converged: " + "; ".join(rep.failures()) + " (see the report)")
         return 0 if args.accept_unconverged else 3

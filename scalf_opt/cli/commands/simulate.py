@@ -10,15 +10,22 @@ from scalf_opt.cli.options import (
     add_robot,
     check_output_dir,
     check_output_file,
+    gait_origin,
     gait_overrides,
     load_gait,
     load_robot,
+    warn_without_effect,
 )
 from scalf_opt.errors import ConfigError
 from scalf_opt.types import LEG_NAMES
 
 NAME = "simulate"
 HELP = "simulate the trot in MuJoCo: trunk motion, foot forces, joint energy against the model"
+EXAMPLES = (
+    ("scalf-opt simulate", "the reference swing in MuJoCo (results/simulate)"),
+    ("scalf-opt simulate --from results/optimum", "a saved optimum, beside the reference"),
+    ("scalf-opt simulate --log results/log.csv", "and the log SCalf's sensors would record"),
+)
 JSON = True
 
 
@@ -35,13 +42,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "(default: the reference swing)",
     )
     parser.add_argument(
-        "--cycles", type=int, default=10, help="gait cycles to simulate, >= 2 (default 10)"
+        "--cycles",
+        type=int,
+        default=10,
+        metavar="N",
+        help="gait cycles to simulate, >= 2 (default 10)",
     )
     parser.add_argument(
         "--out",
         type=Path,
-        default=Path("results/simulation"),
-        help="write simulation.json and simulation.png here (default results/simulation)",
+        default=Path("results/simulate"),
+        metavar="DIR",
+        help="write simulation.json and simulation.png here (default results/simulate)",
     )
     parser.add_argument(
         "--log",
@@ -52,12 +64,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "/cylinder_states and the joints' angles, rates and torques on /joint_states (1 kHz)",
     )
     parser.add_argument(
-        "--seed", type=int, default=0, help="seed of the log's sensor noise (default 0)"
+        "--seed",
+        type=int,
+        default=0,
+        metavar="N",
+        help="seed of the log's sensor noise (default 0)",
     )
     parser.add_argument(
         "--servo-bandwidth",
         type=float,
-        metavar="HZ",
+        metavar="X",
         help="natural frequency of the joints' PD loops (default 30 Hz)",
     )
 
@@ -73,6 +89,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     if args.source is not None and (args.gait is not None or gait_overrides(args)):
         raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
     robot = load_robot(args)
+    warn_without_effect(args, robot)
     if args.log is not None and args.log.suffix == ".csv":
         from scalf_opt.energy.pipeline import EnergyPipeline
         from scalf_opt.logs.analysis import leg_cylinders
@@ -94,6 +111,8 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     written = result.write(args.out)
     if args.log is not None:
         written.append(result.write_log(args.log, args.seed))
+    saved = f"the gait saved with the swings of {args.source}" if args.source else None
+    args.console.text(gait_origin(args, robot, saved))
     args.console.text(simulation_report(result.data, result.title))
     args.console.json(result.to_dict())
     args.console.text(f"wrote {', '.join(map(str, written))}")

@@ -7,26 +7,35 @@ from pathlib import Path
 
 NAME = "study"
 HELP = "run a sweep declared in a study file (local processes or a Dask cluster)"
+JSON = True
+EXAMPLES = (
+    ("scalf-opt study speed.toml", "every case (results/study/speed)"),
+    ("scalf-opt study speed.toml --workers 1 --json", "in this process; the rows as JSON"),
+    ("scalf-opt study speed.toml --scheduler tcp://host:8786", "on a Dask cluster"),
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
-    parser.add_argument("file", type=Path, help="the study file (TOML)")
+    parser.add_argument("file", type=Path, metavar="FILE", help="the study file (TOML)")
     parser.add_argument(
         "--workers",
         type=int,
+        metavar="N",
         help="local worker processes (default: one per CPU; 1 runs the cases in this process)",
     )
+    parser.add_argument("--scheduler", metavar="URL", help="a Dask scheduler, e.g. tcp://host:8786")
     parser.add_argument(
-        "--scheduler", metavar="ADDRESS", help="a Dask scheduler, e.g. tcp://host:8786"
-    )
-    parser.add_argument(
-        "--out", type=Path, help="output folder (default results/<study file name>)"
+        "--out",
+        type=Path,
+        metavar="DIR",
+        help="output folder (default results/study/<study file stem>)",
     )
 
 
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when every case succeeded, 3 when some did not (``results.csv`` says why)."""
     from scalf_opt.errors import ConfigError
+    from scalf_opt.io.provenance import run_provenance
     from scalf_opt.studies.runner import choose_runner, run_study
     from scalf_opt.studies.study_file import read_study
     from scalf_opt.studies.table import results_table
@@ -34,9 +43,16 @@ def run(args: argparse.Namespace) -> int:
     if args.workers is not None and args.scheduler is not None:
         raise ConfigError("give --workers or --scheduler, not both")
     study = read_study(args.file)
-    out = args.out if args.out is not None else Path("results") / args.file.stem
+    out = args.out if args.out is not None else Path("results") / "study" / args.file.stem
     result = run_study(study, out, choose_runner(args.workers, args.scheduler))
     args.console.text(results_table(study.name, result))
+    args.console.json(
+        {
+            "provenance": run_provenance(args.argv, study=str(args.file)),
+            "results_csv": str(result.results_path),
+            "rows": result.rows,
+        }
+    )
     if result.failed:
         args.console.error(
             f"{len(result.failed)} of {len(result.rows)} cases did not succeed "

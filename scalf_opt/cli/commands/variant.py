@@ -4,15 +4,23 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from scalf_opt.cli.options import add_robot, load_robot
 
 if TYPE_CHECKING:
     from scalf_opt.model.leg import Leg
+    from scalf_opt.model.robot import Robot
+    from scalf_opt.robots.variants import VariantScales
 
 NAME = "variant"
 HELP = "derive a URDF with scaled thigh/shank lengths and masses (and its actuator file)"
+JSON = True
+EXAMPLES = (
+    ("scalf-opt variant --thigh-length-scale 1.2 --out long.urdf", "SCalf, 20 % longer thighs"),
+    ("scalf-opt variant --robot go1 --trunk-mass-scale 1.5 --out heavy/go1.urdf", "heavier"),
+    ("scalf-opt evaluate --urdf long.urdf", "then any command on it (the parent's gait)"),
+)
 
 SCALES = (
     ("thigh_length_scale", "thigh length (hip-pitch axis to knee axis)"),
@@ -31,11 +39,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
             dest=field,
             type=float,
             default=1.0,
-            metavar="S",
+            metavar="X",
             help=f"scale the {what} (default 1)",
         )
     parser.add_argument(
-        "--out", type=Path, required=True, help="the variant's URDF (its files go beside it)"
+        "--out",
+        type=Path,
+        required=True,
+        metavar="FILE",
+        help="the variant's URDF (its files go beside it)",
     )
 
 
@@ -64,13 +76,46 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
             ("shank", old.shank_length_m, new.shank_length_m, *_link_masses(old, new, 1)),
         ):
             say(f"{leg:5s} {label:6s}  {a:.5f} -> {b:.5f}    {ma:.4f} -> {mb:.4f}")
+    gait = default_gait_for(derived)
     say(
-        f"total mass {robot.total_mass_kg:.3f} -> {derived.total_mass_kg:.3f} kg; default stance "
-        f"height {default_gait_for(robot).stance_height_m:.4f} -> "
-        f"{default_gait_for(derived).stance_height_m:.4f} m"
+        f"total mass {robot.total_mass_kg:.3f} -> {derived.total_mass_kg:.3f} kg; the variant "
+        f"walks {robot.name}'s default trot (T={gait.period_s:.4g} s, S={gait.step_length_m:.4g} "
+        f"m, z0={gait.stance_height_m:.4g} m) unless given a gait"
     )
     say("wrote " + ", ".join(str(p) for p in variant.written))
+    args.console.json(_variant_data(args, robot, derived, scales, variant.written))
     return 0
+
+
+def _variant_data(
+    args: argparse.Namespace,
+    robot: Robot,
+    derived: Robot,
+    scales: VariantScales,
+    written: tuple[Path, ...],
+) -> dict[str, Any]:
+    """The ``--json`` of ``variant``: provenance, scales, lengths and masses, files written."""
+    from dataclasses import asdict
+
+    from scalf_opt.io.provenance import provenance
+
+    legs = {}
+    for leg in ("RF", "LH"):
+        old, new = robot.leg(leg), derived.leg(leg)
+        legs[leg] = {
+            "thigh_length_m": [old.thigh_length_m, new.thigh_length_m],
+            "shank_length_m": [old.shank_length_m, new.shank_length_m],
+            "thigh_mass_kg": list(_link_masses(old, new, 0)),
+            "shank_mass_kg": list(_link_masses(old, new, 1)),
+        }
+    return {
+        "provenance": provenance(robot, args.argv),
+        "parent": str(robot.urdf_path),
+        "scales": asdict(scales),
+        "legs": legs,
+        "total_mass_kg": [robot.total_mass_kg, derived.total_mass_kg],
+        "written": [str(p) for p in written],
+    }
 
 
 def _link_masses(old: Leg, new: Leg, joint: int) -> tuple[float, float]:

@@ -11,10 +11,16 @@ from scalf_opt.cli.options import (
     load_gait,
     load_robot,
     refuse_gait_with_saved,
+    warn_without_effect,
 )
 
 NAME = "view"
 HELP = "write an offline 3-D view (one HTML file) of the robot walking its foot paths"
+EXAMPLES = (
+    ("scalf-opt view", "the reference and the default optimum (results/view/scene.html)"),
+    ("scalf-opt view --from results/optimum --color-by power", "a saved optimum, by power"),
+    ("scalf-opt view --robot solo12 --out solo12.html", "another robot, another file"),
+)
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
@@ -31,10 +37,18 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "reference and the default optimum, joint-6 by Ipopt)",
     )
     parser.add_argument(
-        "--out", type=Path, default=Path("scene.html"), help="the HTML file (default scene.html)"
+        "--out",
+        type=Path,
+        default=Path("results/view/scene.html"),
+        metavar="FILE",
+        help="the HTML file (default results/view/scene.html)",
     )
     parser.add_argument(
-        "--cycles", type=int, default=3, help="gait cycles walked and animated (default 3)"
+        "--cycles",
+        type=int,
+        default=3,
+        metavar="N",
+        help="gait cycles walked and animated (default 3)",
     )
     parser.add_argument(
         "--color-by",
@@ -45,13 +59,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--playback-speed",
         type=float,
+        metavar="X",
         default=1.0,
         help="animation speed against real time (default 1; 0.25 is four times slower)",
     )
     parser.add_argument(
         "--screenshot",
         type=Path,
-        metavar="PNG",
+        metavar="FILE",
         help="also write a PNG of the page rendered by a headless Chromium",
     )
 
@@ -79,6 +94,7 @@ def run(args: argparse.Namespace) -> int:
     )
     refuse_gait_with_saved(args)
     robot = load_robot(args)
+    warn_without_effect(args, robot)
     try:
         with ProgressBar(None, "view", enabled=not args.quiet) as bar:
             _, shown = shown_trajectories(

@@ -1,0 +1,95 @@
+"""The documentation site builds offline with ``--strict`` (a broken link, a missing heading or an
+API page whose object does not resolve fails), every page is in the navigation, every public API
+name has its reference page, and every command output embedded in a page is what the command
+prints now (``docs/gen_outputs.py``)."""
+
+import os
+import re
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import scalf_opt.api
+from docs import gen_outputs
+
+ROOT = Path(__file__).resolve().parents[2]
+DOCS = ROOT / "docs"
+
+pytest.importorskip("mkdocs")
+pytest.importorskip("mkdocstrings")
+
+
+def test_the_site_builds_strictly_offline(tmp_path):
+    env = {**os.environ, "NO_MKDOCS_2_WARNING": "1"}
+    proc = subprocess.run(
+        [sys.executable, "-m", "mkdocs", "build", "--strict", "--site-dir", str(tmp_path / "site")],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+        env=env,
+        check=False,
+    )
+    assert proc.returncode == 0, proc.stderr
+    html = (tmp_path / "site" / "index.html").read_text(encoding="utf-8")
+    assert "fonts.googleapis" not in html  # theme.font: false, nothing fetched for the pages
+    reference = (tmp_path / "site" / "reference" / "evaluation.html").read_text(encoding="utf-8")
+    assert 'id="scalf_opt.api.evaluation.evaluate"' in reference  # generated from the docstring
+
+
+def nav_pages(config: str) -> set[str]:
+    return set(re.findall(r"([\w/-]+\.md)", config))
+
+
+def test_every_page_is_in_the_navigation():
+    config = (ROOT / "mkdocs.yml").read_text(encoding="utf-8")
+    pages = {p.relative_to(DOCS).as_posix() for p in DOCS.rglob("*.md")}
+    assert pages == nav_pages(config)
+
+
+def test_every_public_api_name_has_a_reference_page():
+    documented = set()
+    for page in (DOCS / "reference").glob("*.md"):
+        documented |= set(re.findall(r"^::: ([\w.]+)$", page.read_text(), re.MULTILINE))
+    for name in scalf_opt.api.__all__:
+        module = getattr(scalf_opt.api, name).__module__
+        assert module in documented, f"{name} ({module}) has no API reference page"
+
+
+def test_the_readme_links_only_to_pages_that_exist():
+    text = (ROOT / "README.md").read_text(encoding="utf-8")
+    for target in re.findall(r"\]\(((?:docs|examples)/[^)#]+)", text):
+        assert (ROOT / target).exists(), target
+
+
+def pages_with_outputs(slow: bool) -> list[Path]:
+    return [
+        page
+        for page in gen_outputs.pages()
+        if any(b.slow == slow for b in gen_outputs.blocks(page.read_text(encoding="utf-8")))
+    ]
+
+
+def stale(page: Path, fast: bool) -> list[str]:
+    _, changed = gen_outputs.regenerate(page, fast=fast)
+    return [f"{block.command}:\n{renewed}" for block, renewed in changed]
+
+
+@pytest.mark.parametrize("page", pages_with_outputs(slow=False), ids=lambda p: p.name)
+def test_embedded_outputs_are_what_the_commands_print(page):
+    assert not stale(page, fast=True), "stale: run python docs/gen_outputs.py"
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("page", pages_with_outputs(slow=True), ids=lambda p: p.name)
+def test_embedded_outputs_of_slow_commands(page):
+    assert not stale(page, fast=False), "stale: run python docs/gen_outputs.py"
+
+
+def test_a_stale_output_is_found(tmp_path):
+    page = tmp_path / "page.md"
+    page.write_text(
+        "<!-- output: scalf-opt model | head -1 -->\n```console\n$ scalf-opt model\nold\n```\n"
+    )
+    assert stale(page, fast=True)
