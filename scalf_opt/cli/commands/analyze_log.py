@@ -49,6 +49,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     bag = parser.add_argument_group("ROS 2 bags (extra 'ros')")
     bag.add_argument(
         "--topic",
+        metavar="NAME",
         help="the topic of sensor_msgs/JointState messages: the joints (position, velocity, "
         "effort = angle, rate, torque) or the cylinders (length, speed, force)",
     )
@@ -63,8 +64,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         dest="joints",
         action="append",
         type=joint_pair,
-        metavar="NAME=URDF_JOINT",
-        help="a name in the messages and the URDF joint (or the joint of the cylinder) it is; "
+        metavar="NAME",
+        help="NAME=URDF_JOINT: a name in the messages and the URDF joint (or the joint of the cylinder) it is; "
         "repeat for every leg joint (default: the URDF's own names); other joints are ignored",
     )
     parser.add_argument(
@@ -77,7 +78,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--figure",
         type=Path,
-        metavar="FILE.png",
+        metavar="FILE",
         help="with --plan: write the measured against the planned power over one cycle",
     )
     add_robot(parser)

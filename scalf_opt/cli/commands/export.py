@@ -13,6 +13,20 @@ HELP = (
     "the optimized trot for a controller: per leg and joint angle, velocity, acceleration, "
     "feed-forward torque, contact, foot position, cylinders (CSV, JSON or a ROS 2 bag)"
 )
+EXAMPLES = (
+    (
+        "scalf-opt export --from results/optimize --rate 1000 --out plan.csv",
+        "the saved optimum at 1 kHz, one row per instant and leg",
+    ),
+    (
+        "scalf-opt export --from results/optimize --rate 500 --cycles 10 --out plan.mcap",
+        "ten cycles as a ROS 2 bag",
+    ),
+    (
+        "scalf-opt export --robot hyq --from results/hyq --rate 1000 --out hyq.json",
+        "another robot's optimum as JSON",
+    ),
+)
 FORMATS = (".csv", ".json", ".mcap")
 
 
@@ -30,7 +44,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--rate",
         type=float,
         required=True,
-        metavar="HZ",
+        metavar="X",
         help="sample rate [Hz]; a sample falls on every touch-down and lift-off: a rate that "
         "puts none there becomes the nearest that does (the paper's trot: any multiple of 4 Hz)",
     )
@@ -43,7 +57,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "sensor_msgs/JointState and trajectory_msgs/JointTrajectory; extra 'ros')",
     )
     parser.add_argument(
-        "--cycles", type=int, default=1, help="gait cycles, repeated seamlessly (default 1)"
+        "--cycles",
+        type=int,
+        default=1,
+        metavar="N",
+        help="gait cycles, repeated seamlessly (default 1)",
     )
     add_robot(parser)
 
