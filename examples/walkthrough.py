@@ -21,8 +21,6 @@ from pathlib import Path
 
 import scalf_opt as so
 from scalf_opt.robots.variants import VariantScales, derive_variant
-from scalf_opt.viz.figure_set import figures
-from scalf_opt.viz.view import view
 
 HERE = Path(__file__).resolve().parent
 URDF = HERE / "trotter" / "trotter.urdf"
@@ -52,9 +50,9 @@ def main(out: Path) -> None:
     again = so.evaluate(robot, swing=saved / "summary.json")
     print(f"read back from {saved / 'summary.json'}: {again.energy_j:.2f} J per cycle")
 
-    written, _ = figures(out / "figures", robot=robot, from_dirs=[saved], formats=("png",))
+    written, _ = so.figures(out / "figures", robot=robot, from_dirs=[saved], formats=("png",))
     print(f"figures: {len(written)} files in {out / 'figures'}")
-    page, shown = view(out / "scene.html", robot=robot, from_dirs=[saved])
+    page, shown = so.view(out / "scene.html", robot=robot, from_dirs=[saved])
     print(f"3-D view: {page} ({len(shown)} trajectories)")
 
     try:

@@ -25,17 +25,20 @@ __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "ExportResult",
     "Gait",
     "LogResult",
+    "NotSolvedError",
     "OptimizationResult",
     "PaperResult",
     "SimulationResult",
     "analyze_log",
     "evaluate",
     "export_plan",
+    "figures",
     "load_robot",
     "optimize_swing",
     "paper",
     "read_gait",
     "simulate",
+    "view",
 ]
 
 if TYPE_CHECKING:
@@ -44,17 +47,20 @@ if TYPE_CHECKING:
         ExportResult,
         Gait,
         LogResult,
+        NotSolvedError,
         OptimizationResult,
         PaperResult,
         SimulationResult,
         analyze_log,
         evaluate,
         export_plan,
+        figures,
         load_robot,
         optimize_swing,
         paper,
         read_gait,
         simulate,
+        view,
     )
 
 

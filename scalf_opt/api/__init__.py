@@ -17,6 +17,7 @@ from scalf_opt.api.export import ExportResult, export_plan
 from scalf_opt.api.gaits import read_gait
 from scalf_opt.api.logs import LogResult, analyze_log
 from scalf_opt.api.optimization import OptimizationResult, optimize_swing
+from scalf_opt.api.presentation import NotSolvedError, figures, view
 from scalf_opt.api.reproduction import PaperResult, paper
 from scalf_opt.api.simulation import SimulationResult, simulate
 from scalf_opt.locomotion.gait import Gait
@@ -27,15 +28,18 @@ __all__ = [
     "ExportResult",
     "Gait",
     "LogResult",
+    "NotSolvedError",
     "OptimizationResult",
     "PaperResult",
     "SimulationResult",
     "analyze_log",
     "evaluate",
     "export_plan",
+    "figures",
     "load_robot",
     "optimize_swing",
     "paper",
     "read_gait",
     "simulate",
+    "view",
 ]

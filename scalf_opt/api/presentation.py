@@ -15,6 +15,7 @@ from __future__ import annotations
 
 from collections.abc import Callable, Sequence
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from scalf_opt.api.optimization import optimize_swing
 from scalf_opt.energy.cycle import RobotCycle
@@ -26,13 +27,11 @@ from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.robot import Robot
-from scalf_opt.studies.search import GRID_POINTS, search_study
 from scalf_opt.types import LEG_NAMES, Accounting
-from scalf_opt.viz.figure_set import write_figures
-from scalf_opt.viz.plotting import FORMATS
-from scalf_opt.viz.scene import SceneOptions
 from scalf_opt.viz.trajectories import REFERENCE_LABEL, Trajectory
-from scalf_opt.viz.view import check_output_file, write_scene_html
+
+if TYPE_CHECKING:  # the drawing libraries load when something is drawn (meshcat is an extra)
+    from scalf_opt.viz.scene import SceneOptions
 
 Progress = Callable[[str], None]
 
@@ -160,6 +159,8 @@ def view(
         ConfigError: Bad arguments, or a gait together with result directories.
         NotSolvedError: The default optimum did not converge (nothing is written).
     """
+    from scalf_opt.viz.view import check_output_file, write_scene_html
+
     check_output_file(out, ".html")
     loaded, base = _robot_and_gait(robot, gait, from_dirs)
     _, shown = shown_trajectories(loaded, base, from_dirs, accounting, progress)
@@ -172,8 +173,8 @@ def figures(
     from_dirs: Sequence[str | Path] = (),
     gait: Gait | None = None,
     accounting: Accounting = "paper",
-    formats: Sequence[str] = FORMATS,
-    grid_points: int = GRID_POINTS,
+    formats: Sequence[str] | None = None,
+    grid_points: int | None = None,
     progress: Progress | None = None,
 ) -> tuple[list[Path], list[Trajectory]]:
     """Compute what to compare and write every figure; return the files and the trajectories.
@@ -185,14 +186,20 @@ def figures(
             the default optimum.
         gait: The gait without ``from_dirs`` (default: the robot's).
         accounting: Power accounting without ``from_dirs``.
-        formats: File formats.
-        grid_points: Landscape points per parameter of the pattern-search figure (>= 3).
+        formats: File formats (default: PNG and SVG).
+        grid_points: Landscape points per parameter of the pattern-search figure (>= 3;
+            default :data:`scalf_opt.studies.search.GRID_POINTS`).
         progress: Called with a label as each step starts.
 
     Raises:
         ConfigError: Bad arguments, or a gait together with result directories.
         NotSolvedError: The default optimum did not converge (nothing is written).
     """
+    from scalf_opt.studies.search import GRID_POINTS, search_study
+    from scalf_opt.viz.figure_set import write_figures
+    from scalf_opt.viz.plotting import FORMATS
+
+    grid_points = GRID_POINTS if grid_points is None else grid_points
     if grid_points < 3:
         raise ConfigError(
             f"the landscape grid needs at least 3 points, got {grid_points}", field="grid"
@@ -202,4 +209,4 @@ def figures(
     if progress is not None:
         progress("the pattern search's landscape")
     search = search_study(search_pipeline(pipeline, base, from_dirs), grid_points=grid_points)
-    return write_figures(out, loaded, shown, search, formats), shown
+    return write_figures(out, loaded, shown, search, formats or FORMATS), shown

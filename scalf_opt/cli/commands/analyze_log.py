@@ -65,8 +65,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         action="append",
         type=joint_pair,
         metavar="NAME",
-        help="NAME=URDF_JOINT: a name in the messages and the URDF joint (or the joint of the cylinder) it is; "
-        "repeat for every leg joint (default: the URDF's own names); other joints are ignored",
+        help="NAME=URDF_JOINT: a name in the messages and the URDF joint (or the joint of the "
+        "cylinder) it is; repeat for every leg joint (default: the URDF's own names); other "
+        "joints are ignored",
     )
     parser.add_argument(
         "--plan",
