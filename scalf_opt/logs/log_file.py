@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from scalf_opt.errors import LogError
+from scalf_opt.files import read_untrusted_text
 from scalf_opt.types import JOINT_ROLES, LEG_NAMES
 
 TIME, LEG, CONTACT = "t_s", "leg", "contact"
@@ -163,18 +164,7 @@ def read_log(path: str | Path) -> CylinderLog:
         LogError: The file cannot be read, or the first problem in it (row and column).
     """
     path = Path(path)
-    try:
-        size = path.stat().st_size
-        if size > MAX_LOG_BYTES:
-            raise LogError(
-                f"{path}: a log of {size} bytes is larger than the {MAX_LOG_BYTES} allowed "
-                "(split it into shorter runs)"
-            )
-        text = path.read_text(encoding="utf-8")
-    except OSError as exc:
-        raise LogError(f"{path}: cannot read the log ({exc.strerror})") from exc
-    except UnicodeDecodeError as exc:
-        raise LogError(f"{path}: not a text file ({exc.reason})") from exc
+    text = read_untrusted_text(path, "log", MAX_LOG_BYTES, LogError)
     return parse_log(text, str(path))
 
 

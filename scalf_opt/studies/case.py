@@ -14,7 +14,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import tempfile
 import traceback
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -24,12 +23,14 @@ from scalf_opt import __version__
 from scalf_opt.actuators.sidecar import robot_sidecar_path
 from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.energy.pipeline import EnergyPipeline
-from scalf_opt.errors import ScalfError
+from scalf_opt.errors import ModelError, ScalfError
+from scalf_opt.files import read_untrusted, scratch_folder
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.naming import legs_file_for
 from scalf_opt.model.robot import Robot
+from scalf_opt.model.urdf_file import MAX_URDF_BYTES
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import optimize
 from scalf_opt.robots.loading import load_robot
@@ -106,8 +107,8 @@ def run_case(case: Case) -> dict[str, Any]:
     row["robot"] = case.robot or Path(case.urdf or "").stem
     row["error"] = ""
     try:
-        with tempfile.TemporaryDirectory(prefix="scalf-opt-case-") as folder:
-            robot = _robot(case, Path(folder))
+        with scratch_folder("case") as folder:
+            robot = _robot(case, folder)
             gait = _gait(case, robot)
             row["speed_m_s"] = gait.speed_m_s
             rf = robot.leg("RF")
@@ -145,7 +146,8 @@ def run_case(case: Case) -> dict[str, Any]:
 def _digest(path: str | Path | None) -> str | None:
     if path is None:
         return None
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    data = read_untrusted(path, "input", MAX_URDF_BYTES, ModelError)  # the largest input kind
+    return hashlib.sha256(data).hexdigest()
 
 
 def _input_files(case: Case) -> dict[str, str | None]:
