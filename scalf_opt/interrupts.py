@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 from types import FrameType
@@ -28,6 +29,13 @@ def _raise_for(signum: int) -> None:
     if signum == signal.SIGTERM:
         raise SystemExit(128 + signum)
     raise KeyboardInterrupt
+
+
+def stop_code() -> int | None:
+    """The exit code of the signal the command line's handlers received (130, 143), if any."""
+    if not _received:
+        return None
+    return 128 + (signal.SIGINT if _received[0] == signal.SIGINT else _received[0])
 
 
 def raise_if_stopped() -> None:
@@ -51,12 +59,20 @@ def stop_on_signals() -> Iterator[None]:
     if threading.current_thread() is not threading.main_thread():
         yield  # the command run from a thread: Python delivers signals to the main thread only
         return
+
+    def unraisable(info: sys.UnraisableHookArgs) -> None:
+        if not _received:  # the signal's exception, raised in a finaliser or a callback: quiet
+            previous_hook(info)
+
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = unraisable
     previous = {s: signal.signal(s, stop) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
     finally:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
+        sys.unraisablehook = previous_hook
         _received.clear()
 
 

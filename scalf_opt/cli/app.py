@@ -21,8 +21,10 @@ from typing import NoReturn
 from scalf_opt import __version__
 from scalf_opt.cli.commands import COMMANDS
 from scalf_opt.cli.console import Console
+from scalf_opt.cli.options import default_outputs
 from scalf_opt.errors import ScalfError
-from scalf_opt.interrupts import raise_if_stopped, stop_on_signals
+from scalf_opt.files import output_set, remove_stale_scratch
+from scalf_opt.interrupts import raise_if_stopped, stop_code, stop_on_signals
 
 
 class Parser(argparse.ArgumentParser):
@@ -96,7 +98,7 @@ def build_parser() -> argparse.ArgumentParser:
             parents=[_common_options(getattr(command, "JSON", False))],
         )
         command.add_arguments(p)
-        p.set_defaults(run=command.run)
+        p.set_defaults(run=command.run, outputs=getattr(command, "outputs", None))
         parser.get_default("commands")[command.NAME] = p
     return parser
 
@@ -115,9 +117,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         return _run(args, argv, console)
 
 
+def _run_in_output_set(args: argparse.Namespace) -> int:
+    """Run the command; the files it writes to its outputs are moved into place together."""
+    outputs = args.outputs(args) if args.outputs is not None else default_outputs(args)
+    if outputs is None:
+        return int(args.run(args))
+    outputs.check()
+    remove_stale_scratch()  # what killed runs left in the temporary folder
+    with output_set(outputs.folders.values(), outputs.files.values(), outputs.direct):
+        code = int(args.run(args))
+        raise_if_stopped()  # a signal some library swallowed: nothing is moved into place
+        return code
+
+
 def _run(args: argparse.Namespace, argv: list[str], console: Console) -> int:
     try:
-        code = int(args.run(args))
+        code = _run_in_output_set(args)
         raise_if_stopped()  # a signal some library swallowed: the run's end is no success
         sys.stdout.flush()  # inside the try: a closed pipe surfaces here, not at exit
         return code
@@ -133,6 +148,10 @@ def _run(args: argparse.Namespace, argv: list[str], console: Console) -> int:
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
     except Exception as exc:
+        stopped = stop_code()
+        if stopped is not None:  # a library turned the signal's exception into its own error
+            console.error("interrupted" if stopped == 130 else "terminated")
+            return stopped
         if args.debug:
             raise
         console.error(

@@ -4,6 +4,9 @@ from __future__ import annotations
 
 import argparse
 import os
+import stat
+from dataclasses import dataclass
+from dataclasses import field as dataclass_field
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -140,4 +143,43 @@ def check_output_file(path: Path | None, option: str = "--out") -> None:
         return
     if path.is_dir():
         raise ConfigError(f"{option} {path}: is a directory, not a file")
+    if path.exists() and not stat.S_ISREG(path.stat().st_mode):
+        raise ConfigError(
+            f"{option} {path}: is not a regular file; only a regular file is replaced"
+        )
     check_output_dir(path.parent if str(path.parent) else Path("."), option)
+
+
+@dataclass(frozen=True)
+class Outputs:
+    """What a command writes: folders and files by the option that names them.
+
+    The command line runs the command inside one :func:`~scalf_opt.files.output_set` of them:
+    the files are moved into place together when the command ends, none when it fails.
+
+    Attributes:
+        folders: Output folders, by option (``None``: not given).
+        files: Output files, by option.
+        direct: Paths under a folder written in place at once (a study's cache).
+    """
+
+    folders: dict[str, Path | None] = dataclass_field(default_factory=dict)
+    files: dict[str, Path | None] = dataclass_field(default_factory=dict)
+    direct: tuple[Path, ...] = ()
+
+    def check(self) -> None:
+        """Refuse, before any work, an output that cannot be written (the message names it).
+
+        Raises:
+            ConfigError: See :func:`check_output_dir` and :func:`check_output_file`.
+        """
+        for option, path in self.folders.items():
+            check_output_dir(path, option.split()[0])
+        for option, path in self.files.items():
+            check_output_file(path, option.split()[0])
+
+
+def default_outputs(args: argparse.Namespace) -> Outputs | None:
+    """The outputs of a command that does not declare its own: the folder ``--out``, if any."""
+    out = getattr(args, "out", None)
+    return Outputs(folders={"--out": out}) if isinstance(out, Path) else None

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from scalf_opt.cli.options import (
+    Outputs,
     add_gait,
     add_robot,
     check_output_dir,
@@ -95,3 +96,8 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     args.console.json(result.to_dict())
     args.console.text(f"wrote {', '.join(map(str, written))}")
     return 0
+
+
+def outputs(args: argparse.Namespace) -> Outputs:
+    """The folder and the log, moved into place together."""
+    return Outputs(folders={"--out": args.out}, files={"--log": args.log})

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from scalf_opt.cli.options import Outputs
+
 NAME = "study"
 HELP = "run a sweep declared in a study file (local processes or a Dask cluster)"
 
@@ -34,7 +36,7 @@ def run(args: argparse.Namespace) -> int:
     if args.workers is not None and args.scheduler is not None:
         raise ConfigError("give --workers or --scheduler, not both")
     study = read_study(args.file)
-    out = args.out if args.out is not None else Path("results") / args.file.stem
+    out = output_folder(args)
     result = run_study(study, out, choose_runner(args.workers, args.scheduler))
     args.console.text(results_table(study.name, result))
     if result.failed:
@@ -44,3 +46,25 @@ def run(args: argparse.Namespace) -> int:
         )
         return 3
     return 0
+
+
+def output_folder(args: argparse.Namespace) -> Path:
+    """``--out``, or ``results/<study file name>``."""
+    return args.out if args.out is not None else Path("results") / args.file.stem
+
+
+def outputs(args: argparse.Namespace) -> Outputs:
+    """The results and the figure, moved into place together.
+
+    The cache of finished cases is written at once (a killed study resumes from it).
+
+    Raises:
+        ConfigError: The output folder is the study file itself.
+    """
+    from scalf_opt.errors import ConfigError
+    from scalf_opt.studies.runner import CACHE_DIR
+
+    out = output_folder(args)
+    if args.file.resolve() == out.resolve():
+        raise ConfigError(f"--out {out}: is the study file {args.file} itself")
+    return Outputs(folders={"--out": out}, direct=(out / CACHE_DIR,))

@@ -6,7 +6,7 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from scalf_opt.cli.options import add_robot, load_robot
+from scalf_opt.cli.options import Outputs, add_robot, load_robot
 
 if TYPE_CHECKING:
     from scalf_opt.model.leg import Leg
@@ -76,3 +76,12 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
 def _link_masses(old: Leg, new: Leg, joint: int) -> tuple[float, float]:
     """Mass moved by the hip-pitch (0) or knee (1) joint, before and after [kg]."""
     return float(old.model.inertias[joint + 1].mass), float(new.model.inertias[joint + 1].mass)
+
+
+def outputs(args: argparse.Namespace) -> Outputs:
+    """The variant's URDF and the files that may go beside it, moved into place together."""
+    from scalf_opt.actuators.sidecar import sidecar_path_for
+    from scalf_opt.model.naming import legs_file_for
+
+    beside = (sidecar_path_for(args.out), legs_file_for(args.out), args.out.with_suffix(".srdf"))
+    return Outputs(files={"--out": args.out, **{f"--out ({p.name})": p for p in beside}})

@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from scalf_opt.cli.options import (
+    Outputs,
     add_gait,
     add_robot,
     load_gait,
@@ -103,3 +104,8 @@ def run(args: argparse.Namespace) -> int:
             raise RuntimeError(f"{out}: the page logged errors: {'; '.join(rendering.errors)}")
         args.console.text(f"wrote {args.screenshot}")
     return 0
+
+
+def outputs(args: argparse.Namespace) -> Outputs:
+    """The page and the screenshot, moved into place together."""
+    return Outputs(files={"--out": args.out, "--screenshot": args.screenshot})
