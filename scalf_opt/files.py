@@ -209,10 +209,14 @@ def temporary_sibling(path: Path) -> tuple[int, str]:
         fd, tmp = tempfile.mkstemp(prefix=f".{_short(path.name)}.", suffix=".tmp", dir=path.parent)
     except OSError as exc:
         raise _writing_error(path.parent, exc) from exc
+    os.fchmod(fd, 0o666 & ~_umask())
+    return fd, tmp
+
+
+def _umask() -> int:
     umask = os.umask(0)
     os.umask(umask)
-    os.fchmod(fd, 0o666 & ~umask)
-    return fd, tmp
+    return umask
 
 
 def _short(name: str, limit: int = 100) -> str:
@@ -338,9 +342,11 @@ def _existing_ancestor(path: Path) -> Path:
 def _new_stage(target: Path) -> Path:
     home = _existing_ancestor(target)
     try:
-        return Path(tempfile.mkdtemp(prefix=f".{_short(target.name)}.stage-", dir=home))
+        stage = Path(tempfile.mkdtemp(prefix=f".{_short(target.name)}.stage-", dir=home))
+        os.chmod(stage, 0o777 & ~_umask())  # it may become the output folder: a folder's mode
     except OSError as exc:
         raise _writing_error(target, exc) from exc
+    return stage
 
 
 def _staged_location(path: Path) -> Path | None:

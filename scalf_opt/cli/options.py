@@ -5,10 +5,11 @@ from __future__ import annotations
 import argparse
 import os
 import stat
+from collections.abc import Callable
 from dataclasses import dataclass
 from dataclasses import field as dataclass_field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from scalf_opt.errors import ConfigError, GaitError
 from scalf_opt.robots.catalog import robot_names
@@ -18,13 +19,64 @@ if TYPE_CHECKING:
     from scalf_opt.locomotion.gait import Gait
     from scalf_opt.model.robot import Robot
 
-GAIT_OPTIONS: dict[str, tuple[str, type, str]] = {
-    "period_s": ("--period", float, "gait cycle T [s]"),
+
+def bounded(kind: type, high: float, low: float | None = None) -> Callable[[str], Any]:
+    """An argparse ``type`` that refuses a number above ``high`` (or below ``low``, if given).
+
+    What lies below or is not finite is left to the field's own check, which names the field
+    and is what the Python API raises too; the bound above keeps a command line from asking for
+    a run that cannot end (``--grid 100000``, ``--starts 1000000000``).
+    """
+
+    def parse(text: str) -> Any:
+        try:
+            value = kind(text)
+        except ValueError:
+            name = "an integer" if kind is int else "a number"
+            raise argparse.ArgumentTypeError(f"{text!r} is not {name}") from None
+        if value > high or (low is not None and value < low):
+            show = (lambda x: str(int(x))) if kind is int else (lambda x: f"{x:g}")
+            span = f"{show(low)}..{show(high)}" if low is not None else f"at most {show(high)}"
+            raise argparse.ArgumentTypeError(f"{text} is out of range ({span})")
+        return value
+
+    parse.__name__ = "integer" if kind is int else "number"
+    return parse
+
+
+MAX_GAIT_LENGTH_M = 10.0
+"""Largest step length, clearance or stance height an option accepts [m] (the reach limits
+them much further: a 10 m leg is no robot's)."""
+
+MAX_PERIOD_S = 60.0
+"""Longest gait period an option accepts [s]."""
+
+MAX_RATE_HZ = 100_000.0
+"""Highest sample rate an option accepts [Hz] (a phase has at most 20,000 samples anyway)."""
+
+GAIT_OPTIONS: dict[str, tuple[str, Callable[[str], Any], str]] = {
+    "period_s": ("--period", bounded(float, MAX_PERIOD_S), "gait cycle T [s], at most 60"),
     "duty_cycle": ("--duty", float, "stance fraction of the cycle, in [0.5, 1)"),
-    "step_length_m": ("--step-length", float, "step length S [m]"),
-    "clearance_m": ("--clearance", float, "mid-swing clearance H [m]"),
-    "stance_height_m": ("--stance-height", float, "pitching hip above the ground z0 [m]"),
-    "sample_rate_hz": ("--rate", float, "sample rate of each phase [Hz]"),
+    "step_length_m": (
+        "--step-length",
+        bounded(float, MAX_GAIT_LENGTH_M),
+        "step length S [m], at most 10",
+    ),
+    "clearance_m": (
+        "--clearance",
+        bounded(float, MAX_GAIT_LENGTH_M),
+        "mid-swing clearance H [m], at most 10",
+    ),
+    "stance_height_m": (
+        "--stance-height",
+        bounded(float, MAX_GAIT_LENGTH_M),
+        "pitching hip above the ground z0 [m], at most 10",
+    ),
+    "sample_rate_hz": (
+        "--rate",
+        bounded(float, MAX_RATE_HZ),
+        "sample rate of each phase [Hz], at most 100000 (and 20000 samples per phase)",
+    ),
 }
 """Gait fields that have a command-line option: field -> (option, type, help)."""
 

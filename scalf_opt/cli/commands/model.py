@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import argparse
 
-from scalf_opt.cli.options import add_leg, add_robot, load_robot
+from scalf_opt.cli.options import MAX_GAIT_LENGTH_M, add_leg, add_robot, bounded, load_robot
 
 NAME = "model"
 HELP = "print a leg's parameters as Pinocchio sees them"
@@ -16,9 +16,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_leg(parser)
     parser.add_argument(
         "--stance-height",
-        type=float,
+        type=bounded(float, MAX_GAIT_LENGTH_M),
         metavar="M",
-        help="hip height of the posture shown [m] (default: the robot's nominal stance height)",
+        help="hip height of the posture shown [m], at most 10 (default: the robot's nominal "
+        "stance height)",
     )
 
 

@@ -8,6 +8,7 @@ from pathlib import Path
 from scalf_opt.cli.options import (
     add_gait,
     add_robot,
+    bounded,
     check_output_dir,
     leg_name,
     load_gait,
@@ -15,6 +16,9 @@ from scalf_opt.cli.options import (
 )
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES, Method, choices
+
+MAX_STARTS = 100
+"""Most starts per leg (each is a full solve)."""
 
 NAME = "optimize"
 HELP = "optimize the swing of one or more legs"
@@ -48,15 +52,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
     parser.add_argument(
         "--precision",
-        type=float,
-        help="pattern-search precision (default 0.1, the paper's); --method pattern only",
+        type=bounded(float, 1.0),
+        help="pattern-search precision, at most 1 (default 0.1, the paper's); --method pattern "
+        "only",
     )
     parser.add_argument(
         "--starts",
-        type=int,
+        type=bounded(int, MAX_STARTS, 1),
         default=1,
-        help="deterministic starts per leg (default 1; the first is the default start): the "
-        "best is kept, the spread reported",
+        help=f"deterministic starts per leg, 1..{MAX_STARTS} (default 1; the first is the default "
+        "start): the best is kept, the spread reported",
     )
     parser.add_argument(
         "--bound",

@@ -9,6 +9,7 @@ from scalf_opt.cli.options import (
     Outputs,
     add_gait,
     add_robot,
+    bounded,
     check_output_dir,
     check_output_file,
     gait_overrides,
@@ -17,6 +18,12 @@ from scalf_opt.cli.options import (
 )
 from scalf_opt.errors import ConfigError
 from scalf_opt.types import LEG_NAMES
+
+MAX_SEED = 2**32 - 1
+"""Largest seed of the sensor noise (NumPy's seeds are 32-bit words)."""
+
+MAX_SERVO_BANDWIDTH_HZ = 1000.0
+"""Highest PD-loop natural frequency [Hz] (MuJoCo's step resolves far less)."""
 
 NAME = "simulate"
 HELP = "simulate the trot in MuJoCo: trunk motion, foot forces, joint energy against the model"
@@ -36,7 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "(default: the reference swing)",
     )
     parser.add_argument(
-        "--cycles", type=int, default=10, help="gait cycles to simulate, >= 2 (default 10)"
+        "--cycles", type=int, default=10, help="gait cycles to simulate, 2..200 (default 10)"
     )
     parser.add_argument(
         "--out",
@@ -52,13 +59,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "70 N), for `scalf-opt analyze-log`",
     )
     parser.add_argument(
-        "--seed", type=int, default=0, help="seed of the log's sensor noise (default 0)"
+        "--seed",
+        type=bounded(int, MAX_SEED, 0),
+        default=0,
+        help=f"seed of the log's sensor noise, 0..{MAX_SEED} (default 0)",
     )
     parser.add_argument(
         "--servo-bandwidth",
-        type=float,
+        type=bounded(float, MAX_SERVO_BANDWIDTH_HZ),
         metavar="HZ",
-        help="natural frequency of the joints' PD loops (default 30 Hz)",
+        help="natural frequency of the joints' PD loops, at most 1000 Hz (default 30 Hz)",
     )
 
 

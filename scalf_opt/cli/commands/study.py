@@ -5,7 +5,10 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from scalf_opt.cli.options import Outputs
+from scalf_opt.cli.options import Outputs, bounded
+
+MAX_WORKERS = 256
+"""Most local worker processes."""
 
 NAME = "study"
 HELP = "run a sweep declared in a study file (local processes or a Dask cluster)"
@@ -15,8 +18,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument("file", type=Path, help="the study file (TOML)")
     parser.add_argument(
         "--workers",
-        type=int,
-        help="local worker processes (default: one per CPU; 1 runs the cases in this process)",
+        type=bounded(int, MAX_WORKERS),
+        help=f"local worker processes, 1..{MAX_WORKERS} (default: one per CPU; 1 runs the cases "
+        "in this process)",
     )
     parser.add_argument(
         "--scheduler", metavar="ADDRESS", help="a Dask scheduler, e.g. tcp://host:8786"

@@ -6,10 +6,13 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING
 
-from scalf_opt.cli.options import Outputs, add_robot, load_robot
+from scalf_opt.cli.options import Outputs, add_robot, bounded, load_robot
 
 if TYPE_CHECKING:
     from scalf_opt.model.leg import Leg
+
+MAX_SCALE = 10.0
+"""Largest scale of a length or a mass."""
 
 NAME = "variant"
 HELP = "derive a URDF with scaled thigh/shank lengths and masses (and its actuator file)"
@@ -29,10 +32,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         parser.add_argument(
             f"--{field.replace('_', '-')}",
             dest=field,
-            type=float,
+            type=bounded(float, MAX_SCALE),
             default=1.0,
             metavar="S",
-            help=f"scale the {what} (default 1)",
+            help=f"scale the {what}, at most {MAX_SCALE:g} (default 1)",
         )
     parser.add_argument(
         "--out", type=Path, required=True, help="the variant's URDF (its files go beside it)"

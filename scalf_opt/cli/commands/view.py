@@ -35,7 +35,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--out", type=Path, default=Path("scene.html"), help="the HTML file (default scene.html)"
     )
     parser.add_argument(
-        "--cycles", type=int, default=3, help="gait cycles walked and animated (default 3)"
+        "--cycles", type=int, default=3, help="gait cycles walked and animated, 1..50 (default 3)"
     )
     parser.add_argument(
         "--color-by",
@@ -47,7 +47,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--playback-speed",
         type=float,
         default=1.0,
-        help="animation speed against real time (default 1; 0.25 is four times slower)",
+        help="animation speed against real time, 0.01..100 (default 1; 0.25 is four times slower)",
     )
     parser.add_argument(
         "--screenshot",
