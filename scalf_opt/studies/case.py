@@ -78,6 +78,27 @@ def _gait(case: Case, robot: Robot) -> Gait:
     return replace(default_gait_for(robot), **case.gait)
 
 
+def check_setup(case: Case, folder: Path) -> None:
+    """Set the case up as :func:`run_case` does, without optimizing.
+
+    The robot, its variant, the gait, the family and the reference cycle: what fails here fails
+    the case before it runs.
+
+    Args:
+        case: The case.
+        folder: A scratch folder for a variant's URDF.
+
+    Raises:
+        ScalfError: The case's robot, variant, gait or family is invalid, or its reference
+            motion leaves the legs' reach.
+    """
+    robot = _robot(case, folder)
+    gait = _gait(case, robot)
+    make_family(case.family)
+    pipeline = EnergyPipeline(robot, gait, case.accounting)  # type: ignore[arg-type]
+    pipeline.robot_cycle(make_family("reference"))
+
+
 def _legs(optimize_choice: str) -> tuple[str, ...]:
     if optimize_choice == "pair":
         return FIRST_PAIR

@@ -25,10 +25,17 @@ from pathlib import Path
 from typing import Any
 
 from scalf_opt.errors import ConfigError, ScalfError
-from scalf_opt.files import write_atomic
+from scalf_opt.files import scratch_folder, write_atomic
 from scalf_opt.interrupts import raise_if_stopped
 from scalf_opt.io.results import rows_csv_text, to_json
-from scalf_opt.studies.case import RESULT_COLUMNS, STATUS_ERROR, STATUS_OK, case_key, run_case
+from scalf_opt.studies.case import (
+    RESULT_COLUMNS,
+    STATUS_ERROR,
+    STATUS_OK,
+    case_key,
+    check_setup,
+    run_case,
+)
 from scalf_opt.studies.progress import Progress
 from scalf_opt.studies.study_file import Case, Study
 from scalf_opt.viz.figures import save_atomic
@@ -153,6 +160,32 @@ def _cached(path: Path, case: Case) -> dict[str, Any] | None:
     return row
 
 
+def check_some_case_runs(study: Study) -> None:
+    """Refuse, before any case runs, a study none of whose cases can be set up.
+
+    The cases are set up in turn (:func:`~scalf_opt.studies.case.check_setup`) until one
+    passes: a fixed gait field the robot cannot walk, say, fails every case, which is the study
+    file's fault and is said once, with nothing written, rather than as a table of failures.
+
+    Raises:
+        ScalfError: Every case fails its setup; the first case's error, naming the study file.
+    """
+    first: ScalfError | None = None
+    with scratch_folder("check") as folder:
+        for case in study.cases:
+            raise_if_stopped()
+            try:
+                check_setup(case, folder)
+                return
+            except ScalfError as exc:
+                first = first or exc
+    if first is not None:
+        raise type(first)(
+            f"{study.path}: no case can run ({len(study.cases)} tried); case 1: {first}",
+            field=first.field,
+        )
+
+
 def _columns(study: Study) -> list[str]:
     swept = list(dict.fromkeys(f for case in study.cases for f in case.swept))
     return ["case", *swept, *[c for c in RESULT_COLUMNS if c not in swept]]
@@ -177,6 +210,7 @@ def run_study(
     """
     out = Path(out)
     cache = out / CACHE_DIR
+    check_some_case_runs(study)
     runner = runner or choose_runner()
     rows: dict[int, dict[str, Any]] = {}
     keys: dict[int, str | None] = {}
