@@ -369,7 +369,7 @@ def robot_sidecar_path(robot: Robot) -> Path | None:
     if robot.actuator_path is not None:
         return robot.actuator_path
     path = sidecar_path_for(robot.urdf_path)
-    return path if path.is_file() else None
+    return path if path.exists() else None
 
 
 def drives_for(robot: Robot) -> dict[str, Drive]:

@@ -162,7 +162,7 @@ class Robot:
         if legs is None:
             legs_file = legs_file_for(path)
             legs = (
-                read_leg_map(legs_file) if legs_file.is_file() else discover_legs(model, str(path))
+                read_leg_map(legs_file) if legs_file.exists() else discover_legs(model, str(path))
             )
         reference = None
         if srdf is not None:

@@ -175,7 +175,7 @@ def _input_files(case: Case) -> dict[str, str | None]:
     """Hashes of every file the case's robot is read from (URDF, actuator and legs files)."""
     robot = load_robot(name=case.robot, urdf=case.urdf, legs=case.legs, actuators=case.actuators)
     beside = legs_file_for(robot.urdf_path)
-    legs_path = case.legs or (str(beside) if beside.is_file() else None)
+    legs_path = case.legs or (str(beside) if beside.exists() else None)
     return {
         "urdf": _digest(robot.urdf_path),
         "actuators": _digest(robot_sidecar_path(robot)),
