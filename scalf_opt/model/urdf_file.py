@@ -90,7 +90,7 @@ def check_xml_shape(path: Path, data: bytes, kind: str = "URDF") -> None:
 
     def doctype(*args: object) -> None:
         raise _RefusedError(
-            f"document type declarations and entities are not allowed in a {kind} (DTDForbidden)"
+            f"document type declarations and entities are not allowed in the {kind} (DTDForbidden)"
         )
 
     parser.StartElementHandler = start
