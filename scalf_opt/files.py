@@ -49,6 +49,7 @@ _READ_BLOCK = 1 << 20
 def _kind_of(mode: int) -> str:
     """What a non-regular file is, for messages."""
     for test, name in (
+        (stat.S_ISREG, "a regular file"),
         (stat.S_ISDIR, "a directory"),
         (stat.S_ISFIFO, "a named pipe (FIFO)"),
         (stat.S_ISCHR, "a character device"),
