@@ -15,12 +15,13 @@ import difflib
 import os
 import re
 import sys
+import warnings
 from collections.abc import Sequence
 from typing import NoReturn
 
 from scalf_opt import __version__
 from scalf_opt.cli.commands import COMMANDS
-from scalf_opt.cli.console import Console
+from scalf_opt.cli.console import Console, terminal_safe
 from scalf_opt.cli.options import default_outputs
 from scalf_opt.errors import ScalfError
 from scalf_opt.files import output_set, remove_stale_scratch
@@ -40,7 +41,8 @@ class Parser(argparse.ArgumentParser):
         elif unknown:
             options = [o for action in self._actions for o in action.option_strings]
             hint = _close(unknown.group(1), options)
-        sys.stderr.write(f"scalf-opt: error: {message}{hint} (see {self.prog} --help)\n")
+        line = terminal_safe(" ".join(f"{message}{hint}".splitlines()))
+        sys.stderr.write(f"scalf-opt: error: {line} (see {self.prog} --help)\n")
         sys.exit(2)
 
 
@@ -113,8 +115,27 @@ def main(argv: Sequence[str] | None = None) -> int:
     args.argv = ["scalf-opt", *argv]
     console = Console(quiet=args.quiet, json_output=getattr(args, "json", False))
     args.console = console
-    with stop_on_signals():
-        return _run(args, argv, console)
+    try:
+        with stop_on_signals():
+            return _run(args, argv, console)
+    except KeyboardInterrupt:  # a second Ctrl-C while the first one's cleanup ran
+        return 130
+
+
+def _with_warnings(args: argparse.Namespace) -> int:
+    """Run the command with the numerical libraries' warnings caught, not printed.
+
+    NumPy's and SciPy's warnings (an overflow in an intermediate value, say) would print
+    several lines with install paths before the one-line error; they are shown, one line
+    each, only with ``--verbose`` when the command succeeds.
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        code = _run_in_output_set(args)
+    if caught and getattr(args, "verbose", False):
+        for warning in caught:
+            args.console.note(f"warning: {warning.category.__name__}: {warning.message}")
+    return code
 
 
 def _run_in_output_set(args: argparse.Namespace) -> int:
@@ -132,7 +153,7 @@ def _run_in_output_set(args: argparse.Namespace) -> int:
 
 def _run(args: argparse.Namespace, argv: list[str], console: Console) -> int:
     try:
-        code = _run_in_output_set(args)
+        code = _with_warnings(args)
         raise_if_stopped()  # a signal some library swallowed: the run's end is no success
         sys.stdout.flush()  # inside the try: a closed pipe surfaces here, not at exit
         return code
