@@ -196,7 +196,7 @@ _TMP_FILE = re.compile(r"^\..+\.[A-Za-z0-9_]{8}\.tmp$")
 """The temporary files of :func:`write_with` (``.name.XXXXXXXX.tmp``)."""
 
 
-def temporary_sibling(path: Path) -> tuple[int, str]:
+def temporary_sibling(path: Path, shown: Path | None = None) -> tuple[int, str]:
     """Open a temporary file beside ``path`` with the permissions a new file would get.
 
     ``mkstemp`` creates files readable by their owner only; outputs should be as readable as any
@@ -209,7 +209,7 @@ def temporary_sibling(path: Path) -> tuple[int, str]:
         path.parent.mkdir(parents=True, exist_ok=True)
         fd, tmp = tempfile.mkstemp(prefix=f".{_short(path.name)}.", suffix=".tmp", dir=path.parent)
     except OSError as exc:
-        raise _writing_error(path.parent, exc) from exc
+        raise _writing_error((shown or path).parent, exc) from exc
     os.fchmod(fd, 0o666 & ~_umask())
     return fd, tmp
 
@@ -258,7 +258,7 @@ def write_with(path: str | Path, write: Callable[[IO[bytes]], None]) -> Path:
         _refuse_non_regular(path)
     else:
         path = staged
-    fd, tmp = temporary_sibling(path)
+    fd, tmp = temporary_sibling(path, shown)
     try:
         with os.fdopen(fd, "wb") as handle:
             write(handle)
@@ -492,7 +492,17 @@ def _commit(targets: list[_Target]) -> None:
         for step in reversed(undo):
             with contextlib.suppress(OSError):
                 step()
-        raise _writing_error(Path(exc.filename or targets[0].path), exc) from exc
+        raise _writing_error(_shown(targets, exc.filename), exc) from exc
+
+
+def _shown(targets: list[_Target], filename: str | None) -> Path:
+    """The user's path for a path in a staging folder (the target's), for messages."""
+    path = Path(filename) if filename else targets[0].path
+    for target in targets:
+        if target.stage is not None and path.is_relative_to(target.stage):
+            relative = path.relative_to(target.stage)
+            return target.path / relative if target.folder else target.path
+    return path
 
 
 @contextlib.contextmanager

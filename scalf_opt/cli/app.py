@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import argparse
 import difflib
+import errno
 import os
 import re
 import sys
@@ -168,15 +169,44 @@ def _run(args: argparse.Namespace, argv: list[str], console: Console) -> int:
         # /dev/null so that Python's own flush at exit does not fail again
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
+    except OSError as exc:
+        if exc.filename is not None and exc.errno in _PATH_ERRORS:
+            console.error(f"{exc.filename}: {exc.strerror}")  # a path the system refuses
+            return 2
+        return _unexpected(args, exc, console)
     except Exception as exc:
-        stopped = stop_code()
-        if stopped is not None:  # a library turned the signal's exception into its own error
-            console.error("interrupted" if stopped == 130 else "terminated")
-            return stopped
-        if args.debug:
-            raise
-        console.error(
-            f"unexpected failure: {type(exc).__name__}: {exc} (a bug: please report it; rerun "
-            "with --debug for the traceback)"
-        )
-        return 1
+        return _unexpected(args, exc, console)
+
+
+_PATH_ERRORS = frozenset(
+    {
+        errno.ENAMETOOLONG,
+        errno.EACCES,
+        errno.EPERM,
+        errno.ENOSPC,
+        errno.EDQUOT,
+        errno.EROFS,
+        errno.ELOOP,
+        errno.ENOTDIR,
+        errno.EISDIR,
+        errno.ENOENT,
+        errno.EFBIG,
+    }
+)
+"""What the system says of a path the user gave (too long, denied, full, read-only, a loop): bad
+input naming the path, wherever in a library it surfaced."""
+
+
+def _unexpected(args: argparse.Namespace, exc: Exception, console: Console) -> int:
+    """A bug (exit 1), unless a library turned a signal into this error (130, 143)."""
+    stopped = stop_code()
+    if stopped is not None:  # a library turned the signal's exception into its own error
+        console.error("interrupted" if stopped == 130 else "terminated")
+        return stopped
+    if args.debug:
+        raise exc
+    console.error(
+        f"unexpected failure: {type(exc).__name__}: {exc} (a bug: please report it; rerun "
+        "with --debug for the traceback)"
+    )
+    return 1

@@ -168,6 +168,10 @@ def refuse_gait_with_saved(args: argparse.Namespace) -> None:
         raise ConfigError(f"{given[0]} and --from: a result directory brings its own gait")
 
 
+MAX_NAME_BYTES = 255
+"""Longest file or folder name (Linux, macOS and Windows file systems) [bytes]."""
+
+
 def check_output_dir(path: Path | None, option: str = "--out") -> None:
     """Refuse, before any work, an output directory that cannot be written.
 
@@ -176,11 +180,20 @@ def check_output_dir(path: Path | None, option: str = "--out") -> None:
     """
     if path is None:
         return
-    if path.exists() and not path.is_dir():
-        raise ConfigError(f"{option} {path}: is a file, not a directory")
-    existing = path
-    while not existing.exists():
-        existing = existing.parent
+    too_long = [part for part in path.parts if len(part.encode()) > MAX_NAME_BYTES]
+    if too_long:
+        raise ConfigError(
+            f"{option} {path}: a name in it is longer than the {MAX_NAME_BYTES} bytes a file "
+            "name may have (File name too long)"
+        )
+    try:
+        if path.exists() and not path.is_dir():
+            raise ConfigError(f"{option} {path}: is a file, not a directory")
+        existing = path
+        while not existing.exists():
+            existing = existing.parent
+    except OSError as exc:  # a name too long, a loop of links
+        raise ConfigError(f"{option} {path}: {exc.strerror}") from None
     if not existing.is_dir() or not os.access(existing, os.W_OK | os.X_OK):
         raise ConfigError(f"{option} {path}: {existing} is not a writable directory")
 
@@ -193,9 +206,13 @@ def check_output_file(path: Path | None, option: str = "--out") -> None:
     """
     if path is None:
         return
-    if path.is_dir():
+    try:
+        kind = path.stat().st_mode if path.exists() else None
+    except OSError as exc:  # a name too long, a loop of links
+        raise ConfigError(f"{option} {path}: {exc.strerror}") from None
+    if kind is not None and stat.S_ISDIR(kind):
         raise ConfigError(f"{option} {path}: is a directory, not a file")
-    if path.exists() and not stat.S_ISREG(path.stat().st_mode):
+    if kind is not None and not stat.S_ISREG(kind):
         raise ConfigError(
             f"{option} {path}: is not a regular file; only a regular file is replaced"
         )
