@@ -557,7 +557,7 @@ def output_set(
 
 
 @contextlib.contextmanager
-def captured_native_output() -> Iterator[list[str]]:
+def captured_native_output(fds: tuple[int, ...] = (1, 2)) -> Iterator[list[str]]:
     """Catch what native libraries print on file descriptors 1 and 2, instead of the terminal.
 
     urdfdom prints its parser errors there, assimp its warnings, with install paths and on
@@ -575,7 +575,7 @@ def captured_native_output() -> Iterator[list[str]]:
         except (OSError, ValueError):
             pass
         capture = stack.enter_context(tempfile.TemporaryFile())
-        for fd in (1, 2):
+        for fd in fds:
             try:
                 saved.append((fd, os.dup(fd)))
                 os.dup2(capture.fileno(), fd)

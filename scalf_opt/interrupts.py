@@ -21,6 +21,8 @@ import threading
 from collections.abc import Iterator
 from types import FrameType
 
+from scalf_opt.files import captured_native_output
+
 _received: list[int] = []
 """Signals the command line's handlers received (cleared when the command ends)."""
 
@@ -78,7 +80,12 @@ def stop_on_signals() -> Iterator[None]:
 
 @contextlib.contextmanager
 def interruptible() -> Iterator[None]:
-    """Run a native solver inside: a signal it swallowed is raised again when it returns."""
+    """Run a native solver inside: a signal it swallowed is raised again when it returns.
+
+    What the solver's library prints on stderr is held back until it returns, and dropped when
+    a signal stopped it (CasADi's ``KeyboardInterruptException`` warning, with its source path):
+    the command then ends with its one line.
+    """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -94,10 +101,15 @@ def interruptible() -> Iterator[None]:
     if callable(previous):
         signal.signal(signal.SIGINT, note)
     try:
-        yield
+        with captured_native_output(fds=(2,)) as printed:
+            yield
     finally:
         if callable(previous):
             signal.signal(signal.SIGINT, previous)
+    if printed and not (received or _received):  # no signal: what it printed, now
+        with contextlib.suppress(OSError, ValueError):
+            sys.stderr.write("\n".join(printed) + "\n")
+            sys.stderr.flush()
     if received:  # Ctrl-C, swallowed by the solver
         raise KeyboardInterrupt
     raise_if_stopped()

@@ -141,11 +141,11 @@ def _with_warnings(args: argparse.Namespace) -> int:
 
 def _run_in_output_set(args: argparse.Namespace) -> int:
     """Run the command; the files it writes to its outputs are moved into place together."""
+    remove_stale_scratch()  # what killed runs left in the temporary folder
     outputs = args.outputs(args) if args.outputs is not None else default_outputs(args)
     if outputs is None:
         return int(args.run(args))
     outputs.check()
-    remove_stale_scratch()  # what killed runs left in the temporary folder
     with output_set(outputs.folders.values(), outputs.files.values(), outputs.direct):
         code = int(args.run(args))
         raise_if_stopped()  # a signal some library swallowed: nothing is moved into place
