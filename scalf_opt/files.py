@@ -321,7 +321,16 @@ class OutputSet:
             relative = target.holds(path)
             if relative is not None:
                 if target.stage is None:
-                    target.stage = _new_stage(target.path)
+                    # files side by side share a stage: staged, they are side by side too
+                    beside = [
+                        t.stage
+                        for t in self.targets
+                        if not t.folder
+                        and not target.folder
+                        and t.path.parent == target.path.parent
+                    ]
+                    shared = next((stage for stage in beside if stage is not None), None)
+                    target.stage = shared or _new_stage(target.path)
                 return target.stage / relative
         return None
 
@@ -461,10 +470,14 @@ def _commit(targets: list[_Target]) -> None:
     for target in targets:
         if target.stage is None:
             continue
-        for relative in _staged_files(target.stage):
-            destination = target.path / relative if target.folder else target.path
-            _refuse_non_regular(destination)
-            moves.append((target, target.stage / relative, destination))
+        if target.folder:
+            pairs = [(target.stage / r, target.path / r) for r in _staged_files(target.stage)]
+        else:
+            pairs = [(target.stage / target.path.name, target.path)]
+        for source, destination in pairs:
+            if source.exists():
+                _refuse_non_regular(destination)
+                moves.append((target, source, destination))
     undo: list[Callable[[], None]] = []
     try:
         for target in targets:

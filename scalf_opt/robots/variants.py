@@ -275,6 +275,7 @@ def variant_xml(robot: Robot, scales: VariantScales) -> str:
         build_collision_scene_graph=False,
         load_meshes=False,
         load_collision_meshes=False,
+        filename_handler=lambda filename: filename,  # no mesh is looked for: kept as written
     )
     joints = {joint.name: joint for joint in urdf.robot.joints}
     for leg in LEG_NAMES:

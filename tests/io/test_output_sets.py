@@ -233,3 +233,16 @@ def test_a_signal_a_library_turned_into_its_own_error_still_ends_143(capsys):
         code = app._run(args, ["model"], Console())
     err = capsys.readouterr().err
     assert code == 143 and err == "scalf-opt: error: terminated\n"
+
+
+def test_files_side_by_side_are_staged_side_by_side(tmp_path):
+    """A variant's URDF is read back, during the command, with its actuator file beside it."""
+    urdf, beside = tmp_path / "v" / "v.urdf", tmp_path / "v" / "v_actuators.toml"
+    with output_set(files=[urdf, beside]):
+        write_atomic(urdf, "<robot/>")
+        write_atomic(beside, "[cylinders]")
+        staged = current_location(urdf)
+        assert staged != urdf and (staged.parent / beside.name).read_text() == "[cylinders]"
+        assert not urdf.exists()
+    assert urdf.read_text() == "<robot/>" and beside.read_text() == "[cylinders]"
+    assert _entries(tmp_path / "v") == ["v.urdf", "v_actuators.toml"]

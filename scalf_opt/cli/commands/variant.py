@@ -43,6 +43,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
+    from scalf_opt.files import current_location
     from scalf_opt.locomotion.scaling import default_gait_for
     from scalf_opt.robots.loading import load_robot as load_path
     from scalf_opt.robots.variants import VariantScales, derive_variant
@@ -50,7 +51,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     scales = VariantScales(**{field: getattr(args, field) for field, _ in SCALES})
     robot = load_robot(args)
     variant = derive_variant(robot, scales, args.out)
-    derived = load_path(urdf=variant.urdf_path)
+    derived = load_path(urdf=current_location(variant.urdf_path))  # staged until the end
     say = args.console.text
     say(
         f"variant of {robot.name} ({robot.urdf_path.name}): "
