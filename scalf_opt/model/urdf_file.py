@@ -59,7 +59,7 @@ MAX_TREE_DEPTH = 100
 MAX_MESH_BYTES = 32 * 1024 * 1024
 """Largest mesh file read [bytes] (Go1's trunk, the largest published quadruped mesh: 28.8 MB)."""
 
-MAX_MESHES_BYTES = 64 * 1024 * 1024
+MAX_MESHES_BYTES = 48 * 1024 * 1024
 """Most mesh bytes read for one robot [bytes] (Go1, the most among the catalog's robots: 38 MB)."""
 
 
