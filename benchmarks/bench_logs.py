@@ -6,7 +6,8 @@ written to a file and analysed from the file by ``scalf_opt.api.analyze_log`` (r
 filtered, integrated per cycle), as ``scalf-opt analyze-log`` does. Prints the best-of-repeats
 time of each and the ratio of the times beside the ratio of the lengths (18): linear analysis
 gives a time ratio near 18, a quadratic one near 324. Wall-clock figures are machine-dependent;
-the ratio is the result. Also checks that both logs give the same mean power (to 1e-4: the cycles at the ends differ).
+the ratio is the result. Also checks that both logs give the same mean power (to 1e-4: the
+cycles at the ends differ).
 """
 
 from __future__ import annotations

@@ -126,7 +126,7 @@ def test_oversized_and_special_meshes_are_refused(description, tmp_path, monkeyp
     (description.parent / "big.stl").write_bytes(b"x" * 3000)
     monkeypatch.setattr(urdf_file, "MAX_MESH_BYTES", 2000)
     text = SCALF.replace('<box size="1.5 0.45 0.3"/>', '<mesh filename="big.stl"/>', 1)
-    with pytest.raises(ModelError, match="big.stl: mesh file is larger than the 2000 bytes"):
+    with pytest.raises(ModelError, match=r"big\.stl: mesh file is larger than the 2000 bytes"):
         with_local_meshes(description, text, {}, tmp_path)
     monkeypatch.setattr(urdf_file, "MAX_MESH_BYTES", 4000)
     monkeypatch.setattr(urdf_file, "MAX_MESHES_BYTES", 5000)
