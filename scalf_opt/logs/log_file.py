@@ -45,6 +45,10 @@ MIN_STEP_S = 1e-5
 """Smallest time step between two samples of one leg [s] (100 kHz; the robot logs at 80 Hz): a
 repeated or denormal time stamp is refused, not divided by."""
 
+MAX_FORCE_N = 1e7
+"""Largest magnitude of a cylinder force [N] (SCalf's cylinders: 4 kN): a larger one is a unit or
+sensor error, and would overflow the energy."""
+
 MAX_TIME_S = 1e7
 """Largest magnitude of a time stamp [s] (116 days): beyond it a double's spacing nears the
 smallest step."""
@@ -159,6 +163,13 @@ def _legs(
     rows: np.ndarray,
 ) -> CylinderLog:
     """The log from its columns: ``values`` (n, 4) are the lengths then the forces."""
+    big = np.abs(values[:, 2:4]) > MAX_FORCE_N
+    if big.any():
+        k, j = (int(i) for i in np.argwhere(big)[0])
+        raise LogError(
+            f"{source}: row {rows[k]}, column {FORCE_COLUMNS[j]}: {float(values[k, 2 + j])!r} N "
+            f"is beyond the {MAX_FORCE_N:g} N a cylinder's force sensor may read"
+        )
     out = {}
     for leg in LEG_NAMES:
         mine = np.flatnonzero(legs == leg)
