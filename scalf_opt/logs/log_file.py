@@ -198,7 +198,7 @@ def _parse_fast(text: str, body: int, header: list[str], source: str) -> Cylinde
     ``None`` when one may not be: the strict row-by-row parser then finds and names the first
     problem.
     """
-    if _BLANK_LINE.search(text, max(body - 1, 0)) or '"' in text:
+    if _BLANK_LINE.search(text, max(body - 1, 0)) or '"' in text or not text[body:].strip():
         return None
     numeric = [TIME, *LENGTH_COLUMNS, *FORCE_COLUMNS]
     dtype = [(c, float) if c in numeric else (c, f"U{_TEXT_WIDTH}") for c in header]
