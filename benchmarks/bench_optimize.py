@@ -17,6 +17,14 @@ ratio is SLSQP's time over Ipopt's, measured in the same run (wall-clock times v
 machine's load; ratios are what to compare). The last lines, one per family, are
 ``FAMILY: Ipopt T s, SLSQP-FD T s, ratio Rx``.
 
+Then the two drivers on top of the families, each timed whole (its every solve, sampling check
+and level) and stated as a multiple of the last family's Ipopt solve in the same run:
+
+* ``bound RF``: the free-trajectory bound of the RF leg (``--family free``), its levels, and the
+  energy still to gain;
+* ``free stance``: the stance height and x-offsets optimized with the ``joint-6`` swings of RF
+  and LH (``--free-stance``), and how many stances it tried.
+
     python benchmarks/bench_optimize.py [FAMILY ...]
 """
 
@@ -34,7 +42,9 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.optimize.bound import bound_for
 from scalf_opt.optimize.driver import optimize_swings
+from scalf_opt.optimize.free_stance import optimize_stance
 from scalf_opt.optimize.nlp import build_nlp
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import run_ipopt
@@ -112,6 +122,18 @@ def main() -> None:
             f"{name}: Ipopt {t_ipopt:.3f} s, SLSQP-FD {t_slsqp:.3f} s, "
             f"ratio {t_slsqp / t_ipopt:.1f}x{note}"
         )
+    t_bound, bound = timed(lambda: bound_for(pipeline, LEG))
+    levels = ", ".join(f"{lv.spans}: {lv.wall_time_s:.1f} s" for lv in bound.levels)
+    lines.append(
+        f"bound {LEG}: {t_bound:.1f} s ({t_bound / t_ipopt:.0f}x the {families[-1]} Ipopt solve; "
+        f"levels {levels}), {bound.status_text()}"
+    )
+    t_stance, stance = timed(lambda: optimize_stance(pipeline, make_family("joint-6")))
+    lines.append(
+        f"free stance: {t_stance:.1f} s ({t_stance / t_ipopt:.0f}x the {families[-1]} Ipopt "
+        f"solve), {stance.evaluations} stances tried, "
+        f"{'converged' if stance.success else 'NOT CONVERGED'}"
+    )
     print("\n".join(lines))
 
 

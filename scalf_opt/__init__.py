@@ -22,6 +22,7 @@ __version__ = "0.1.0"
 __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "__version__",
     "EvaluationResult",
+    "ExportResult",
     "Gait",
     "LogResult",
     "OptimizationResult",
@@ -29,6 +30,7 @@ __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "SimulationResult",
     "analyze_log",
     "evaluate",
+    "export_plan",
     "load_robot",
     "optimize_swing",
     "paper",
@@ -39,6 +41,7 @@ __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
 if TYPE_CHECKING:
     from scalf_opt.api import (
         EvaluationResult,
+        ExportResult,
         Gait,
         LogResult,
         OptimizationResult,
@@ -46,6 +49,7 @@ if TYPE_CHECKING:
         SimulationResult,
         analyze_log,
         evaluate,
+        export_plan,
         load_robot,
         optimize_swing,
         paper,

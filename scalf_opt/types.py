@@ -1,6 +1,7 @@
 """Names shared by every layer: the modes as ``Literal`` types, leg names, the CasADi alias.
 
-Every mode a user can choose (space, phase, accounting, optimizer) is a ``Literal``; its allowed
+The fixed modes (space, phase) are ``Literal`` types; the extensible ones (accounting, solver)
+are names checked against their registries in the floors that define them. A ``Literal``'s allowed
 values are read from the type with :func:`choices`, so the command line, the file readers and the
 code agree on one list. :func:`check_choice` turns a wrong value into a one-line
 :class:`~scalf_opt.errors.ConfigError` that names the field.
@@ -38,20 +39,21 @@ Phase = Literal["stance", "swing"]
 
 PHASES: tuple[Phase, ...] = get_args(Phase)
 
-Accounting = Literal["paper", "positive", "regenerative"]
-"""How signed joint power ``tau qd`` is charged: ``paper`` ``|tau qd|`` (decision 9, default),
-``positive`` ``max(tau qd, 0)``, ``regenerative`` ``tau qd``."""
+Accounting: TypeAlias = str
+"""The name of a power accounting: how signed joint power ``tau qd`` is charged (``paper``
+``|tau qd|``, decision 9, the default; ``positive``; ``regenerative``). The names and what each
+charges live in one registry, :data:`scalf_opt.energy.accounting.ACCOUNTINGS`."""
 
-Method = Literal["pattern", "ipopt", "free"]
-"""Swing optimizer: the paper's Hooke-Jeeves pattern search or the Ipopt NLP on a family, or
-``free``: the free-trajectory bound (Ipopt on dense B-splines refined until converged)."""
+Method: TypeAlias = str
+"""The name of a swing solver (``ipopt``, the default, or ``pattern``, the paper's pattern
+search). The names live in one registry, :data:`scalf_opt.optimize.solvers.SOLVERS`."""
 
 JOINT_ROLES: tuple[str, str] = ("hip", "knee")
 """The two joints of the sagittal leg, in vector order (hip pitch first)."""
 
 
 def choices(kind: Any) -> tuple[str, ...]:
-    """The allowed values of a ``Literal`` mode, e.g. ``choices(Accounting)``."""
+    """The allowed values of a ``Literal`` mode, e.g. ``choices(Space)``."""
     return tuple(get_args(kind))
 
 
@@ -60,7 +62,7 @@ def check_choice(value: object, kind: Any, field: str) -> str:
 
     Args:
         value: What the user gave.
-        kind: A ``Literal`` type (``Space``, ``Accounting``, ...).
+        kind: A ``Literal`` type (``Space``, ``Phase``, ...).
         field: Name of the field or option, for the message.
 
     Raises:

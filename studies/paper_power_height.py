@@ -29,8 +29,7 @@ from scalf_opt.files import write_atomic
 from scalf_opt.io.results import rows_csv_text
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
-from scalf_opt.optimize.problem import SwingProblem
-from scalf_opt.optimize.solve import run_ipopt
+from scalf_opt.optimize.driver import optimize_swings
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.studies.paper_data import (
     OPTIMIZED_AVERAGE_POWER_W,
@@ -63,12 +62,10 @@ def scan(heights: np.ndarray) -> list[dict[str, object]]:
 
 def optimized(height_m: float, family: str) -> dict[str, object]:
     pipeline = EnergyPipeline(ROBOT, Gait(stance_height_m=height_m))
-    reference = pipeline.robot_cycle(make_family("reference"))
-    optima = {
-        leg: run_ipopt(SwingProblem(pipeline, leg, make_family(family))) for leg in ("RF", "LH")
-    }
-    solved = all(o.success for o in optima.values())
-    cycle = pipeline.robot_cycle(make_family(family), {leg: o.theta for leg, o in optima.items()})
+    run = optimize_swings(pipeline, ("RF", "LH"), make_family(family))
+    solved = run.success
+    reference = run.reference_cycle()  # at the optimum's converged rate, like with like
+    cycle = run.cycle()
     return {
         "stance_height_m": height_m,
         "family": family,

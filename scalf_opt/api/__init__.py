@@ -13,6 +13,7 @@ and the numbers are the command line's: the ``scalf-opt`` commands call these fu
 """
 
 from scalf_opt.api.evaluation import EvaluationResult, evaluate
+from scalf_opt.api.export import ExportResult, export_plan
 from scalf_opt.api.gaits import read_gait
 from scalf_opt.api.logs import LogResult, analyze_log
 from scalf_opt.api.optimization import OptimizationResult, optimize_swing
@@ -23,6 +24,7 @@ from scalf_opt.robots.loading import load_robot
 
 __all__ = [
     "EvaluationResult",
+    "ExportResult",
     "Gait",
     "LogResult",
     "OptimizationResult",
@@ -30,6 +32,7 @@ __all__ = [
     "SimulationResult",
     "analyze_log",
     "evaluate",
+    "export_plan",
     "load_robot",
     "optimize_swing",
     "paper",

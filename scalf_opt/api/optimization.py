@@ -1,6 +1,10 @@
-"""``optimize_swing``: the swing of some legs, by a family, the bound, or with a free stance.
+"""``optimize_swing``: the one entry to an optimum, by a family, the bound, or a free stance.
 
-The one code path of ``scalf-opt optimize`` (the driver it calls is also ``paper``'s).
+Every consumer gets its optimum here or from the driver under it
+(:func:`~scalf_opt.optimize.driver.optimize_swings`): ``scalf-opt optimize``, ``paper``,
+studies, ``view``, ``figures`` and the benchmarks. So every optimum is converged in the
+sampling, checked against every limit at ten times its rate, retried with Ipopt's other
+strategies and started from the same deterministic starts, whoever asked for it.
 """
 
 from __future__ import annotations
@@ -24,14 +28,15 @@ from scalf_opt.io.results import (
     write_results_json,
 )
 from scalf_opt.locomotion.gait import Gait
-from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, parse_bspline_name
+from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY, parse_bspline_name
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.robot import Robot
 from scalf_opt.optimize.bound import FreeBound, bound_cycle_inputs, bound_for
 from scalf_opt.optimize.driver import Settings, SwingOptimization, check_bounded, optimize_swings
 from scalf_opt.optimize.free_stance import FreeStance, optimize_stance
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
-from scalf_opt.types import FIRST_PAIR, Accounting, Method, check_choice
+from scalf_opt.optimize.solvers import DEFAULT_SOLVER, PatternSearchSolver, solver
+from scalf_opt.types import FIRST_PAIR, Accounting, Method
 
 Progress = Callable[[str], None]
 """Called with a short label as each step of a long computation starts."""
@@ -50,9 +55,10 @@ class OptimizationResult:
         records: ``summary.json``'s optimization records (``optimization``, and as the mode
             has them ``optimization_run``, ``free_bound``, ``free_stance``).
         run: The family optimization (``None`` for the free-trajectory bound).
-        bounds: The free-trajectory bound per leg (``method="free"`` or ``bound=True``).
+        bounds: The free-trajectory bound per leg (``family="free"`` or ``bound=True``).
         stance: The stance search (``free_stance=True``).
         command: The command line that asked for it (``None`` from Python).
+        settings: How the swings were optimized.
     """
 
     robot: Robot
@@ -64,11 +70,35 @@ class OptimizationResult:
     bounds: dict[str, FreeBound] = field(default_factory=dict)
     stance: FreeStance | None = None
     command: tuple[str, ...] | None = None
+    settings: Settings = field(default_factory=Settings)
 
     @property
     def success(self) -> bool:
-        """The optimization converged: every leg solved, energies converged in the sampling."""
+        """There is an optimum: every leg solved, energies converged in the sampling."""
         return self.cycle is not None
+
+    @property
+    def converged(self) -> bool:
+        """Everything asked for converged: the optimum, and the bound or stance search with it."""
+        return (
+            self.success
+            and all(b.success for b in self.bounds.values())
+            and (self.stance is None or self.stance.success)
+        )
+
+    def failure(self) -> str:
+        """What did not converge, in one phrase ('' when everything did)."""
+        parts = []
+        if self.stance is not None and not self.stance.success:
+            parts.append(f"the stance search ({self.stance.best.reason or 'not converged'})")
+        if self.run is not None and not self.run.success:
+            parts.append(self.run.failure())
+        parts += [
+            f"the free-trajectory bound of {leg} ({b.status_text()})"
+            for leg, b in self.bounds.items()
+            if not b.success
+        ]
+        return ", ".join(parts)
 
     @property
     def peaks(self) -> list[Peak]:
@@ -99,6 +129,8 @@ class OptimizationResult:
         if self.cycle is not None:
             data.update(checked_summary(self.cycle, self.pipeline))
         data["solved"] = self.success
+        data["converged"] = self.converged
+        data["status"] = "converged" if self.converged else f"not converged: {self.failure()}"
         data.update(self.records)
         data["reference_total_energy_per_cycle_j"] = self.reference.energy_j
         return data
@@ -122,7 +154,7 @@ def optimize_swing(
     gait: Gait | None = None,
     *,
     family: str = DEFAULT_FAMILY,
-    method: Method = "ipopt",
+    method: Method = DEFAULT_SOLVER,
     legs: Sequence[str] = FIRST_PAIR,
     accounting: Accounting = "paper",
     precision: float | None = None,
@@ -141,10 +173,10 @@ def optimize_swing(
     Args:
         robot: The robot.
         gait: The gait (default: the robot's default trot).
-        family: ``paper``, ``joint-N`` or ``fourier-N`` (N in 2..12).
-        method: ``ipopt``, ``pattern`` (the paper's pattern search), or ``free``: the
-            free-trajectory bound (dense B-splines refined until the energy converges), no
-            family.
+        family: ``paper``, ``joint-N`` or ``fourier-N`` (N in 2..12), or ``free``: the
+            free-trajectory bound (dense B-splines refined until the energy converges).
+        method: A solver of :data:`~scalf_opt.optimize.solvers.SOLVERS`: ``ipopt`` or
+            ``pattern`` (the paper's pattern search).
         legs: Legs to optimize; a leg not given takes its twin's optimum, else the reference.
         accounting: Power accounting.
         precision: Pattern-search precision (default 0.1, the paper's); only for ``pattern``.
@@ -160,24 +192,29 @@ def optimize_swing(
         ConfigError: A family without parameters, a precision with Ipopt or not > 0, an
             accounting with nothing to optimize, options that do not go together.
     """
-    check_choice(method, Method, "method")
+    chosen = solver(method)
     legs = tuple(legs)
-    if precision is not None and method != "pattern":
+    if precision is not None and not isinstance(chosen, PatternSearchSolver):
         raise ConfigError(
             "the precision applies to the pattern search only (method 'pattern')",
             field="precision",
         )
     if precision is not None and not precision > 0:
         raise ConfigError(f"the precision must be > 0, got {precision}", field="precision")
-    if method == "free" and (bound or free_stance):
-        raise ConfigError("the free method is the bound itself: no --bound or --free-stance")
     pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting)
     cmd = command_tuple(command)
-    if method == "free":
+    if family == FREE_FAMILY:
+        if bound or free_stance or starts != 1 or method != DEFAULT_SOLVER:
+            raise ConfigError(
+                "family free is the free-trajectory bound itself (Ipopt on dense B-splines): "
+                "no --bound, --free-stance, --starts or --method with it",
+                field="family",
+            )
         return _free_method(robot, pipeline, legs, progress, cmd)
     if parse_bspline_name(family) is not None:
         raise ConfigError(
-            f"family {family}: B-splines are the free method's: method 'free'", field="family"
+            f"family {family}: B-splines are the free-trajectory bound's: family 'free'",
+            field="family",
         )
     swing_family = make_family(family)
     if swing_family.n_params == 0:
@@ -199,9 +236,17 @@ def optimize_swing(
         stance = optimize_stance(pipeline, swing_family, settings)
         run = stance.best.run
         records: dict[str, Any] = {"free_stance": stance.as_dict()}
-        if run is None or not stance.success:
+        if run is None or not run.success:
             return OptimizationResult(
-                robot, pipeline, stance.reference, None, records, run, stance=stance, command=cmd
+                robot,
+                pipeline,
+                stance.reference,
+                None,
+                records,
+                run,
+                stance=stance,
+                command=cmd,
+                settings=settings,
             )
         records.update(
             optimization={leg: r.as_dict() for leg, r in run.legs.items()},
@@ -216,6 +261,7 @@ def optimize_swing(
             run,
             stance=stance,
             command=cmd,
+            settings=settings,
         )
     run = optimize_swings(pipeline, legs, swing_family, settings, progress=progress)
     records = {
@@ -225,15 +271,23 @@ def optimize_swing(
     bounds: dict[str, FreeBound] = {}
     if bound and run.success:
         for leg, result in run.legs.items():
-            if progress is not None:
-                progress(f"{leg}: the free-trajectory bound")
-            bounds[leg] = bound_for(run.pipeline, leg, [(swing_family, result.best.theta)])
+            bounds[leg] = bound_for(
+                pipeline, leg, [(swing_family, result.best.theta)], progress=progress
+            )
             result.bound_check_energy_j = bounds[leg].check_energy_j
         records["optimization"] = {leg: r.as_dict() for leg, r in run.legs.items()}
         records["free_bound"] = {leg: b.as_dict() for leg, b in bounds.items()}
     cycle = run.cycle() if run.success else None
     return OptimizationResult(
-        robot, run.pipeline, run.reference_cycle(), cycle, records, run, bounds, command=cmd
+        robot,
+        run.pipeline,
+        run.reference_cycle(),
+        cycle,
+        records,
+        run,
+        bounds,
+        command=cmd,
+        settings=settings,
     )
 
 
@@ -248,12 +302,10 @@ def _free_method(
     check_bounded(pipeline, legs)
     bounds = {}
     for leg in legs:
-        if progress is not None:
-            progress(f"{leg}: the free-trajectory bound")
-        bounds[leg] = bound_for(pipeline, leg)
+        bounds[leg] = bound_for(pipeline, leg, progress=progress)
     records: dict[str, Any] = {"free_bound": {leg: b.as_dict() for leg, b in bounds.items()}}
-    reference = pipeline.robot_cycle(make_family("reference"))
-    if not all(b.success for b in bounds.values()):
+    if not all(b.result.success for b in bounds.values()):  # not even a level solved
+        reference = pipeline.robot_cycle(make_family("reference"))
         return OptimizationResult(
             robot, pipeline, reference, None, records, bounds=bounds, command=command
         )
@@ -262,7 +314,7 @@ def _free_method(
         leg: {
             **b.result.as_dict(),
             "family": family.name,
-            "method": "free",
+            "method": DEFAULT_SOLVER,
             "parameters": dict(zip(family.parameter_names, map(float, thetas[leg]), strict=True)),
         }
         for leg, b in bounds.items()

@@ -7,15 +7,20 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from scalf_opt.api.gaits import read_gait
 from scalf_opt.energy.pipeline import EnergyPipeline
-from scalf_opt.errors import ConfigError
+from scalf_opt.errors import ConfigError, LogError
 from scalf_opt.files import write_atomic
 from scalf_opt.io.provenance import provenance
 from scalf_opt.io.results import to_json
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.robot import Robot
 from scalf_opt.types import Accounting
+
+JOINT_STATE_RATE_HZ = 1000.0
+"""Rate of a simulation bag's ``/joint_states`` [Hz] (a joint driver's usual rate)."""
 
 MAX_SIM_CYCLES = 200
 """Most gait cycles one simulation may run (about 10 minutes of MuJoCo on one core)."""
@@ -64,17 +69,34 @@ class SimulationResult:
         ]
 
     def write_log(self, path: str | Path, seed: int = 0) -> Path:
-        """Write the cylinder log SCalf's sensors would record of the run (80 Hz, 0.1 mm, 70 N).
+        """Write the log of the run: the cylinder CSV, or with ``.mcap`` a ROS 2 bag.
+
+        The CSV (and the bag's ``/cylinder_states``) is what SCalf's sensors would record
+        (80 Hz, 0.1 mm, 70 N). The bag has ``/joint_states``: every joint's angle, rate and
+        torque at 1 kHz, the joint-state topic a ROS 2 driver publishes (the rate is the joint's
+        over the simulation step that follows, so that ``tau qd`` is that step's power); a robot
+        without cylinders has only that topic.
 
         Raises:
-            LogError: A leg has no hydraulic cylinders.
+            LogError: A CSV of a robot whose legs have no hydraulic cylinders.
         """
         from scalf_opt.logs.analysis import leg_cylinders
         from scalf_opt.logs.log_file import log_csv_text
-        from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
 
         pipeline = EnergyPipeline(self.robot, read_gait(robot=self.robot))
+        if Path(path).suffix == ".mcap":
+            try:
+                cylinders = {leg: leg_cylinders(pipeline, leg) for leg in self.record.q_rad}
+            except LogError:
+                return self._write_bag(Path(path), None)
+            return self._write_bag(Path(path), self._sensor_log(cylinders, seed, str(path)))
         cylinders = {leg: leg_cylinders(pipeline, leg) for leg in self.record.q_rad}
+        return write_atomic(path, log_csv_text(self._sensor_log(cylinders, seed, str(path))))
+
+    def _sensor_log(self, cylinders: dict[str, Any], seed: int, source: str) -> Any:
+        """What SCalf's cylinder sensors would record of the run."""
+        from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
+
         record = self.record
         motions = {
             leg: JointMotion(
@@ -82,8 +104,38 @@ class SimulationResult:
             )
             for leg in cylinders
         }
-        log = sensor_log(motions, cylinders, SensorModel(), seed, str(path))
-        return write_atomic(path, log_csv_text(log))
+        return sensor_log(motions, cylinders, SensorModel(), seed, source)
+
+    def _write_bag(self, path: Path, log: Any) -> Path:
+        from scalf_opt.io.ros_bag import JointStateSeries, cylinder_joint_name, write_bag
+
+        record = self.record
+        stride = max(1, round(1.0 / (JOINT_STATE_RATE_HZ * record.timestep_s)))
+        legs = list(record.q_rad)
+        names = tuple(n for leg in legs for n in self.robot.leg(leg).joint_names)
+        series = [
+            JointStateSeries(
+                "/joint_states",
+                names,
+                record.t_s[::stride],
+                np.vstack([record.q_rad[leg][:, ::stride] for leg in legs]),
+                np.vstack([record.qd_rad_s[leg][:, ::stride] for leg in legs]),
+                np.vstack([record.tau_nm[leg][:, ::stride] for leg in legs]),
+            )
+        ]
+        if log is not None:
+            first = log.legs[legs[0]]  # the sensors sample every leg at the same instants
+            series.append(
+                JointStateSeries(
+                    "/cylinder_states",
+                    tuple(cylinder_joint_name(n) for n in names),
+                    first.t_s,
+                    np.vstack([log.legs[leg].length_m for leg in legs]),
+                    None,
+                    np.vstack([log.legs[leg].force_n for leg in legs]),
+                )
+            )
+        return write_bag(path, series)
 
 
 def simulate(

@@ -11,9 +11,10 @@ from dataclasses import field as dataclass_field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from scalf_opt.energy.accounting import ACCOUNTINGS
 from scalf_opt.errors import ConfigError, GaitError
 from scalf_opt.robots.catalog import robot_names
-from scalf_opt.types import LEG_NAMES, Accounting, choices
+from scalf_opt.types import LEG_NAMES
 
 if TYPE_CHECKING:
     from scalf_opt.locomotion.gait import Gait
@@ -101,10 +102,20 @@ def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
     if accounting:
         parser.add_argument(
             "--accounting",
-            choices=choices(Accounting),
+            choices=tuple(ACCOUNTINGS),
             default="paper",
             help="joint power accounting (default: the paper's |tau*qd| + drive losses)",
         )
+
+
+def add_accept_unconverged(parser: argparse.ArgumentParser) -> None:
+    """``--accept-unconverged``: exit 0 even when something did not converge."""
+    parser.add_argument(
+        "--accept-unconverged",
+        action="store_true",
+        help="exit 0 even when an optimum, a bound level or the stance search did not converge "
+        "(it is still marked so in every output); without it such a run exits 3",
+    )
 
 
 def leg_name(text: str) -> str:

@@ -28,6 +28,7 @@ import numpy as np
 
 from scalf_opt.actuators.drive import Channel, Drive, MaxFn
 from scalf_opt.actuators.stribeck import smooth_max
+from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.model.kinematics import LegKinematics
 from scalf_opt.types import JOINT_ROLES, Accounting, Expr, Space, casadi_name, check_choice
 
@@ -37,15 +38,10 @@ signed joint power ``tau qd``, ``p_loss`` the drives' loss rate, ``power`` what 
 
 
 def mechanical_power(
-    signed_power_w: Expr, accounting: Accounting, abs_fn: Callable[[Expr], Expr] = ca.fabs
+    signed_power_w: Expr, accounting: Accounting, abs_fn: Callable[[Expr], Expr] | None = None
 ) -> Expr:
     """Mechanical power drawn for a signed joint power ``tau * qd`` [W] under ``accounting``."""
-    check_choice(accounting, Accounting, "accounting")
-    if accounting == "paper":
-        return abs_fn(signed_power_w)
-    if accounting == "positive":
-        return ca.fmax(signed_power_w, 0)
-    return signed_power_w
+    return power_accounting(accounting).charge(signed_power_w, abs_fn)
 
 
 def trapezoid_weights(t_s: np.ndarray) -> np.ndarray:

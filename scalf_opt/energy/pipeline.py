@@ -7,16 +7,17 @@ symmetry argument (LF repeats RF, RH repeats LH half a cycle later) is then a ch
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from functools import cached_property
 
 import numpy as np
 
 from scalf_opt.actuators.drive import Drive
-from scalf_opt.actuators.sidecar import drives_for, leg_drives
+from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.cycle import LegCycle, RobotCycle
 from scalf_opt.energy.phase import PhaseResult, PhaseSamples, evaluate_phase
 from scalf_opt.energy.physics import LegPhysics
+from scalf_opt.energy.robot_physics import RobotPhysics
 from scalf_opt.energy.workspace import check_workspace
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.stance import stance_forces, stance_path
@@ -25,52 +26,57 @@ from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.locomotion.trot import SYMMETRIC_TWIN, stance_start_s, swing_start_s
 from scalf_opt.model.kinematics import LegKinematics
 from scalf_opt.model.robot import Robot
-from scalf_opt.types import LEG_NAMES, Accounting, check_choice
+from scalf_opt.types import LEG_NAMES, Accounting
 
 
 @dataclass(frozen=True)
 class EnergyPipeline:
-    """Evaluates cycles of one robot for one gait and accounting.
+    """Evaluates cycles of one robot for one gait and accounting (the data half of model/data).
+
+    The robot's physics (:class:`~scalf_opt.energy.robot_physics.RobotPhysics`) is built once
+    and shared by every pipeline made from this one with :meth:`with_gait` or
+    :meth:`with_accounting`; the pipeline itself holds the gait's stance paths and forces.
 
     Attributes:
         robot: The robot.
         gait: The gait.
-        accounting: Power accounting (``paper``, ``positive`` or ``regenerative``).
+        accounting: Power accounting (a name in
+            :data:`~scalf_opt.energy.accounting.ACCOUNTINGS`).
         drives: Drives keyed by joint name; ``None`` reads the sidecar beside the URDF, ``{}``
             gives every joint an ideal drive.
+        model: The robot's physics; ``None`` builds it from ``robot`` and ``drives``.
     """
 
     robot: Robot
     gait: Gait
     accounting: Accounting = "paper"
     drives: Mapping[str, Drive] | None = None
+    model: RobotPhysics | None = field(default=None, repr=False, compare=False)
 
     def __post_init__(self) -> None:
-        check_choice(self.accounting, Accounting, "accounting")
-        if self.drives is None:
-            object.__setattr__(self, "drives", drives_for(self.robot))
+        power_accounting(self.accounting)
+        if self.model is None:
+            object.__setattr__(self, "model", RobotPhysics(self.robot, self.drives))
+        assert self.model is not None
+        object.__setattr__(self, "drives", self.model.drives)
+
+    @property
+    def robot_physics(self) -> RobotPhysics:
+        """The robot's physics, shared by every gait and accounting."""
+        assert self.model is not None
+        return self.model
 
     def with_gait(self, gait: Gait) -> EnergyPipeline:
-        """The same robot, drives and accounting with another gait, sharing the legs' physics.
+        """The same robot physics and accounting with another gait (or rate)."""
+        return EnergyPipeline(self.robot, gait, self.accounting, model=self.robot_physics)
 
-        The physics does not depend on the gait, so the per-leg CasADi functions (and the
-        optimizers' compiled kernels keyed on them) are built once for every gait.
-        """
-        other = EnergyPipeline(self.robot, gait, self.accounting, self.drives)
-        other.__dict__["_physics"] = self._physics
-        return other
+    def with_accounting(self, accounting: Accounting) -> EnergyPipeline:
+        """The same robot physics and gait with another accounting."""
+        return EnergyPipeline(self.robot, self.gait, accounting, model=self.robot_physics)
 
     def physics(self, leg: str) -> LegPhysics:
-        """The leg's :class:`LegPhysics` (built once)."""
-        if leg not in self._physics:
-            model_leg = self.robot.leg(leg)
-            drives = leg_drives(dict(self.drives or {}), model_leg.joint_names)
-            self._physics[leg] = LegPhysics(LegKinematics(model_leg), drives)
-        return self._physics[leg]
-
-    @cached_property
-    def _physics(self) -> dict[str, LegPhysics]:
-        return {}
+        """The leg's :class:`LegPhysics` (built once per robot)."""
+        return self.robot_physics.leg(leg)
 
     def kinematics(self, leg: str) -> LegKinematics:
         """The leg's kinematics."""

@@ -19,13 +19,14 @@ from typing import Any
 
 import numpy as np
 
+from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.errors import ConfigError, GaitError, ScalfError
 from scalf_opt.files import read_untrusted_text
 from scalf_opt.io.provenance import sha256_of
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.robot import Robot
-from scalf_opt.types import LEG_NAMES, Accounting, check_choice
+from scalf_opt.types import LEG_NAMES, Accounting
 
 SUMMARY_FILE = "summary.json"
 
@@ -203,7 +204,7 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
     gait = _gait(path, _field(path, data, "gait", dict))
     accounting = _field(path, data, "accounting", str)
     try:
-        check_choice(accounting, Accounting, "accounting")
+        power_accounting(accounting)
     except ScalfError as exc:
         raise ConfigError(f"{path}: {exc}") from exc
     legs = _field(path, data, "legs", dict)

@@ -8,28 +8,63 @@ _PERIOD_SOURCES = {
     "--period": "given",
     "contact": "median time between touch-downs",
     "gait": "the gait's",
+    "motion": "the motion's, from the lengths' self-similarity",
 }
 
 _PHASE_SOURCES = {
     "contact": "contact column",
     "schedule": "trot schedule (t = 0: RF and LH touch down)",
 }
+# a bag's time origin is its first message (scalf_opt.logs.bag_log)
 
 
-def log_report(analysis: LogAnalysis) -> str:
-    """Per leg and phase the mechanical energy per cycle; the robot's average power."""
+_WORDS = {
+    "cylinder": {
+        "log": "cylinder log",
+        "velocity": "cylinder velocity",
+        "measured": "the log's own (measured speeds, no filter)",
+        "power": "sum |F v|",
+        "loss": "friction heat",
+        "total": "with the cylinders' friction heat (the model's Stribeck law at the measured "
+        "velocity)",
+    },
+    "joint": {
+        "log": "joint log",
+        "velocity": "joint velocity",
+        "measured": "the log's own (measured rates, no filter)",
+        "power": "sum |tau qd|",
+        "loss": "drive beyond",
+        "total": "drawn by the drives (their model at the measured state)",
+    },
+}
+"""The words of the two kinds of log: a cylinder log and a joint log (a robot without
+cylinders, :mod:`scalf_opt.logs.joint_log`)."""
+
+
+def log_report(
+    analysis: LogAnalysis, velocity_source: str = "filter", kind: str = "cylinder"
+) -> str:
+    """Per leg and phase the mechanical energy per cycle; the robot's average power.
+
+    ``velocity_source`` is ``measured`` when the log's own speeds were used; ``kind`` is
+    ``cylinder`` or ``joint``.
+    """
+    words = _WORDS[kind]
     first = analysis.as_dict()
     filt = first["filter"]
+    loss = words["loss"]
     lines = [
-        f"cylinder log {analysis.source}: legs {', '.join(analysis.legs)}, "
+        f"{words['log']} {analysis.source}: legs {', '.join(analysis.legs)}, "
         f"{analysis.sample_rate_hz:.1f} Hz",
         f"gait period {analysis.period_s:.4g} s ({_PERIOD_SOURCES[analysis.period_source]}); "
         f"phases from the {_PHASE_SOURCES[analysis.phase_source]}",
-        f"cylinder velocity: degree-{filt['degree']} least-squares fit over "
-        f"{1e3 * filt['window_s']:.0f} ms ({filt['samples']} samples)",
+        f"{words['velocity']}: degree-{filt['degree']} least-squares fit over "
+        f"{1e3 * filt['window_s']:.0f} ms ({filt['samples']} samples)"
+        if velocity_source == "filter"
+        else f"{words['velocity']}: {words['measured']}",
         "",
-        "       mechanical energy sum |F v|, mean per complete cycle",
-        "leg   cycles   swing [J]   stance [J]   cycle [J]   friction heat [J]",
+        f"       mechanical energy {words['power']}, mean per complete cycle",
+        f"leg   cycles   swing [J]   stance [J]   cycle [J]   {loss + ' [J]':>17s}",
     ]
     for leg, energy in analysis.legs.items():
         e = energy.mechanical_j
@@ -48,6 +83,6 @@ def log_report(analysis: LogAnalysis) -> str:
         "",
         f"average power of the robot ({len(analysis.legs)} legs): "
         f"{analysis.average_power_w:.2f} W mechanical; {analysis.average_total_power_w:.2f} W "
-        "with the cylinders' friction heat (the model's Stribeck law at the measured velocity)",
+        f"{words['total']}",
     ]
     return "\n".join(lines) + "\n"

@@ -19,6 +19,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError, GaitError, InfeasibleError
@@ -32,13 +33,15 @@ from scalf_opt.optimize.sampling import (
     CHECK_FACTOR,
     MAX_RATE_HZ,
     SAMPLING_TOLERANCE,
+    check_rate_hz,
     initial_rate_hz,
     relative_difference,
     with_rate,
 )
-from scalf_opt.optimize.solve import SwingOptimum, optimize
+from scalf_opt.optimize.solve import SwingOptimum
+from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SolverOptions, solver
 from scalf_opt.optimize.starts import starts
-from scalf_opt.types import Method, check_choice
+from scalf_opt.types import Method
 
 
 @dataclass(frozen=True)
@@ -46,7 +49,7 @@ class Settings:
     """How to optimize (the defaults of ``scalf-opt optimize`` and ``scalf-opt paper``).
 
     Attributes:
-        method: ``ipopt`` or ``pattern``.
+        method: The solver's name (:data:`~scalf_opt.optimize.solvers.SOLVERS`).
         starts: Number of deterministic starts per leg (the first is the default start).
         pattern: Pattern-search settings (the paper's by default).
         sampling_tolerance: Largest relative difference between the optimum's energy at its
@@ -54,16 +57,21 @@ class Settings:
         ipopt: Extra Ipopt options (``{"print_level": 5}``: its iteration log), or ``None``.
     """
 
-    method: Method = "ipopt"
+    method: Method = DEFAULT_SOLVER
     starts: int = 1
     pattern: PatternSearchOptions = field(default_factory=PatternSearchOptions)
     sampling_tolerance: float = SAMPLING_TOLERANCE
     ipopt: dict[str, Any] | None = None
 
     def __post_init__(self) -> None:
-        check_choice(self.method, Method, "method")
+        solver(self.method)  # a name no solver has: ConfigError
         if isinstance(self.starts, bool) or not isinstance(self.starts, int) or self.starts < 1:
             raise ConfigError(f"--starts must be an integer >= 1, got {self.starts!r}")
+
+    @property
+    def solver_options(self) -> SolverOptions:
+        """The options the solvers read."""
+        return SolverOptions(self.pattern, self.ipopt)
 
 
 @dataclass
@@ -201,6 +209,13 @@ class SwingOptimization:
         """Every leg solved, with converged energies."""
         return self.converged_sampling and all(r.success for r in self.legs.values())
 
+    def failure(self) -> str:
+        """What did not converge, in one phrase ('' when everything did)."""
+        parts = [f"{r.leg} ({r.best.status})" for r in self.legs.values() if not r.success]
+        if not self.converged_sampling and not parts:
+            parts.append(f"the sampling by {self.rate_hz:g} Hz")
+        return ", ".join(parts)
+
     @property
     def thetas(self) -> dict[str, np.ndarray]:
         """The best parameters per leg."""
@@ -228,16 +243,16 @@ def check_bounded(pipeline: EnergyPipeline, legs: tuple[str, ...]) -> None:
     Raises:
         ConfigError: The accounting is ``regenerative`` and a leg's drives have no losses.
     """
-    if pipeline.accounting != "regenerative":
+    if power_accounting(pipeline.accounting).optimizable_without_losses():
         return
     q, qd, tau = (ca.SX.sym(n) for n in ("q", "qd", "tau"))
     for leg in legs:
         drives = pipeline.physics(leg).drives
         if all(ca.SX(d.loss_rate(q, qd, tau)).is_zero() for d in drives):
             raise ConfigError(
-                f"--accounting regenerative: the drives of leg {leg} lose nothing, so every "
-                "swing between the same end states costs the same energy (the change of the "
-                "leg's mechanical energy); there is nothing to optimize"
+                f"--accounting {pipeline.accounting}: the drives of leg {leg} lose nothing, "
+                "so every swing between the same end states costs the same energy (the change "
+                "of the leg's mechanical energy); there is nothing to optimize"
             )
 
 
@@ -247,20 +262,6 @@ def reference_swing_energy_j(pipeline: EnergyPipeline, leg: str) -> float:
         return float(pipeline.swing(leg, make_family("reference")).energy_j.sum())
     except (InfeasibleError, GaitError):  # the reference's own path is the gait's: GaitError
         return math.nan
-
-
-IPOPT_ATTEMPTS: tuple[dict[str, Any], ...] = (
-    {"max_iter": 1000},
-    {"mu_strategy": "monotone", "max_iter": 1000},
-    {"mu_strategy": "monotone", "nlp_scaling_method": "none", "max_iter": 3000},
-)
-"""Ipopt's strategies, tried in turn from the same start until one converges. The adaptive
-barrier update (Ipopt's options in :mod:`scalf_opt.optimize.nlp`) is the fastest; on optima
-riding actuator limits (HyQ's cylinders at their 1960 N pull, foot-space families of order 5
-and more) it can wander for thousands of iterations where the monotone update converges in a
-few hundred, and HyQ's ``fourier-12`` (RF) converges only without Ipopt's gradient-based
-scaling. Options the user sets (``Settings.ipopt``) win; a strategy that would change one of
-them is skipped."""
 
 
 def _solve_leg(
@@ -278,20 +279,12 @@ def _solve_leg(
     """
     raise_if_stopped()
     problem = SwingProblem(pipeline, leg, family)
-    user = settings.ipopt or {}
-    attempts = IPOPT_ATTEMPTS if settings.method == "ipopt" else ({},)
-    for attempt in attempts:
-        if any(key in user for key in attempt if key != "max_iter"):
-            continue  # the user chose that option: no other strategy is tried for it
-        options = {**attempt, **user}
-        optimum = optimize(problem, settings.method, theta0, settings.pattern, options)
-        if optimum.success:
-            break
+    if theta0 is None:
+        theta0 = np.zeros(problem.n_params)
+    optimum = solver(settings.method).solve(problem, theta0, settings.solver_options)
     check = math.inf
     if optimum.success:
-        fine_pipeline = pipeline.with_gait(
-            with_rate(pipeline.gait, pipeline.gait.sample_rate_hz * CHECK_FACTOR)
-        )
+        fine_pipeline = pipeline.with_gait(with_rate(pipeline.gait, check_rate_hz(pipeline.gait)))
         check, crossed = SwingProblem(fine_pipeline, leg, family).energy_and_bound_excess(
             optimum.theta
         )
@@ -337,7 +330,9 @@ def optimize_swings(
         if theta0 is not None and leg in theta0:
             label, theta = "given", np.asarray(theta0[leg], dtype=float)
         else:
-            label, theta = starts(SwingProblem(pipeline, leg, family), settings.method, 1)[0]
+            label, theta = starts(SwingProblem(pipeline, leg, family), solver(settings.method), 1)[
+                0
+            ]
         first[leg] = (label, theta)
         current[leg] = theta
     answers: dict[str, tuple[SwingOptimum, float]] = {}
@@ -366,7 +361,7 @@ def optimize_swings(
         ok = optimum.success and error <= settings.sampling_tolerance
         runs = [StartResult(first[leg][0], optimum, check, ok)]
         problem = SwingProblem(at_rate, leg, family)
-        for label, theta in starts(problem, settings.method, settings.starts)[1:]:
+        for label, theta in starts(problem, solver(settings.method), settings.starts)[1:]:
             if progress is not None:
                 progress(f"{leg}: start {label}")
             other, other_check = _solve_leg(at_rate, leg, family, settings, theta)

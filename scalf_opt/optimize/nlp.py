@@ -44,6 +44,7 @@ from typing import Any
 import casadi as ca
 import numpy as np
 
+from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.interrupts import interruptible
 from scalf_opt.optimize.kernels import casadi_name
 from scalf_opt.optimize.problem import SwingProblem
@@ -80,8 +81,6 @@ SPARSE_BASIS_DENSITY = 0.25
 """A family's basis with fewer nonzeros than this fraction is built into the NLP as a sparse
 constant (B-splines) instead of a dense parameter (Fourier families)."""
 
-SLACKS_PER_JOINT_SAMPLE: dict[str, int] = {"paper": 2, "positive": 1, "regenerative": 0}
-
 
 @dataclass
 class BuiltNlp:
@@ -109,15 +108,15 @@ class BuiltNlp:
 
     @property
     def n_slack_rows(self) -> int:
-        """Slack constraints in ``g`` (one per charged joint and sample, unless regenerative)."""
-        if self.accounting == "regenerative":
+        """Slack constraints in ``g``: one per charged joint and sample when there are slacks."""
+        if not power_accounting(self.accounting).slacks:
             return 0
         return len(self.charged) * self.n_samples
 
     @property
     def n_slacks(self) -> int:
         """Slack variables after ``theta`` and ``Y``."""
-        return SLACKS_PER_JOINT_SAMPLE[self.accounting] * len(self.charged) * self.n_samples
+        return power_accounting(self.accounting).slacks * len(self.charged) * self.n_samples
 
 
 def _basis_matrix(problem: SwingProblem) -> np.ndarray:
@@ -216,18 +215,13 @@ def _build(
     k = len(charged)
     if k:
         power = ca.vertcat(*(p_mech[i, :] for i in charged))  # k x n
-        if accounting == "paper":
-            s_pos, s_neg = ca.MX.sym("s_pos", k, n), ca.MX.sym("s_neg", k, n)
-            variables += [ca.vec(s_pos), ca.vec(s_neg)]
-            constraints.append(ca.vec(s_pos - s_neg - power))
-            cost += ca.sum2(ca.sum1(s_pos + s_neg) * w)
-        elif accounting == "positive":
-            u = ca.MX.sym("u", k, n)
-            variables.append(ca.vec(u))
-            constraints.append(ca.vec(u - power))
-            cost += ca.sum2(ca.sum1(u) * w)
-        else:
-            cost += ca.sum2(ca.sum1(power) * w)
+        rule = power_accounting(accounting)
+        slacks = [ca.MX.sym(f"slack{j}", k, n) for j in range(rule.slacks)]
+        variables += [ca.vec(s) for s in slacks]
+        rows = rule.slack_rows(power, slacks)
+        if rows is not None:
+            constraints.append(ca.vec(ca.MX(rows)))
+        cost += ca.sum2(ca.sum1(rule.smooth_cost(power, slacks)) * w)
     constraints.append(ca.vec(c)[index.tolist()])
     return ca.nlpsol(
         casadi_name(kernel.physics.leg.name, kernel.space, accounting, f"n{n}", f"p{n_theta}"),
@@ -273,11 +267,8 @@ def solve_nlp(built: BuiltNlp, problem: SwingProblem, theta0: np.ndarray) -> Nlp
     n = problem.n_samples
     outputs = problem.outputs(theta0)
     p_mech = np.nan_to_num(outputs["p_mech"][list(built.charged)])  # k x n
-    slacks = {
-        "paper": [np.maximum(p_mech, 0.0), np.maximum(-p_mech, 0.0)],
-        "positive": [np.maximum(p_mech, 0.0)],
-        "regenerative": [],
-    }[built.accounting]
+    rule = power_accounting(built.accounting)
+    slacks = rule.initial_slacks(p_mech)
     y_lo, y_hi = problem.input_bounds
     m = 6 * n if built.lifted else 0  # lifted samples and their linear equalities
     x0 = np.concatenate(
@@ -295,8 +286,10 @@ def solve_nlp(built: BuiltNlp, problem: SwingProblem, theta0: np.ndarray) -> Nlp
     )
     c_lo, c_hi = problem.constraint_bounds
     index = constraint_index(problem, built.lifted)
-    slack_hi = 0.0 if built.accounting == "paper" else np.inf
-    lbg = np.concatenate([np.zeros(m), np.zeros(built.n_slack_rows), c_lo.ravel(order="F")[index]])
+    slack_lo, slack_hi = rule.slack_row_bounds()
+    lbg = np.concatenate(
+        [np.zeros(m), np.full(built.n_slack_rows, slack_lo), c_lo.ravel(order="F")[index]]
+    )
     ubg = np.concatenate(
         [np.zeros(m), np.full(built.n_slack_rows, slack_hi), c_hi.ravel(order="F")[index]]
     )

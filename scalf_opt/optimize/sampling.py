@@ -21,8 +21,9 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.gait import MAX_SAMPLES_PER_PHASE, Gait
 from scalf_opt.locomotion.swing.family import SwingFamily
+from scalf_opt.types import PHASES
 
 SAMPLES_PER_SHORTEST_PERIOD = 25
 """Samples per period of the family's fastest variation at the first rate tried.
@@ -53,6 +54,17 @@ def initial_rate_hz(gait: Gait, family: SwingFamily) -> float:
     """The first rate to optimize ``family`` at: the gait's, or finer for a fast family [Hz]."""
     needed = SAMPLES_PER_SHORTEST_PERIOD / family.shortest_period_s(gait.swing_duration_s)
     return max(gait.sample_rate_hz, float(needed))
+
+
+def check_rate_hz(gait: Gait) -> float:
+    """The rate an optimum at ``gait``'s rate is checked at [Hz].
+
+    :data:`CHECK_FACTOR` times the rate, but no finer than the finest grid a gait may have
+    (:data:`~scalf_opt.locomotion.gait.MAX_SAMPLES_PER_PHASE` intervals in its longer phase):
+    at the free-trajectory bound's finest level (8,192 Hz) that is 9.8 times the rate.
+    """
+    longest_s = max(gait.phase_duration_s(phase) for phase in PHASES)
+    return min(gait.sample_rate_hz * CHECK_FACTOR, MAX_SAMPLES_PER_PHASE / longest_s)
 
 
 def with_rate(gait: Gait, rate_hz: float) -> Gait:

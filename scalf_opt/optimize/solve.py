@@ -1,6 +1,7 @@
-"""Run either optimizer on a :class:`SwingProblem` and return one result type.
+"""The two optimizers on a :class:`SwingProblem`, returning one result type.
 
-Both answers are evaluated with the exact, non-smooth swing energy of
+The registry that chooses between them is :mod:`scalf_opt.optimize.solvers`. Both answers are
+evaluated with the exact, non-smooth swing energy of
 :meth:`SwingProblem.evaluate`, whatever the optimizer minimised internally.
 """
 
@@ -12,7 +13,6 @@ from typing import Any
 
 import numpy as np
 
-from scalf_opt.errors import ConfigError
 from scalf_opt.optimize.nlp import build_nlp, solve_nlp
 from scalf_opt.optimize.pattern_search import (
     PatternSearchOptions,
@@ -20,7 +20,7 @@ from scalf_opt.optimize.pattern_search import (
     pattern_search,
 )
 from scalf_opt.optimize.problem import SwingProblem
-from scalf_opt.types import Method, check_choice
+from scalf_opt.types import Method
 
 
 @dataclass
@@ -212,19 +212,3 @@ def run_ipopt(
         wall_time_s=elapsed,
         stats=stats,
     )
-
-
-def optimize(
-    problem: SwingProblem,
-    method: Method,
-    theta0: np.ndarray | None = None,
-    pattern_options: PatternSearchOptions | None = None,
-    ipopt_options: dict[str, Any] | None = None,
-) -> SwingOptimum:
-    """Run ``method`` (``pattern`` or ``ipopt``) on ``problem``."""
-    check_choice(method, Method, "method")
-    if method not in ("pattern", "ipopt"):
-        raise ConfigError(f"method {method!r} optimizes no family (see scalf_opt.optimize.bound)")
-    if method == "pattern":
-        return run_pattern_search(problem, theta0, pattern_options)
-    return run_ipopt(problem, theta0, ipopt_options)

@@ -1,9 +1,8 @@
 """Where the optimizers start: the default start, the member closest to a path, more starts.
 
-* The **default start** (the first of ``--starts N``): zero parameters for Ipopt and for the
-  pattern search on the paper family (the paper's start (0, 0)); for the pattern search on any
-  other family the member closest to the reference swing, so that a search with many
-  parameters and small steps begins where the reference is, not at an arbitrary member.
+* The **default start** (the first of ``--starts N``), where the solver says
+  (:meth:`~scalf_opt.optimize.solvers.SwingSolver.default_start`): zero parameters, or the
+  member closest to the reference swing.
 * The **member closest to a path**: the least-squares fit of the family's affine samples to the
   path's value, rate and acceleration, weighted by ``T_sw`` and ``T_sw^2`` so that the three are
   comparable (a dimensionless fit in the family's space: joint angles or foot position). The
@@ -24,7 +23,7 @@ import numpy as np
 
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.problem import SwingProblem
-from scalf_opt.types import Method
+from scalf_opt.optimize.solvers import SwingSolver
 
 FIT_RCOND = 1e-4
 """Relative singular-value cutoff of the least-squares fit of a path."""
@@ -65,16 +64,16 @@ def closest_to_reference(problem: SwingProblem) -> np.ndarray:
     return closest_member(problem, reference_path(problem))
 
 
-def default_start(problem: SwingProblem, method: Method) -> tuple[str, np.ndarray]:
-    """The first start: ``(label, theta)``."""
-    if method == "pattern" and problem.family.name != "paper":
+def default_start(problem: SwingProblem, solver: SwingSolver) -> tuple[str, np.ndarray]:
+    """The first start: ``(label, theta)``, where the solver says."""
+    if solver.default_start(problem) == "closest to the reference":
         return "closest to the reference", closest_to_reference(problem)
     return "zero", np.zeros(problem.n_params)
 
 
-def starts(problem: SwingProblem, method: Method, count: int) -> list[tuple[str, np.ndarray]]:
+def starts(problem: SwingProblem, solver: SwingSolver, count: int) -> list[tuple[str, np.ndarray]]:
     """``count`` deterministic starts ``(label, theta)``; the first is :func:`default_start`."""
-    out = [default_start(problem, method)]
+    out = [default_start(problem, solver)]
     closest = closest_to_reference(problem) if count > 1 else None
     if closest is not None and out[0][0] != "closest to the reference":
         out.append(("closest to the reference", closest))

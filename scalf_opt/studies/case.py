@@ -1,4 +1,9 @@
-"""One case of a study: evaluate the reference swing, optimize, and report one row of results.
+"""One case of a study: optimize, and report one row of results beside the reference.
+
+The optimum comes from the one optimization driver (:func:`scalf_opt.optimize.driver
+.optimize_swings`, under ``scalf-opt optimize`` too, with its defaults), so a one-case study
+prints the energies ``optimize`` prints; the reference in the row is at the optimum's converged
+rate, as there.
 
 :func:`run_case` is what a worker runs (a local process or a Dask worker): it takes a
 :class:`~scalf_opt.studies.study_file.Case` (plain data) and returns a plain dict, never raises
@@ -31,8 +36,7 @@ from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.naming import legs_file_for
 from scalf_opt.model.robot import Robot
 from scalf_opt.model.urdf_file import MAX_URDF_BYTES
-from scalf_opt.optimize.problem import SwingProblem
-from scalf_opt.optimize.solve import optimize
+from scalf_opt.optimize.driver import Settings, optimize_swings
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.robots.variants import VariantScales, derive_variant
 from scalf_opt.studies.study_file import Case
@@ -137,22 +141,20 @@ def run_case(case: Case) -> dict[str, Any]:
             row["thigh_length_m"] = rf.thigh_length_m
             row["shank_length_m"] = rf.shank_length_m
             row["thigh_to_shank"] = rf.thigh_length_m / rf.shank_length_m
-            pipeline = EnergyPipeline(robot, gait, case.accounting)  # type: ignore[arg-type]
-            _energies(row, pipeline.robot_cycle(make_family("reference")), "reference")
-            family = make_family(case.family)
-            method = case.method
-            optima = {
-                leg: optimize(SwingProblem(pipeline, leg, family), method)  # type: ignore[arg-type]
-                for leg in _legs(case.optimize)
-            }
-            failed = [f"{o.leg}: {o.status}" for o in optima.values() if not o.success]
-            if failed:
+            pipeline = EnergyPipeline(robot, gait, case.accounting)
+            settings = Settings(method=case.method)
+            run = optimize_swings(
+                pipeline, _legs(case.optimize), make_family(case.family), settings
+            )
+            reference = run.reference_cycle()
+            _energies(row, reference, "reference")
+            if not run.success:
                 row["status"] = STATUS_NOT_SOLVED
-                row["error"] = "; ".join(failed)
+                row["error"] = run.failure()
                 return row
-            cycle = pipeline.robot_cycle(family, {leg: o.theta for leg, o in optima.items()})
+            cycle = run.cycle()
             _energies(row, cycle, "optimized")
-            row["saving_pct"] = -change_percent(cycle.energy_j, row["reference_energy_j"])
+            row["saving_pct"] = -change_percent(cycle.energy_j, reference.energy_j)
             row["status"] = STATUS_OK
     except ScalfError as exc:
         row["status"], row["error"] = STATUS_ERROR, str(exc)

@@ -6,6 +6,7 @@ actuator file. Percentages are signed changes of the optimized trajectory agains
 
 from __future__ import annotations
 
+from scalf_opt.energy.accounting import PAPER_ACCOUNTING
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.robot import Robot
 
@@ -29,6 +30,6 @@ MIT_CHEETAH_COT = 0.51
 """Section 1: cost of transport of the MIT Cheetah, for comparison."""
 
 
-def is_paper_setup(robot: Robot, gait: Gait) -> bool:
-    """SCalf on the paper's gait: the only setup whose numbers the paper's can be set beside."""
-    return robot.name == "scalf" and gait == Gait()
+def is_paper_setup(robot: Robot, gait: Gait, power: str = PAPER_ACCOUNTING) -> bool:
+    """SCalf on the paper's gait and accounting: the only setup the paper's numbers fit."""
+    return robot.name == "scalf" and gait == Gait() and power == PAPER_ACCOUNTING

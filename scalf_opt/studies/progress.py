@@ -1,10 +1,16 @@
-"""A one-line progress bar for a study, drawn on a terminal only (never into a log or a pipe)."""
+"""A study's progress: a one-line bar on a terminal, heartbeat lines on stderr otherwise.
+
+The bar is drawn on a terminal only (never into a log or a pipe); there, a
+:class:`~scalf_opt.heartbeat.Heartbeat` says every 10 s how many cases are done.
+"""
 
 from __future__ import annotations
 
 import sys
 import time
 from typing import TextIO
+
+from scalf_opt.heartbeat import Heartbeat
 
 
 class Progress:
@@ -25,11 +31,18 @@ class Progress:
         self.done = 0
         self.failed = 0
         self.start = time.monotonic()
+        self._heartbeat: Heartbeat | None = None
+        if enabled is None and not self.enabled and total:
+            self._heartbeat = Heartbeat("study").__enter__()
+            self._heartbeat.doing = f"0/{total} cases done"
 
     def update(self, ok: bool) -> None:
         """One more case finished (``ok`` or not)."""
         self.done += 1
         self.failed += 0 if ok else 1
+        if self._heartbeat is not None:
+            failed = f", {self.failed} not ok" if self.failed else ""
+            self._heartbeat.doing = f"{self.done}/{self.total} cases done{failed}"
         self._draw()
 
     def _draw(self) -> None:
@@ -43,7 +56,10 @@ class Progress:
         self.stream.flush()
 
     def close(self) -> None:
-        """End the line the bar was drawn on."""
+        """End the line the bar was drawn on (or stop the heartbeat)."""
+        if self._heartbeat is not None:
+            self._heartbeat.__exit__(None, None, None)
+            self._heartbeat = None
         if self.enabled and self.total:
             self.stream.write("\n")
             self.stream.flush()

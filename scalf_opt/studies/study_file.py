@@ -9,7 +9,7 @@ A study file is TOML::
     legs = "my_legs.toml"     #   legs file and
     actuators = "act.toml"    #   actuator file
     family = "joint-4"        # swing family (default joint-6)
-    method = "ipopt"          # ipopt (default) or pattern
+    method = "ipopt"          # a solver: ipopt (default) or pattern
     accounting = "paper"      # paper (default), positive or regenerative
     optimize = "pair"         # legs optimized: pair (default; LF, RH by symmetry), all, RF, ...
 
@@ -39,14 +39,16 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
+from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.errors import ConfigError
 from scalf_opt.files import read_toml
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.optimize.solvers import solver
 from scalf_opt.robots.catalog import robot_names
 from scalf_opt.robots.variants import VariantScales
-from scalf_opt.types import LEG_NAMES, Accounting, Method, check_choice
+from scalf_opt.types import LEG_NAMES
 
 SETTINGS = ("robot", "family", "method", "accounting")
 """Study settings that a sweep may vary."""
@@ -152,9 +154,9 @@ def _check_setting(path: Path, key: str, value: Any, label: str | None = None) -
             if make_family(value).n_params == 0:
                 raise ConfigError(f"family {value!r} has no free parameter to optimize")
         elif key == "method":
-            check_choice(value, Method, "method")
+            solver(value)
         else:
-            check_choice(value, Accounting, "accounting")
+            power_accounting(value)
     except ConfigError as exc:
         raise ConfigError(f"{path}: {label}: {exc}") from exc
     return value

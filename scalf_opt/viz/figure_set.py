@@ -21,18 +21,15 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
-from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
-from scalf_opt.locomotion.gait import Gait
-from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.model.robot import Robot
-from scalf_opt.types import FIRST_PAIR, Accounting
+from scalf_opt.types import FIRST_PAIR
 from scalf_opt.viz.cycle_figures import foot_force_figure, joint_figure
 from scalf_opt.viz.energy_figure import energy_bars_figure
 from scalf_opt.viz.plotting import FORMATS, close, save_figure
-from scalf_opt.viz.search_figure import GRID_POINTS, search_figure, search_study
+from scalf_opt.viz.search_figure import LegSearch, search_figure
 from scalf_opt.viz.stick_figure import foot_path_figure, leg_snapshot_figure
-from scalf_opt.viz.trajectories import Trajectory, shown_trajectories
+from scalf_opt.viz.trajectories import Trajectory
 
 FIGURE_NAMES = (
     "joint_angles",
@@ -50,10 +47,9 @@ FIGURE_NAMES = (
 def write_figures(
     out: str | Path,
     robot: Robot,
-    pipeline: EnergyPipeline,
     trajectories: Sequence[Trajectory],
+    search: dict[str, LegSearch],
     formats: Sequence[str] = FORMATS,
-    grid_points: int = GRID_POINTS,
     legs: Sequence[str] = FIRST_PAIR,
     on_written: Callable[[Path], None] | None = None,
 ) -> list[Path]:
@@ -62,10 +58,10 @@ def write_figures(
     Args:
         out: Output directory (created if missing).
         robot: The robot.
-        pipeline: The robot's energy pipeline (its gait is the trajectories').
         trajectories: What to compare, the reference first.
+        search: The pattern search and Ipopt over their landscape, per leg
+            (:func:`scalf_opt.studies.search.search_study`).
         formats: File formats (``png``, ``svg``).
-        grid_points: Landscape points per parameter of the pattern-search figure.
         legs: The legs drawn where a figure shows some legs (default: the diagonal pair).
         on_written: Called with each file as it is written (progress).
 
@@ -73,13 +69,11 @@ def write_figures(
         The files written, in :data:`FIGURE_NAMES` order, each in ``formats`` order.
 
     Raises:
-        ConfigError: An unknown format, a grid of fewer than 3 points, or nothing to draw.
+        ConfigError: An unknown format, or nothing to draw.
     """
     unknown = [f for f in formats if f not in FORMATS]
     if unknown or not formats:
         raise ConfigError(f"figure formats must be among {', '.join(FORMATS)}, got {formats}")
-    if grid_points < 3:
-        raise ConfigError(f"the landscape grid needs at least 3 points, got {grid_points}")
     if not trajectories:
         raise ConfigError("nothing to draw: give at least one trajectory")
     directory = Path(out)
@@ -92,7 +86,7 @@ def write_figures(
         "foot_forces": lambda: foot_force_figure(trajectories[0].cycle, robot.trunk_mass_kg),
         "foot_paths": lambda: foot_path_figure(trajectories, legs),
         "leg_snapshots": lambda: leg_snapshot_figure(robot, trajectories, legs),
-        "pattern_search": lambda: search_figure(search_study(pipeline, legs, grid_points)),
+        "pattern_search": lambda: search_figure(search),
         "energy_bars": lambda: energy_bars_figure(trajectories),
     }
     written = []
@@ -109,41 +103,3 @@ def write_figures(
         finally:
             close(fig)
     return written
-
-
-def figures(
-    out: str | Path = "figures",
-    robot: str | Robot = "scalf",
-    from_dirs: Sequence[str | Path] = (),
-    gait: Gait | None = None,
-    accounting: Accounting = "paper",
-    formats: Sequence[str] = FORMATS,
-    grid_points: int = GRID_POINTS,
-) -> tuple[list[Path], list[Trajectory]]:
-    """Compute what to compare and write every figure; return the files and the trajectories.
-
-    >>> from scalf_opt.viz.figure_set import figures
-    >>> files, shown = figures("figures", robot="hyq")
-
-    Args:
-        out: Output directory.
-        robot: A catalog name (``scalf``, ``hyq``, ``solo12``) or a loaded robot.
-        from_dirs: Result directories of ``scalf-opt optimize --out``; none: the reference and
-            the default optimum (``joint-6``, Ipopt).
-        gait: The gait without ``from_dirs`` (default: the robot's).
-        accounting: Power accounting without ``from_dirs``.
-        formats: File formats.
-        grid_points: Landscape points per parameter.
-
-    Raises:
-        ConfigError: Bad arguments, or a gait together with result directories.
-        NotSolvedError: The default optimum did not converge (nothing is written).
-    """
-    from scalf_opt.robots.loading import load_robot
-
-    if gait is not None and from_dirs:
-        raise ConfigError("give a gait or result directories (which bring their own), not both")
-    loaded = load_robot(robot) if isinstance(robot, str) else robot
-    base = gait or default_gait_for(loaded)
-    pipeline, shown = shown_trajectories(loaded, base, from_dirs, accounting)
-    return write_figures(out, loaded, pipeline, shown, formats, grid_points), shown

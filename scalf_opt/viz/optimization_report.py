@@ -168,12 +168,13 @@ def optimization_warnings(run: SwingOptimization) -> list[str]:
 
 
 def bound_report(bounds: dict[str, FreeBound]) -> str:
-    """Text of ``scalf-opt optimize --method free``: the bound per leg and its refinement."""
+    """Text of the free-trajectory bound per leg, its status and its refinement."""
     lines = []
     for leg, b in bounds.items():
-        verdict = "converged" if b.success else "NOT CONVERGED"
+        verdict = b.status_text() if b.success else f"NOT CONVERGED: {b.status_text()}"
         steps = "; ".join(
             f"{lv.spans} spans: {lv.swing_energy_j:.4f} J at {lv.sample_rate_hz:g} Hz"
+            + ("" if lv.success else f" ({lv.status})")
             for lv in b.levels
         )
         lines += [

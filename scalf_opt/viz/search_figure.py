@@ -7,11 +7,13 @@ a contour line (inside it the paper family beats the reference), the pattern sea
 points (its feasibility phase from the infeasible start (0, 0), then its energy phase) and
 Ipopt's optimum; below, the energy of the accepted points per iteration, with the feasibility
 phase's constraint violation, and the reference and Ipopt levels.
+
+The searches and the landscape are computed above this floor
+(:func:`scalf_opt.studies.search.search_study`); this module only draws them.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
 from dataclasses import dataclass
 
 import matplotlib.pyplot as plt
@@ -23,19 +25,9 @@ from matplotlib.contour import QuadContourSet
 from matplotlib.figure import Figure
 from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter
 
-from scalf_opt.energy.pipeline import EnergyPipeline
-from scalf_opt.locomotion.swing.registry import make_family
-from scalf_opt.optimize.landscape import EnergyLandscape, energy_landscape
-from scalf_opt.optimize.pattern_search import PatternSearchOptions
-from scalf_opt.optimize.problem import SwingProblem
-from scalf_opt.optimize.solve import SwingOptimum, run_ipopt, run_pattern_search
-from scalf_opt.types import FIRST_PAIR
+from scalf_opt.optimize.landscape import EnergyLandscape
+from scalf_opt.optimize.solve import SwingOptimum
 from scalf_opt.viz.plotting import style
-
-GRID_POINTS = 61
-"""Landscape points per parameter by default (61 x 61 exact evaluations per leg)."""
-
-FAMILY = "paper"
 
 FEASIBILITY_COLOR = "#ff7f0e"
 SEARCH_COLOR = "#d62728"
@@ -49,48 +41,14 @@ class LegSearch:
     Attributes:
         pattern: The pattern search (the paper's settings) on the paper family.
         ipopt: Ipopt on the same family (the NLP optimum).
-        landscape: The exact swing energy over (C1, C2).
-        reference_swing_j: The reference spline's swing energy [J].
+        landscape: The exact swing energy over (C1, C2), at the optima's rate.
+        reference_swing_j: The reference spline's swing energy at the same rate [J].
     """
 
     pattern: SwingOptimum
     ipopt: SwingOptimum
     landscape: EnergyLandscape
     reference_swing_j: float
-
-
-def search_study(
-    pipeline: EnergyPipeline,
-    legs: Sequence[str] = FIRST_PAIR,
-    grid_points: int = GRID_POINTS,
-    options: PatternSearchOptions | None = None,
-) -> dict[str, LegSearch]:
-    """Run the pattern search and Ipopt on the paper family and map the landscape around them.
-
-    The grid covers every accepted point of both phases, Ipopt's optimum and the start, with a
-    quarter of their span (at least 2 degrees) as margin on each side.
-    """
-    family = make_family(FAMILY)
-    reference = make_family("reference")
-    out = {}
-    for leg in legs:
-        problem = SwingProblem(pipeline, leg, family)
-        pattern = run_pattern_search(problem, options=options)
-        ipopt = run_ipopt(problem)
-        points = [row[1:3] for row in (*pattern.feasibility_history, *pattern.history)]
-        points += [tuple(ipopt.theta), (0.0, 0.0)]
-        cloud = np.array(points, dtype=float)
-        lo, hi = cloud.min(axis=0), cloud.max(axis=0)
-        pad = np.maximum(0.25 * (hi - lo), 2.0)
-        x = np.linspace(lo[0] - pad[0], hi[0] + pad[0], grid_points)
-        y = np.linspace(lo[1] - pad[1], hi[1] + pad[1], grid_points)
-        out[leg] = LegSearch(
-            pattern=pattern,
-            ipopt=ipopt,
-            landscape=energy_landscape(problem, x, y),
-            reference_swing_j=float(pipeline.swing(leg, reference).energy_j.sum()),
-        )
-    return out
 
 
 def search_figure(study: dict[str, LegSearch]) -> Figure:

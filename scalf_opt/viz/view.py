@@ -1,8 +1,6 @@
-"""The 3-D view as one offline HTML file: the Python side of ``scalf-opt view``.
+"""The 3-D view as one offline HTML file, drawn from the trajectories it is given.
 
->>> from scalf_opt.viz.view import view
->>> view("scene.html")                                  # SCalf: reference and default optimum
->>> view("cmp.html", robot="hyq", from_dirs=["a", "b"])  # two saved optima on HyQ
+What to show is decided above this floor (:func:`scalf_opt.api.presentation.view`).
 """
 
 from __future__ import annotations
@@ -12,13 +10,10 @@ from pathlib import Path
 
 from scalf_opt.errors import ConfigError
 from scalf_opt.files import write_atomic
-from scalf_opt.locomotion.gait import Gait
-from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.model.robot import Robot
-from scalf_opt.types import Accounting
 from scalf_opt.viz.html import scene_page
 from scalf_opt.viz.scene import SceneOptions, build_scene
-from scalf_opt.viz.trajectories import Trajectory, shown_trajectories
+from scalf_opt.viz.trajectories import Trajectory
 
 
 def check_output_file(path: str | Path, suffix: str) -> Path:
@@ -49,37 +44,3 @@ def write_scene_html(
     """
     path = check_output_file(out, ".html")
     return write_atomic(path, scene_page(build_scene(robot, trajectories, options)))
-
-
-def view(
-    out: str | Path = "scene.html",
-    robot: str | Robot = "scalf",
-    from_dirs: Sequence[str | Path] = (),
-    gait: Gait | None = None,
-    accounting: Accounting = "paper",
-    options: SceneOptions | None = None,
-) -> tuple[Path, list[Trajectory]]:
-    """Build and write the view; return the file and the trajectories shown.
-
-    Args:
-        out: The HTML file to write.
-        robot: A catalog name (``scalf``, ``hyq``, ``solo12``) or a loaded robot.
-        from_dirs: Result directories of ``scalf-opt optimize --out``; none: the reference and
-            the default optimum (``joint-6``, Ipopt) are computed.
-        gait: The gait without ``from_dirs`` (default: the robot's).
-        accounting: Power accounting without ``from_dirs``.
-        options: Scene options (cycles, frame rate, colouring, playback speed).
-
-    Raises:
-        ConfigError: Bad arguments, or a gait together with result directories.
-        NotSolvedError: The default optimum did not converge (nothing is written).
-    """
-    from scalf_opt.robots.loading import load_robot
-
-    check_output_file(out, ".html")
-    if gait is not None and from_dirs:
-        raise ConfigError("give a gait or result directories (which bring their own), not both")
-    loaded = load_robot(robot) if isinstance(robot, str) else robot
-    base = gait or default_gait_for(loaded)
-    _, shown = shown_trajectories(loaded, base, from_dirs, accounting)
-    return write_scene_html(out, loaded, shown, options), shown

@@ -277,7 +277,7 @@ def test_optimize_starts_and_regenerative_refusal(tmp_path, capsys):
 
 def test_optimize_free_method_and_free_stance(tmp_path, capsys):
     code, out, _ = run(
-        ["optimize", "--method", "free", "--robot", "hyq", "--leg", "RF", "--out", str(tmp_path)],
+        ["optimize", "--family", "free", "--robot", "hyq", "--leg", "RF", "--out", str(tmp_path)],
         capsys,
     )
     assert code == 0 and "RF: free-trajectory bound" in out
@@ -302,7 +302,12 @@ def test_optimize_bad_arguments(capsys):
     code, _, err = run(["optimize", "--family", "reference"], capsys)
     assert code == 2 and "no free parameter" in err
     code, _, err = run(["optimize", "--family", "bspline-16"], capsys)
-    assert code == 2 and "method 'free'" in err
+    assert code == 2 and "family 'free'" in err
+    code, _, err = run(["optimize", "--family", "free", "--starts", "3"], capsys)
+    assert code == 2 and err.count("\n") == 1 and "--starts" in err  # not silently ignored
+    with pytest.raises(SystemExit) as info:  # the bound is a family, not a solver
+        run(["optimize", "--method", "free"], capsys)
+    assert info.value.code == 2 and "--method: invalid choice: 'free'" in capsys.readouterr().err
     code, _, err = run(["optimize", "--free-stance", "--leg", "RF"], capsys)
     assert code == 2 and "--free-stance" in err
     with pytest.raises(SystemExit) as info:

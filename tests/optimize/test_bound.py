@@ -9,11 +9,19 @@ import pytest
 from scalf_opt.energy.limits import violations
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.bspline import BSplineFamily
 from scalf_opt.locomotion.swing.registry import make_family
-from scalf_opt.optimize.bound import bound_cycle_inputs, bound_for, remaining_estimate
-from scalf_opt.optimize.driver import optimize_swings
+from scalf_opt.optimize.bound import (
+    SAMPLES_PER_SPAN,
+    _projection,
+    bound_cycle_inputs,
+    bound_for,
+    level_rate_hz,
+    remaining_estimate,
+)
+from scalf_opt.optimize.driver import Settings, optimize_swings
 from scalf_opt.optimize.problem import SwingProblem
-from scalf_opt.optimize.sampling import SAMPLING_TOLERANCE
+from scalf_opt.optimize.sampling import SAMPLING_TOLERANCE, with_rate
 
 
 @pytest.fixture(scope="module")
@@ -70,3 +78,30 @@ def test_free_method_families_are_the_bsplines():
     assert family.n_params == 2 * 31 and family.space == "joint"
     # its narrowest bump is one basis function's support, four spans
     np.testing.assert_allclose(make_family("bspline-16").shortest_period_s(0.25), 0.0625)
+
+
+def test_remaining_estimate_assumes_savings_shrink_no_faster_than_by_half():
+    # savings 4, 1: the observed ratio 1/4 would promise 1/3 more; first order promises 1
+    assert remaining_estimate([10.0, 6.0, 5.0]) == pytest.approx(1.0)
+
+
+def test_every_level_samples_every_knot_and_converges_at_its_first_rate(model, bound_and_family):
+    bound, _ = bound_and_family
+    for level in bound.levels:
+        intervals = model.gait.swing_duration_s * level.sample_rate_hz
+        assert intervals == pytest.approx(round(intervals), abs=1e-9)
+        assert round(intervals) % level.spans == 0  # a sample on every knot
+        assert round(intervals) // level.spans == SAMPLES_PER_SPAN  # no refinement was needed
+
+
+def test_the_stated_remainder_holds_one_level_finer_at_twice_the_rate(model, bound_and_family):
+    """The estimate is checked, not only extrapolated: no finer swing beats bound - remainder."""
+    bound, _ = bound_and_family
+    spans = 2 * bound.spans
+    finer = BSplineFamily(spans)
+    rate = 2 * level_rate_hz(model.gait, spans)
+    at_rate = model.with_gait(with_rate(model.gait, rate))
+    start = _projection(at_rate, "RF", finer, bound.family, bound.result.best.theta)
+    run = optimize_swings(at_rate, ("RF",), finer, Settings(), {"RF": start})
+    assert run.legs["RF"].success
+    assert run.legs["RF"].check_energy_j >= bound.check_energy_j - bound.remaining_j

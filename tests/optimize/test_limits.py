@@ -164,23 +164,23 @@ def test_starts_are_deterministic_and_the_best_is_kept(model):
 
 
 def test_a_failed_start_is_reported_not_fatal(model, monkeypatch):
-    from scalf_opt.optimize import driver
+    from scalf_opt.optimize import solve
 
-    real = driver.optimize
+    real = solve.run_ipopt
     seen: list[tuple] = []
     retried = []
 
-    def flaky(problem, method, theta0, pattern, ipopt):
+    def flaky(problem, theta0, ipopt):
         key = tuple(theta0)
         if key not in seen:
             seen.append(key)
-        optimum = real(problem, method, theta0, pattern, ipopt)
+        optimum = real(problem, theta0, ipopt)
         if seen.index(key) == 1:  # every solve from the second start fails, its retry too
             optimum.success, optimum.status = False, "Maximum_Iterations_Exceeded"
             retried.append((ipopt or {}).get("mu_strategy"))
         return optimum
 
-    monkeypatch.setattr(driver, "optimize", flaky)
+    monkeypatch.setattr(solve, "run_ipopt", flaky)
     run = optimize_swings(model, ("RF",), make_family("joint-3"), Settings(starts=3))
     result = run.legs["RF"]
     assert run.success and result.success
@@ -199,13 +199,17 @@ def test_the_member_closest_to_a_path_recovers_it(model):
 
 
 def test_the_pattern_search_on_a_rich_family_starts_at_the_reference(model):
+    from scalf_opt.optimize.solvers import solver
     from scalf_opt.optimize.starts import closest_to_reference, default_start
 
     problem = SwingProblem(model, "LH", make_family("joint-6"))
-    label, theta = default_start(problem, "pattern")
+    label, theta = default_start(problem, solver("pattern"))
     assert label == "closest to the reference"
     np.testing.assert_array_equal(theta, closest_to_reference(problem))
     # that member is close to the reference in energy too (it is its least-squares fit)
     reference = model.swing("LH", make_family("reference")).energy_j.sum()
     assert problem.energy_j(theta) == pytest.approx(reference, rel=0.1)
-    assert default_start(SwingProblem(model, "LH", make_family("paper")), "pattern")[0] == "zero"
+    assert (
+        default_start(SwingProblem(model, "LH", make_family("paper")), solver("pattern"))[0]
+        == "zero"
+    )

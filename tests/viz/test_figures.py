@@ -14,14 +14,19 @@ from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.landscape import energy_landscape
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import run_ipopt
+from scalf_opt.studies.search import search_study
 from scalf_opt.viz.cycle_figures import foot_force_figure, joint_figure
 from scalf_opt.viz.energy_figure import energy_bars_figure
 from scalf_opt.viz.figure_set import FIGURE_NAMES, write_figures
 from scalf_opt.viz.plotting import close, save_figure
-from scalf_opt.viz.search_figure import search_figure, search_study
+from scalf_opt.viz.search_figure import search_figure
 from scalf_opt.viz.stick_figure import foot_path_figure, leg_snapshot_figure
-from scalf_opt.viz.trajectories import optimized_trajectory, reference_trajectory
-from tests.viz.conftest import COARSE_RATE_HZ, coarse_pipeline
+from tests.viz.conftest import (
+    COARSE_RATE_HZ,
+    coarse_pipeline,
+    optimized_trajectory,
+    reference_trajectory,
+)
 
 SMALL_GRID = 7
 
@@ -154,10 +159,10 @@ def test_landscape_agrees_with_the_optimizers(scalf_shown):
         )
 
 
-def test_figures_are_deterministic_and_complete(tmp_path, scalf, scalf_shown):
-    pipeline, shown = scalf_shown
-    first = write_figures(tmp_path / "a", scalf, pipeline, shown, grid_points=SMALL_GRID)
-    second = write_figures(tmp_path / "b", scalf, pipeline, shown, grid_points=SMALL_GRID)
+def test_figures_are_deterministic_and_complete(tmp_path, scalf, scalf_shown, scalf_study):
+    _, shown = scalf_shown
+    first = write_figures(tmp_path / "a", scalf, shown, scalf_study)
+    second = write_figures(tmp_path / "b", scalf, shown, scalf_study)
     assert [p.name for p in first] == [f"{n}.{k}" for n in FIGURE_NAMES for k in ("png", "svg")]
     for a, b in zip(first, second, strict=True):
         assert a.read_bytes() == b.read_bytes(), a.name
@@ -170,7 +175,8 @@ def test_figures_of_other_robots(name, request, tmp_path):
     robot = request.getfixturevalue(name)
     pipeline = coarse_pipeline(robot)
     shown = [reference_trajectory(pipeline), optimized_trajectory(pipeline, "paper")]
-    written = write_figures(tmp_path, robot, pipeline, shown, ("png",), grid_points=5)
+    study = search_study(pipeline, grid_points=5)
+    written = write_figures(tmp_path, robot, shown, study, ("png",))
     assert len(written) == len(FIGURE_NAMES) and all(p.stat().st_size > 10_000 for p in written)
 
 
@@ -205,7 +211,7 @@ def test_cli_figures(tmp_path, capsys):
 
 
 def test_figures_api_default_trajectories(tmp_path, scalf):
-    from scalf_opt.viz.figure_set import figures
+    from scalf_opt.api.presentation import figures
 
     gait = coarse_pipeline(scalf).gait
     files, shown = figures(tmp_path, robot=scalf, gait=gait, formats=("png",), grid_points=3)

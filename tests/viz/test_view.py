@@ -19,12 +19,12 @@ import pytest
 import umsgpack
 from matplotlib import image
 
+from scalf_opt.api.presentation import view
 from scalf_opt.cli import main
 from scalf_opt.files import write_atomic
 from scalf_opt.viz.browser import find_chromium, render_page
 from scalf_opt.viz.html import scene_page, viewer_script
 from scalf_opt.viz.scene import SceneOptions, build_scene
-from scalf_opt.viz.view import view
 from tests.viz.conftest import COARSE_RATE_HZ
 
 MIN_CHANGED_SHARE = 0.10

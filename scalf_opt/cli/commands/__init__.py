@@ -8,6 +8,7 @@ entry in :data:`COMMANDS`.
 from scalf_opt.cli.commands import (
     analyze_log,
     evaluate,
+    export,
     figures,
     model,
     optimize,
@@ -26,6 +27,7 @@ COMMANDS = (
     view,
     figures,
     simulate,
+    export,
     analyze_log,
     variant,
     study,

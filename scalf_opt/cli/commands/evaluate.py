@@ -42,7 +42,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     if result.swing is not None:
         families = sorted({f for f in result.swing.families.values() if f != "reference"})
         title = f"saved optimum ({', '.join(families)}, {result.swing.source})"
-    elif paper_data.is_paper_setup(robot, gait) and args.accounting == "paper":
+    elif paper_data.is_paper_setup(robot, gait, args.accounting):
         comparison = ("paper (Table 6)", paper_data.REFERENCE_AVERAGE_POWER_W)
     written = result.write(args.out) if args.out is not None else []
     console = args.console

@@ -56,24 +56,32 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when every figure is written, 3 when the default optimum is not solved."""
+    from scalf_opt.api.presentation import NotSolvedError, search_pipeline, shown_trajectories
+    from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.errors import ConfigError
+    from scalf_opt.studies.search import search_study
     from scalf_opt.viz.figure_set import write_figures
-    from scalf_opt.viz.trajectories import NotSolvedError, shown_trajectories
 
     check_output_dir(args.out)
     if args.grid < 3:
         raise ConfigError(f"--grid must be at least 3, got {args.grid}")
     refuse_gait_with_saved(args)
     robot = load_robot(args)
+    gait = load_gait(args, robot)
     try:
-        pipeline, shown = shown_trajectories(
-            robot, load_gait(args, robot), args.from_dirs, args.accounting
-        )
+        with ProgressBar(None, "figures", enabled=not args.quiet) as bar:
+            pipeline, shown = shown_trajectories(
+                robot, gait, args.from_dirs, args.accounting, bar.step
+            )
+            bar.step("the pattern search's landscape")
+            search = search_study(
+                search_pipeline(pipeline, gait, args.from_dirs), grid_points=args.grid
+            )
     except NotSolvedError as exc:
         args.console.error(f"{exc}; nothing written")
         return 3
     formats = tuple(dict.fromkeys(args.formats or ("png", "svg")))
-    written = write_figures(args.out, robot, pipeline, shown, formats, args.grid)
+    written = write_figures(args.out, robot, shown, search, formats)
     for trajectory in shown:
         cycle = trajectory.cycle
         args.console.text(

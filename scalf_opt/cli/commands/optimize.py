@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from scalf_opt.cli.options import (
+    add_accept_unconverged,
     add_gait,
     add_robot,
     bounded,
@@ -14,8 +15,9 @@ from scalf_opt.cli.options import (
     load_gait,
     load_robot,
 )
-from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
-from scalf_opt.types import FIRST_PAIR, LEG_NAMES, Method, choices
+from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY
+from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SOLVERS, solver_help
+from scalf_opt.types import FIRST_PAIR, LEG_NAMES
 
 MAX_STARTS = 100
 """Most starts per leg (each is a full solve)."""
@@ -41,14 +43,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--family",
         default=DEFAULT_FAMILY,
         help=f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 "
-        f"(default {DEFAULT_FAMILY})",
+        f"(default {DEFAULT_FAMILY}); or {FREE_FAMILY}: the free-trajectory bound (dense "
+        "B-splines refined until the energy converges)",
     )
     parser.add_argument(
         "--method",
-        choices=choices(Method),
-        default="ipopt",
-        help="ipopt (default), pattern (the paper's pattern search), or free: the "
-        "free-trajectory bound (dense B-splines refined until the energy converges; no family)",
+        choices=tuple(SOLVERS),
+        default=DEFAULT_SOLVER,
+        help=f"the solver: {solver_help()}",
     )
     parser.add_argument(
         "--precision",
@@ -76,10 +78,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "much of the saving comes from the stance and how much from the swing",
     )
     parser.add_argument("--out", type=Path, help="write summary.json and samples.csv here")
+    add_accept_unconverged(parser)
 
 
 def run(args: argparse.Namespace) -> int:
-    """Exit 0 when every leg is solved, 3 when an optimizer fails."""
+    """Exit 0 when everything converged, 3 when something did not (unless accepted)."""
     from scalf_opt.api import optimize_swing
     from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.viz.optimization_report import (
@@ -118,16 +121,16 @@ def run(args: argparse.Namespace) -> int:
         console.text(optimization_report(result.run))
         for line in optimization_warnings(result.run):
             console.text(line)
-    if result.bounds and result.run is None:
+    if result.bounds:
         console.text(bound_report(result.bounds))
     if result.stance is not None and result.success:
         console.text("\n" + free_stance_report(result.stance))
     console.json(result.to_dict())
     if not result.success:
-        console.error(_failure(result))
+        console.error(f"not solved: {result.failure()}; no optimum is reported")
         return 3
     assert result.cycle is not None
-    if args.method == "free":
+    if args.family == FREE_FAMILY:
         title = f"free-trajectory bound ({result.cycle.legs[legs[0]].swing_family})"
     elif args.free_stance:
         title = f"free stance ({args.family}, {args.method})"
@@ -139,19 +142,7 @@ def run(args: argparse.Namespace) -> int:
         console.text(line)
     if written:
         console.text("wrote " + " and ".join(str(p) for p in written))
+    if not result.converged:
+        console.error(f"not converged: {result.failure()} (marked so in the outputs)")
+        return 0 if args.accept_unconverged else 3
     return 0
-
-
-def _failure(result: object) -> str:
-    """The one line that says what did not converge."""
-    from scalf_opt.api import OptimizationResult
-
-    assert isinstance(result, OptimizationResult)
-    if result.stance is not None:
-        return f"the stance search did not converge ({result.stance.best.reason}); no optimum"
-    if result.run is None:
-        return "the free-trajectory bound did not converge; no optimum is reported"
-    failed = [f"{r.leg} ({r.best.status})" for r in result.run.legs.values() if not r.success]
-    if not result.run.converged_sampling:
-        failed.append(f"the sampling did not converge by {result.run.rate_hz:g} Hz")
-    return f"not solved: {', '.join(failed)}; no optimum is reported"

@@ -54,9 +54,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--log",
         type=Path,
-        metavar="FILE.csv",
+        metavar="FILE",
         help="also write the cylinder log the robot's sensors would record (80 Hz, 0.1 mm, "
-        "70 N), for `scalf-opt analyze-log`",
+        "70 N), for `scalf-opt analyze-log`: FILE.csv, or FILE.mcap, a ROS 2 bag with it on "
+        "/cylinder_states and the joints' angles, rates and torques on /joint_states (1 kHz)",
     )
     parser.add_argument(
         "--seed",
@@ -78,10 +79,12 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
 
     check_output_dir(args.out)
     check_output_file(args.log, "--log")
+    if args.log is not None and args.log.suffix not in (".csv", ".mcap"):
+        raise ConfigError(f"--log {args.log}: give a .csv or an .mcap file")
     if args.source is not None and (args.gait is not None or gait_overrides(args)):
         raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
     robot = load_robot(args)
-    if args.log is not None:
+    if args.log is not None and args.log.suffix == ".csv":
         from scalf_opt.energy.pipeline import EnergyPipeline
         from scalf_opt.logs.analysis import leg_cylinders
 

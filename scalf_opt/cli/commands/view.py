@@ -59,9 +59,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when the page is written, 3 when the default optimum is not solved."""
+    from scalf_opt.api.presentation import NotSolvedError, shown_trajectories
+    from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.errors import ConfigError
     from scalf_opt.viz.scene import SceneOptions
-    from scalf_opt.viz.trajectories import NotSolvedError, shown_trajectories
     from scalf_opt.viz.view import check_output_file, write_scene_html
 
     out = check_output_file(args.out, ".html")
@@ -80,9 +81,10 @@ def run(args: argparse.Namespace) -> int:
     refuse_gait_with_saved(args)
     robot = load_robot(args)
     try:
-        _, shown = shown_trajectories(
-            robot, load_gait(args, robot), args.from_dirs, args.accounting
-        )
+        with ProgressBar(None, "view", enabled=not args.quiet) as bar:
+            _, shown = shown_trajectories(
+                robot, load_gait(args, robot), args.from_dirs, args.accounting, bar.step
+            )
     except NotSolvedError as exc:
         args.console.error(f"{exc}; nothing written")
         return 3

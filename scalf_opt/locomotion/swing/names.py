@@ -14,6 +14,10 @@ MAX_ORDER = 12
 DEFAULT_FAMILY = "joint-6"
 """The family optimized by default: half-range Fourier series of order 6 in joint space."""
 
+FREE_FAMILY = "free"
+"""Not a family but the free-trajectory bound: dense B-splines refined until the energy
+converges (:mod:`scalf_opt.optimize.bound`)."""
+
 _FAMILY_PATTERN = re.compile(r"^(fourier|joint)-(\d+)$")
 _BSPLINE_PATTERN = re.compile(r"^bspline-(\d+)$")
 

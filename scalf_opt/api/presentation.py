@@ -1,0 +1,205 @@
+"""What ``view`` and ``figures`` show: the reference and the default optimum, or saved swings.
+
+The default optimum comes from :func:`~scalf_opt.api.optimization.optimize_swing`, the one
+optimization entry, so the view's legend and the figures print the energies ``scalf-opt
+optimize`` prints (the reference at the optimum's converged rate, like with like). Saved swings
+(``scalf-opt optimize --out DIR``) are evaluated on their own gait, at the rate they were saved
+at, with the reference on that gait first. :mod:`scalf_opt.viz` then only draws.
+
+>>> import scalf_opt.api.presentation as show
+>>> path, shown = show.view("scene.html")                  # SCalf: reference, default optimum
+>>> files, shown = show.figures("figures", robot="hyq")
+"""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from pathlib import Path
+
+from scalf_opt.api.optimization import optimize_swing
+from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import ConfigError, ScalfError
+from scalf_opt.io.saved import SavedSwings, read_saved_swings
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.scaling import default_gait_for
+from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.model.robot import Robot
+from scalf_opt.studies.search import GRID_POINTS, search_study
+from scalf_opt.types import LEG_NAMES, Accounting
+from scalf_opt.viz.figure_set import write_figures
+from scalf_opt.viz.plotting import FORMATS
+from scalf_opt.viz.scene import SceneOptions
+from scalf_opt.viz.trajectories import REFERENCE_LABEL, Trajectory
+from scalf_opt.viz.view import check_output_file, write_scene_html
+
+Progress = Callable[[str], None]
+
+
+class NotSolvedError(ScalfError):
+    """The optimum behind a trajectory to show did not converge: nothing is presented.
+
+    The command line exits with code 3 on it (an optimizer did not converge), not 2.
+    """
+
+
+def saved_trajectory(pipeline: EnergyPipeline, saved: SavedSwings) -> Trajectory:
+    """The swings of a result directory, evaluated leg by leg with their own families.
+
+    Raises:
+        InfeasibleError: A saved swing cannot be realised by this robot (another robot's result).
+    """
+    legs = {}
+    for leg in LEG_NAMES:
+        family = saved.families.get(leg, "reference")
+        theta = saved.parameters.get(leg)
+        legs[leg] = pipeline.leg_cycle(leg, make_family(family), theta)
+    cycle = RobotCycle(pipeline.gait, pipeline.accounting, legs, pipeline.robot.total_mass_kg)
+    return Trajectory(saved.label, cycle)
+
+
+def shown_trajectories(
+    robot: Robot,
+    gait: Gait,
+    from_dirs: Sequence[str | Path] = (),
+    accounting: Accounting = "paper",
+    progress: Progress | None = None,
+) -> tuple[EnergyPipeline, list[Trajectory]]:
+    """The pipeline and the trajectories to show: reference first.
+
+    Args:
+        robot: The robot.
+        gait: The gait when no directory is given (a directory brings its own).
+        from_dirs: Result directories of ``scalf-opt optimize --out``; none: the default optimum.
+        accounting: Power accounting when no directory is given.
+        progress: Called with a label as each step of the optimization starts.
+
+    Returns:
+        The pipeline the trajectories were evaluated with (at the optimum's rate) and the
+        trajectories.
+
+    Raises:
+        ConfigError: A directory cannot be read, or the directories' gaits or accountings differ.
+        NotSolvedError: The default optimum did not converge.
+    """
+    saved = [read_saved_swings(d) for d in from_dirs]
+    for swings in saved:
+        swings.check_robot(robot)
+    if not saved:
+        result = optimize_swing(
+            robot, gait, family=DEFAULT_FAMILY, accounting=accounting, progress=progress
+        )
+        if result.cycle is None:
+            raise NotSolvedError(f"the default optimum was not solved: {result.failure()}")
+        label = f"optimum ({DEFAULT_FAMILY}, {result.settings.method})"
+        return result.pipeline, [
+            Trajectory(REFERENCE_LABEL, result.reference),
+            Trajectory(label, result.cycle),
+        ]
+    first = saved[0]
+    for other in saved[1:]:
+        for what, a, b in (
+            ("gait", first.gait, other.gait),
+            ("accounting", first.accounting, other.accounting),
+        ):
+            if a != b:
+                raise ConfigError(
+                    f"{other.source}: its {what} differs from {first.source}'s; "
+                    "compare results of one gait and accounting"
+                )
+    pipeline = EnergyPipeline(robot, first.gait, first.accounting)
+    reference = Trajectory(REFERENCE_LABEL, pipeline.robot_cycle(make_family("reference")))
+    return pipeline, [reference, *(saved_trajectory(pipeline, s) for s in saved)]
+
+
+def search_pipeline(
+    shown: EnergyPipeline, gait: Gait, from_dirs: Sequence[str | Path]
+) -> EnergyPipeline:
+    """The pipeline the pattern-search figure optimizes the paper family on.
+
+    The gait as given (its own rate, where ``scalf-opt optimize --family paper`` would start),
+    not the default optimum's converged rate; with saved results, their gait.
+    """
+    return shown if from_dirs else shown.with_gait(gait)
+
+
+def _robot_and_gait(
+    robot: str | Robot, gait: Gait | None, from_dirs: Sequence[str | Path]
+) -> tuple[Robot, Gait]:
+    from scalf_opt.robots.loading import load_robot
+
+    if gait is not None and from_dirs:
+        raise ConfigError("give a gait or result directories (which bring their own), not both")
+    loaded = load_robot(robot) if isinstance(robot, str) else robot
+    return loaded, gait or default_gait_for(loaded)
+
+
+def view(
+    out: str | Path = "scene.html",
+    robot: str | Robot = "scalf",
+    from_dirs: Sequence[str | Path] = (),
+    gait: Gait | None = None,
+    accounting: Accounting = "paper",
+    options: SceneOptions | None = None,
+    progress: Progress | None = None,
+) -> tuple[Path, list[Trajectory]]:
+    """Build and write the offline 3-D view; return the file and the trajectories shown.
+
+    Args:
+        out: The HTML file to write.
+        robot: A catalog name (``scalf``, ``hyq``, ``solo12``, ...) or a loaded robot.
+        from_dirs: Result directories of ``scalf-opt optimize --out``; none: the reference and
+            the default optimum are computed.
+        gait: The gait without ``from_dirs`` (default: the robot's).
+        accounting: Power accounting without ``from_dirs``.
+        options: Scene options (cycles, frame rate, colouring, playback speed).
+        progress: Called with a label as each step of the optimization starts.
+
+    Raises:
+        ConfigError: Bad arguments, or a gait together with result directories.
+        NotSolvedError: The default optimum did not converge (nothing is written).
+    """
+    check_output_file(out, ".html")
+    loaded, base = _robot_and_gait(robot, gait, from_dirs)
+    _, shown = shown_trajectories(loaded, base, from_dirs, accounting, progress)
+    return write_scene_html(out, loaded, shown, options), shown
+
+
+def figures(
+    out: str | Path = "figures",
+    robot: str | Robot = "scalf",
+    from_dirs: Sequence[str | Path] = (),
+    gait: Gait | None = None,
+    accounting: Accounting = "paper",
+    formats: Sequence[str] = FORMATS,
+    grid_points: int = GRID_POINTS,
+    progress: Progress | None = None,
+) -> tuple[list[Path], list[Trajectory]]:
+    """Compute what to compare and write every figure; return the files and the trajectories.
+
+    Args:
+        out: Output directory.
+        robot: A catalog name or a loaded robot.
+        from_dirs: Result directories of ``scalf-opt optimize --out``; none: the reference and
+            the default optimum.
+        gait: The gait without ``from_dirs`` (default: the robot's).
+        accounting: Power accounting without ``from_dirs``.
+        formats: File formats.
+        grid_points: Landscape points per parameter of the pattern-search figure (>= 3).
+        progress: Called with a label as each step starts.
+
+    Raises:
+        ConfigError: Bad arguments, or a gait together with result directories.
+        NotSolvedError: The default optimum did not converge (nothing is written).
+    """
+    if grid_points < 3:
+        raise ConfigError(
+            f"the landscape grid needs at least 3 points, got {grid_points}", field="grid"
+        )
+    loaded, base = _robot_and_gait(robot, gait, from_dirs)
+    pipeline, shown = shown_trajectories(loaded, base, from_dirs, accounting, progress)
+    if progress is not None:
+        progress("the pattern search's landscape")
+    search = search_study(search_pipeline(pipeline, base, from_dirs), grid_points=grid_points)
+    return write_figures(out, loaded, shown, search, formats), shown

@@ -1,0 +1,85 @@
+"""``scalf-opt export``: the planned trot for a controller, at any rate, over N cycles."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from scalf_opt.cli.options import add_robot, check_output_file, load_robot
+from scalf_opt.errors import ConfigError
+
+NAME = "export"
+HELP = (
+    "the optimized trot for a controller: per leg and joint angle, velocity, acceleration, "
+    "feed-forward torque, contact, foot position, cylinders (CSV, JSON or a ROS 2 bag)"
+)
+FORMATS = (".csv", ".json", ".mcap")
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
+    parser.add_argument(
+        "--from",
+        dest="source",
+        type=Path,
+        required=True,
+        metavar="DIR",
+        help="the optimum: DIR/summary.json as `optimize --out DIR` writes it (give the same "
+        "--robot or --urdf)",
+    )
+    parser.add_argument(
+        "--rate",
+        type=float,
+        required=True,
+        metavar="HZ",
+        help="sample rate [Hz]; a sample falls on every touch-down and lift-off: a rate that "
+        "puts none there becomes the nearest that does (the paper's trot: any multiple of 4 Hz)",
+    )
+    parser.add_argument(
+        "--out",
+        type=Path,
+        required=True,
+        metavar="FILE",
+        help="FILE.csv (a row per instant and leg), FILE.json, or FILE.mcap (a ROS 2 bag of "
+        "sensor_msgs/JointState and trajectory_msgs/JointTrajectory; extra 'ros')",
+    )
+    parser.add_argument(
+        "--cycles", type=int, default=1, help="gait cycles, repeated seamlessly (default 1)"
+    )
+    add_robot(parser)
+
+
+def run(args: argparse.Namespace) -> int:  # noqa: D103
+    from scalf_opt.api import export_plan
+
+    if args.out.suffix not in FORMATS:
+        raise ConfigError(
+            f"--out {args.out}: unknown format {args.out.suffix or '(no suffix)'!r} "
+            f"(give {', '.join(FORMATS)})"
+        )
+    check_output_file(args.out, "--out")
+    robot = load_robot(args)
+    result = export_plan(
+        args.source, robot, rate_hz=args.rate, cycles=args.cycles, command=args.argv
+    )
+    path = result.write(args.out)
+    export = result.export
+    joints = [name for pair in export.joints.values() for name in pair]
+    cylinders = ", cylinder length, speed and force" if export.has_cylinders else ""
+    args.console.text(
+        f"{export.saved.label}: {result.samples} instants per leg at {export.rate_hz:.6g} Hz "
+        f"({export.cycles} cycle{'s' if export.cycles > 1 else ''} of "
+        f"{export.saved.gait.period_s:g} s), joints {', '.join(joints)}"
+    )
+    args.console.text(
+        "per joint: angle, velocity, acceleration, feed-forward torque; per leg: contact, foot "
+        f"(x, z) in the hip frame{cylinders}"
+    )
+    if export.rate_hz != export.requested_rate_hz:
+        period = export.saved.gait.period_s
+        args.console.text(
+            f"note: {export.rate_hz:.6g} Hz, not {export.requested_rate_hz:g} Hz: the nearest rate "
+            f"that puts a sample on every touch-down and lift-off of the {period:g} s cycle "
+            f"({round(export.rate_hz * period)} samples); the time stamps are exact"
+        )
+    args.console.text(f"wrote {path}")
+    return 0

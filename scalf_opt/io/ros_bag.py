@@ -1,0 +1,273 @@
+"""ROS 2 bags of joint states: write an MCAP file, read an MCAP or sqlite3 bag (extra ``ros``).
+
+The one place that speaks ROS 2: :func:`write_bag` writes ``sensor_msgs/msg/JointState`` series
+(one message per instant, every joint of the series in it) and ``trajectory_msgs/msg/
+JointTrajectory`` messages into a single ``.mcap`` file, CDR-serialized with the message
+definitions embedded (what ``ros2 bag record`` writes since ROS 2 Iron), so ``ros2 bag info``,
+Foxglove and any MCAP reader open it. :func:`read_joint_states` reads one topic of
+``JointState`` messages from an MCAP file, a sqlite3 ``.db3`` file or a bag directory.
+
+Time stamps: a message's ``header.stamp`` [s] when set, else its receive time in the bag. A
+joint state of a cylinder is written as a prismatic joint: ``position`` its length [m],
+``velocity`` its speed [m/s], ``effort`` its force [N].
+
+Uses ``rosbags`` (pure Python, no ROS installation); imported only when a bag is read or written.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import shutil
+import tempfile
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from scalf_opt.errors import ConfigError, LogError
+
+BAG_SUFFIXES = (".mcap", ".db3")
+"""Suffixes of the bag files read (a directory holding ``metadata.yaml`` is a bag too)."""
+
+JOINT_STATE = "sensor_msgs/msg/JointState"
+JOINT_TRAJECTORY = "trajectory_msgs/msg/JointTrajectory"
+FRAME_ID = "base_link"
+"""``header.frame_id`` of the messages written."""
+
+
+def _rosbags() -> Any:
+    try:
+        import rosbags.rosbag2
+        import rosbags.typesys
+    except ImportError as exc:  # pragma: no cover - the extra is part of "all"
+        raise ConfigError("ROS 2 bags need the 'ros' extra: pip install 'scalf-opt[ros]'") from exc
+    return rosbags
+
+
+def is_bag(path: str | Path) -> bool:
+    """Whether ``path`` names a ROS 2 bag (``.mcap``, ``.db3`` or a bag directory)."""
+    path = Path(path)
+    return path.suffix in BAG_SUFFIXES or (path.is_dir() and (path / "metadata.yaml").exists())
+
+
+@dataclass(frozen=True)
+class JointStateSeries:
+    """A topic of ``JointState`` messages: one per instant, the same joints in each.
+
+    Attributes:
+        topic: Topic name, e.g. ``/joint_states``.
+        names: Joint names, in message order.
+        t_s: Message times, shape (n,) [s].
+        position: Shape (joints, n) [rad or m].
+        velocity: Shape (joints, n) [rad/s or m/s], or ``None`` (not in the messages).
+        effort: Shape (joints, n) [N m or N], or ``None``.
+    """
+
+    topic: str
+    names: tuple[str, ...]
+    t_s: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray | None = None
+    effort: np.ndarray | None = None
+
+
+@dataclass(frozen=True)
+class TrajectoryMessage:
+    """One ``JointTrajectory`` message: points of the joints at times from its start.
+
+    Attributes:
+        topic: Topic name.
+        t_s: Its stamp [s].
+        names: Joint names.
+        time_from_start_s: Each point's time from the start, shape (n,) [s].
+        position, velocity, acceleration, effort: Shape (joints, n), SI units.
+    """
+
+    topic: str
+    t_s: float
+    names: tuple[str, ...]
+    time_from_start_s: np.ndarray
+    position: np.ndarray
+    velocity: np.ndarray
+    acceleration: np.ndarray
+    effort: np.ndarray
+
+
+def _split_ns(t_s: float) -> tuple[int, int]:
+    ns = round(t_s * 1e9)
+    return ns // 1_000_000_000, ns % 1_000_000_000
+
+
+def write_bag(
+    path: str | Path,
+    series: list[JointStateSeries],
+    trajectories: list[TrajectoryMessage] = (),  # type: ignore[assignment]
+) -> Path:
+    """Write the series and trajectories into one MCAP file ``path``, atomically.
+
+    Raises:
+        ConfigError: ``path`` does not end in ``.mcap``, or its folder cannot be written.
+    """
+    path = Path(path)
+    if path.suffix != ".mcap":
+        raise ConfigError(f"{path}: a ROS 2 bag is written as an .mcap file")
+    rb = _rosbags()
+    store = rb.typesys.get_typestore(rb.typesys.Stores.ROS2_HUMBLE)
+    types = store.types
+    header, stamp = types["std_msgs/msg/Header"], types["builtin_interfaces/msg/Time"]
+    duration = types["builtin_interfaces/msg/Duration"]
+    state, trajectory = types[JOINT_STATE], types[JOINT_TRAJECTORY]
+    point = types["trajectory_msgs/msg/JointTrajectoryPoint"]
+    try:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        scratch = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
+    except OSError as exc:
+        raise ConfigError(f"{path.parent}: cannot write output directory ({exc.strerror})") from exc
+    try:
+        bag = scratch / "bag"
+        messages: list[tuple[int, Any, bytes]] = []
+        writer = rb.rosbag2.Writer(bag, version=9, storage_plugin=rb.rosbag2.StoragePlugin.MCAP)
+        with writer:
+            for s in series:
+                conn = writer.add_connection(s.topic, JOINT_STATE, typestore=store)
+                empty = np.zeros(0)
+                for k, t in enumerate(s.t_s):
+                    msg = state(
+                        header(stamp(*_split_ns(float(t))), FRAME_ID),
+                        list(s.names),
+                        np.ascontiguousarray(s.position[:, k], dtype=np.float64),
+                        empty if s.velocity is None else np.ascontiguousarray(s.velocity[:, k]),
+                        empty if s.effort is None else np.ascontiguousarray(s.effort[:, k]),
+                    )
+                    ns = round(float(t) * 1e9)
+                    messages.append((ns, conn, store.serialize_cdr(msg, JOINT_STATE)))
+            for traj in trajectories:
+                conn = writer.add_connection(traj.topic, JOINT_TRAJECTORY, typestore=store)
+                points = [
+                    point(
+                        np.ascontiguousarray(traj.position[:, k], dtype=np.float64),
+                        np.ascontiguousarray(traj.velocity[:, k], dtype=np.float64),
+                        np.ascontiguousarray(traj.acceleration[:, k], dtype=np.float64),
+                        np.ascontiguousarray(traj.effort[:, k], dtype=np.float64),
+                        duration(*_split_ns(float(ts))),
+                    )
+                    for k, ts in enumerate(traj.time_from_start_s)
+                ]
+                msg = trajectory(
+                    header(stamp(*_split_ns(traj.t_s)), FRAME_ID), list(traj.names), points
+                )
+                messages.append(
+                    (round(traj.t_s * 1e9), conn, store.serialize_cdr(msg, JOINT_TRAJECTORY))
+                )
+            # in time order, as a recorder writes them (readers expect it)
+            for ns, conn, data in sorted(messages, key=lambda m: (m[0], m[1].id)):
+                writer.write(conn, ns, data)
+        os.replace(bag / "bag.mcap", path)
+    finally:
+        shutil.rmtree(scratch, ignore_errors=True)
+    return path
+
+
+def _bag_error(path: Path, exc: Exception) -> LogError:
+    text = str(exc).strip()
+    reason = text.splitlines()[0].rstrip(".") if text else type(exc).__name__
+    return LogError(f"{path}: not a readable ROS 2 bag ({reason}; truncated or not a bag?)")
+
+
+def read_joint_states(path: str | Path, topic: str) -> JointStateSeries:
+    """Read every ``JointState`` message of ``topic`` in the bag ``path``.
+
+    Raises:
+        LogError: The bag cannot be read (truncated, not a bag), has no such topic (the message
+            lists the joint-state topics it has), the topic is of another type, a message's
+            names or arrays disagree with the first's, a value is not finite, or the time stamps
+            do not increase (the message names the topic and the message's index).
+    """
+    path = Path(path)
+    if not path.exists():
+        raise LogError(f"{path}: the bag does not exist")
+    _rosbags()
+    from rosbags.highlevel import AnyReader
+
+    try:
+        reader = AnyReader([path])
+        reader.open()
+    except Exception as exc:  # rosbags raises many kinds on a broken file
+        raise _bag_error(path, exc) from exc
+    try:
+        connections = [c for c in reader.connections if c.topic == topic]
+        if not connections:
+            states = sorted({c.topic for c in reader.connections if c.msgtype == JOINT_STATE})
+            have = ", ".join(states) if states else "none"
+            raise LogError(
+                f"{path}: no topic {topic!r} in the bag (its JointState topics: {have}); "
+                "name one with --topic"
+            )
+        kinds = {c.msgtype for c in connections}
+        if kinds != {JOINT_STATE}:
+            raise LogError(
+                f"{path}: topic {topic!r} holds {', '.join(sorted(kinds))}, not {JOINT_STATE}"
+            )
+        names: tuple[str, ...] | None = None
+        times: list[float] = []
+        columns: dict[str, list[np.ndarray]] = {"position": [], "velocity": [], "effort": []}
+        try:
+            for index, (conn, ns, raw) in enumerate(reader.messages(connections=connections)):
+                msg: Any = reader.deserialize(raw, conn.msgtype)
+                stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
+                t = stamp if stamp > 0 else ns * 1e-9
+                here = tuple(msg.name)
+                where = f"{path}: topic {topic}, message {index}"
+                if names is None:
+                    names = here
+                elif here != names:
+                    raise LogError(f"{where}: joint names {list(here)} differ from the first's")
+                if times and not t > times[-1]:
+                    raise LogError(
+                        f"{where}: time stamp {t!r} s does not increase (the previous message "
+                        f"has {times[-1]!r} s)"
+                    )
+                times.append(t)
+                for field, values in columns.items():
+                    array = np.asarray(getattr(msg, field), dtype=float)
+                    if array.size not in (0, len(names)):
+                        raise LogError(
+                            f"{where}: {field} has {array.size} values for {len(names)} joints"
+                        )
+                    if not np.all(np.isfinite(array)):
+                        raise LogError(f"{where}: {field} holds a value that is not finite")
+                    values.append(array)
+        except LogError:
+            raise
+        except Exception as exc:
+            raise _bag_error(path, exc) from exc
+    finally:
+        reader.close()
+    if names is None:
+        raise LogError(f"{path}: topic {topic!r} has no messages")
+    series: dict[str, np.ndarray | None] = {}
+    for field, values in columns.items():
+        sizes = {v.size for v in values}
+        if sizes == {0}:
+            series[field] = None
+        elif sizes == {len(names)}:
+            series[field] = np.array(values).T
+        else:
+            raise LogError(f"{path}: topic {topic}: {field} is missing from some messages")
+    position = series["position"]
+    if position is None:
+        raise LogError(f"{path}: topic {topic}: the messages have no position")
+    t_s = np.array(times)
+    if t_s.size and not math.isfinite(float(t_s[-1])):
+        raise LogError(f"{path}: topic {topic}: a time stamp is not finite")
+    return JointStateSeries(topic, names, t_s, position, series["velocity"], series["effort"])
+
+
+CYLINDER_SUFFIX = "_cylinder"
+
+
+def cylinder_joint_name(joint: str) -> str:
+    """The joint-state name of the cylinder driving URDF joint ``joint`` (``<joint>_cylinder``)."""
+    return f"{joint}{CYLINDER_SUFFIX}"

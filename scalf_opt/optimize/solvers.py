@@ -1,0 +1,141 @@
+"""The swing solvers behind one protocol, and their registry.
+
+A solver takes a :class:`~scalf_opt.optimize.problem.SwingProblem` (one leg, one family, one
+sample grid), a start and the :class:`SolverOptions`, and returns a
+:class:`~scalf_opt.optimize.solve.SwingOptimum` whose energy is the exact one, whatever the solver
+minimised internally. It also says where its first start is (:meth:`SwingSolver.default_start`)
+and, for a solver with several strategies, tries them in turn until one converges.
+
+Everything above this floor asks the registry (:data:`SOLVERS`, :func:`solver`): the command
+line's ``--method`` choices and help, the study files, the driver. A new solver is one class (in
+its own module, or here) and one line in :data:`SOLVERS`.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any, ClassVar
+
+import numpy as np
+
+from scalf_opt.errors import ConfigError
+from scalf_opt.optimize.pattern_search import PatternSearchOptions
+
+if TYPE_CHECKING:  # the registry's names load without CasADi and Pinocchio (the command line)
+    from scalf_opt.optimize.problem import SwingProblem
+    from scalf_opt.optimize.solve import SwingOptimum
+
+
+@dataclass(frozen=True)
+class SolverOptions:
+    """Options of the solvers (each reads its own).
+
+    Attributes:
+        pattern: The pattern search's settings (the paper's by default).
+        ipopt: Extra Ipopt options set by the user (``{"print_level": 5}``: its log), or None.
+    """
+
+    pattern: PatternSearchOptions = field(default_factory=PatternSearchOptions)
+    ipopt: dict[str, Any] | None = None
+
+
+class SwingSolver(ABC):
+    """One way to minimise a swing problem's exact energy under its constraints."""
+
+    name: ClassVar[str]
+    description: ClassVar[str]
+
+    @abstractmethod
+    def solve(
+        self, problem: SwingProblem, theta0: np.ndarray, options: SolverOptions
+    ) -> SwingOptimum:
+        """Minimise from ``theta0`` (family units); the answer evaluated exactly."""
+
+    def default_start(self, problem: SwingProblem) -> str:
+        """Where the first start is: ``zero`` or ``closest to the reference``."""
+        return "zero"
+
+
+class PatternSearchSolver(SwingSolver):
+    """The paper's Hooke-Jeeves pattern search on the exact energy (two phases if infeasible)."""
+
+    name = "pattern"
+    description = "the paper's pattern search"
+
+    def solve(  # noqa: D102
+        self, problem: SwingProblem, theta0: np.ndarray, options: SolverOptions
+    ) -> SwingOptimum:
+        from scalf_opt.optimize.solve import run_pattern_search
+
+        return run_pattern_search(problem, theta0, options.pattern)
+
+    def default_start(self, problem: SwingProblem) -> str:
+        """The paper's start (0, 0) on the paper family, else the member closest to the reference.
+
+        A search with many parameters and small steps begins where the reference is, not at an
+        arbitrary member.
+        """
+        return "zero" if problem.family.name == "paper" else "closest to the reference"
+
+
+IPOPT_ATTEMPTS: tuple[dict[str, Any], ...] = (
+    {"max_iter": 1000},
+    {"mu_strategy": "monotone", "max_iter": 1000},
+    {"mu_strategy": "monotone", "nlp_scaling_method": "none", "max_iter": 3000},
+)
+"""Ipopt's strategies, tried in turn from the same start until one converges. The adaptive
+barrier update (Ipopt's options in :mod:`scalf_opt.optimize.nlp`) is the fastest; on optima
+riding actuator limits (HyQ's cylinders at their 1960 N pull, foot-space families of order 5
+and more) it can wander for thousands of iterations where the monotone update converges in a
+few hundred, and HyQ's ``fourier-12`` (RF) converges only without Ipopt's gradient-based
+scaling. Options the user sets win; a strategy that would change one of them is skipped."""
+
+
+class IpoptSolver(SwingSolver):
+    """The smooth NLP (:mod:`scalf_opt.optimize.nlp`) solved by Ipopt, with its retry strategies."""
+
+    name = "ipopt"
+    description = "the smooth NLP solved by Ipopt (exact derivatives)"
+
+    def solve(  # noqa: D102
+        self, problem: SwingProblem, theta0: np.ndarray, options: SolverOptions
+    ) -> SwingOptimum:
+        from scalf_opt.optimize.solve import run_ipopt
+
+        user = options.ipopt or {}
+        optimum: SwingOptimum | None = None
+        for attempt in IPOPT_ATTEMPTS:
+            if optimum is not None and any(key in user for key in attempt if key != "max_iter"):
+                continue  # the user chose that option: no other strategy is tried for it
+            optimum = run_ipopt(problem, theta0, {**attempt, **user})
+            if optimum.success:
+                break
+        assert optimum is not None
+        return optimum
+
+
+SOLVERS: dict[str, SwingSolver] = {s.name: s for s in (IpoptSolver(), PatternSearchSolver())}
+"""Every solver by name; the first is the default."""
+
+DEFAULT_SOLVER = next(iter(SOLVERS))
+
+
+def solver(name: str) -> SwingSolver:
+    """The solver called ``name``.
+
+    Raises:
+        ConfigError: No solver has that name; the message lists the choices.
+    """
+    if name not in SOLVERS:
+        raise ConfigError(f"method = {name!r} is not one of {', '.join(SOLVERS)}", field="method")
+    return SOLVERS[name]
+
+
+def solver_help() -> str:
+    """One phrase per solver for ``--help``: ``ipopt (default): ..., pattern: ...``."""
+    parts = [
+        f"{name}{' (default)' if name == DEFAULT_SOLVER else ''}: {s.description}"
+        for name, s in SOLVERS.items()
+    ]
+    return "; ".join(parts)

@@ -1,0 +1,93 @@
+"""One solve path: every consumer of an optimum prints the same optimized and reference energies.
+
+``optimize``, a one-case study, ``view``'s legend, ``figures``, the API and ``paper`` all get
+their optimum from the one driver, so for the same gait and family they print the same numbers
+to the last digit they print (3 decimals of a joule), the reference at the optimum's rate.
+"""
+
+import csv
+import json
+import re
+
+import pytest
+
+import scalf_opt as so
+from scalf_opt.cli import main
+
+pytestmark = pytest.mark.slow
+
+ENERGY_LINE = re.compile(r"^(?P<label>.+): (?P<energy>\d+\.\d{3}) J per cycle", re.MULTILINE)
+
+
+def printed(value: float) -> str:
+    return f"{value:.3f}"
+
+
+def legend(text: str) -> dict[str, str]:
+    """``label -> energy`` from the lines ``view`` and ``figures`` print."""
+    return {m["label"]: m["energy"] for m in ENERGY_LINE.finditer(text)}
+
+
+def optimize_numbers(family, capsys):
+    assert main(["optimize", "--family", family, "--json"]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    return (
+        printed(summary["total_energy_per_cycle_j"]),
+        printed(summary["reference_total_energy_per_cycle_j"]),
+    )
+
+
+def study_numbers(family, tmp_path, capsys):
+    study = tmp_path / f"{family}.toml"
+    study.write_text(f'[study]\nrobot = "scalf"\nfamily = "{family}"\n')
+    out = tmp_path / f"study-{family}"
+    assert main(["study", str(study), "--workers", "1", "--out", str(out)]) == 0
+    capsys.readouterr()
+    with (out / "results.csv").open() as f:
+        (row,) = list(csv.DictReader(f))
+    return printed(float(row["optimized_energy_j"])), printed(float(row["reference_energy_j"]))
+
+
+def api_numbers(family):
+    result = so.optimize_swing(so.load_robot("scalf"), family=family)
+    assert result.cycle is not None
+    return printed(result.cycle.energy_j), printed(result.reference.energy_j)
+
+
+@pytest.mark.parametrize("family", ["joint-6", "joint-12"])
+def test_optimize_study_and_api_agree(family, tmp_path, capsys):
+    numbers = optimize_numbers(family, capsys)
+    assert study_numbers(family, tmp_path, capsys) == numbers
+    assert api_numbers(family) == numbers
+
+
+def test_view_figures_and_paper_print_the_optimize_numbers(tmp_path, capsys):
+    optimized, reference = optimize_numbers("joint-6", capsys)
+    assert main(["view", "--out", str(tmp_path / "scene.html")]) == 0
+    shown = legend(capsys.readouterr().out)
+    assert shown == {"reference (cubic spline)": reference, "optimum (joint-6, ipopt)": optimized}
+    figures = tmp_path / "figures"
+    assert main(["figures", "--format", "png", "--grid", "3", "--out", str(figures)]) == 0
+    assert legend(capsys.readouterr().out) == shown
+    assert main(["paper", "--quick", "--out", str(tmp_path / "paper")]) == 0
+    capsys.readouterr()
+    table6 = json.loads((tmp_path / "paper" / "paper.json").read_text())["table6"]
+    (row,) = [r for r in table6 if r["trajectory"] == "Ipopt, joint-6 family"]
+    assert (printed(row["total_energy_j"]), printed(row["reference_total_energy_j"])) == (
+        optimized,
+        reference,
+    )
+    report = (tmp_path / "paper" / "report.md").read_text()
+    assert f"| {optimized} | {reference} |" in report
+
+
+def test_view_of_a_saved_joint_12_optimum_prints_its_numbers(tmp_path, capsys):
+    saved = tmp_path / "j12"
+    assert main(["optimize", "--family", "joint-12", "--json", "--out", str(saved)]) == 0
+    summary = json.loads(capsys.readouterr().out)
+    assert main(["view", "--from", str(saved), "--out", str(tmp_path / "j12.html")]) == 0
+    shown = legend(capsys.readouterr().out)
+    assert shown["reference (cubic spline)"] == printed(
+        summary["reference_total_energy_per_cycle_j"]
+    )
+    assert list(shown.values())[1] == printed(summary["total_energy_per_cycle_j"])

@@ -1,0 +1,36 @@
+"""Long work is never silent: a heartbeat on stderr when the output is not a terminal."""
+
+import time
+
+from scalf_opt.cli.progress import ProgressBar
+from scalf_opt.heartbeat import Heartbeat
+
+
+def test_a_pipe_gets_a_heartbeat_line_with_the_current_step(capsys):
+    with ProgressBar(None, "optimize", heartbeat_s=0.05) as bar:  # stdout is no terminal here
+        bar.step("RF: free-trajectory bound, 64 spans")
+        time.sleep(0.3)
+    lines = capsys.readouterr().err.splitlines()
+    assert len(lines) >= 2
+    assert all(
+        line.startswith("scalf-opt: optimize: RF: free-trajectory bound, 64 spans (")
+        for line in lines
+    )
+
+
+def test_short_work_and_quiet_runs_print_nothing(capsys):
+    with ProgressBar(None, "optimize", heartbeat_s=5.0) as bar:
+        bar.step("RF at 300 Hz")
+    with ProgressBar(None, "optimize", enabled=False, heartbeat_s=0.01) as bar:
+        bar.step("RF at 300 Hz")
+        time.sleep(0.1)
+    assert capsys.readouterr().err == ""
+
+
+def test_the_heartbeat_stops_with_its_work(capsys):
+    with Heartbeat("study", every_s=0.02) as beat:
+        beat.doing = "3/10 cases done"
+        time.sleep(0.1)
+    capsys.readouterr()
+    time.sleep(0.1)
+    assert capsys.readouterr().err == ""
