@@ -107,6 +107,53 @@ def read_untrusted(
     return b"".join(chunks)
 
 
+def copy_untrusted(
+    source: str | Path,
+    destination: Path,
+    kind: str,
+    max_bytes: int,
+    error: type[ScalfError] = ConfigError,
+) -> int:
+    """Copy a regular file of at most ``max_bytes`` to ``destination``, block by block.
+
+    For a library that reads files by path only (a ROS 2 bag reader): it is given the bounded
+    copy, in a private folder. The checks are :func:`read_untrusted`'s.
+
+    Returns:
+        The bytes copied.
+
+    Raises:
+        ScalfError: (of type ``error``) See :func:`read_untrusted`.
+    """
+    source = Path(source)
+    try:
+        info = os.stat(source)
+        if not stat.S_ISREG(info.st_mode):
+            raise error(f"{source}: {kind} file is {_kind_of(info.st_mode)}, not a regular file")
+        fd = os.open(source, os.O_RDONLY | os.O_NONBLOCK | getattr(os, "O_NOCTTY", 0))
+    except FileNotFoundError:
+        raise error(f"{source}: {kind} file not found") from None
+    except OSError as exc:
+        raise error(f"{source}: cannot read {kind} file ({exc.strerror})") from None
+    total = 0
+    try:
+        if not stat.S_ISREG(os.fstat(fd).st_mode):
+            raise error(f"{source}: {kind} file is not a regular file")
+        with open(destination, "wb") as out:
+            while chunk := os.read(fd, min(_READ_BLOCK, max_bytes + 1 - total)):
+                total += len(chunk)
+                if total > max_bytes:
+                    raise error(
+                        f"{source}: {kind} file is larger than the {max_bytes} bytes allowed"
+                    )
+                out.write(chunk)
+    except OSError as exc:
+        raise error(f"{source}: cannot read {kind} file ({exc.strerror})") from None
+    finally:
+        os.close(fd)
+    return total
+
+
 def read_untrusted_text(
     path: str | Path, kind: str, max_bytes: int, error: type[ScalfError] = ConfigError
 ) -> str:

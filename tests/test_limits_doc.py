@@ -46,3 +46,10 @@ def test_every_upper_bound_of_an_option_is_in_the_page():
                 assert f"`{action.option_strings[-1]}" in TEXT or any(
                     o in TEXT for o in action.option_strings
                 ), (command, action.option_strings)
+
+
+def test_the_command_lines_copy_of_a_bound_is_the_apis():
+    from scalf_opt.cli.commands import export
+    from scalf_opt.io import plan_export
+
+    assert export.MAX_CYCLES == plan_export.MAX_CYCLES

@@ -99,7 +99,7 @@ def check_setup(case: Case, folder: Path) -> None:
     robot = _robot(case, folder)
     gait = _gait(case, robot)
     make_family(case.family)
-    pipeline = EnergyPipeline(robot, gait, case.accounting)  # type: ignore[arg-type]
+    pipeline = EnergyPipeline(robot, gait, case.accounting)
     pipeline.robot_cycle(make_family("reference"))
 
 
