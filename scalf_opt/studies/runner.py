@@ -14,7 +14,6 @@ that many local processes (default: one per CPU); ``scheduler`` sends them to a 
 
 from __future__ import annotations
 
-import json
 import multiprocessing
 import os
 from collections.abc import Callable, Iterator
@@ -28,6 +27,7 @@ from scalf_opt.errors import ConfigError, ScalfError
 from scalf_opt.files import scratch_folder, write_atomic
 from scalf_opt.interrupts import raise_if_stopped
 from scalf_opt.io.results import rows_csv_text, to_json
+from scalf_opt.io.saved import read_json
 from scalf_opt.studies.case import (
     RESULT_COLUMNS,
     STATUS_ERROR,
@@ -150,10 +150,12 @@ def choose_runner(workers: int | None = None, scheduler: str | None = None) -> R
 
 
 def _cached(path: Path, case: Case) -> dict[str, Any] | None:
+    if not path.exists():
+        return None
     try:
-        row = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return None  # missing, or damaged: run the case again
+        row = read_json(path, "cache entry")
+    except ScalfError:
+        return None  # damaged, or not a regular file: run the case again (written anew)
     if not isinstance(row, dict):
         return None
     row.update({"case": case.index, **case.swept})
