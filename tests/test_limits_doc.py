@@ -41,7 +41,7 @@ def test_every_upper_bound_of_an_option_is_in_the_page():
     parser = build_parser()
     for command, sub in parser.get_default("commands").items():
         for action in sub._actions:
-            bound = getattr(action.type, "__name__", "") in ("integer", "number")
+            bound = getattr(action.type, "__qualname__", "").startswith("bounded.")
             if bound:
                 assert f"`{action.option_strings[-1]}" in TEXT or any(
                     o in TEXT for o in action.option_strings

@@ -30,18 +30,14 @@ def bounded(kind: type, high: float, low: float | None = None) -> Callable[[str]
     """
 
     def parse(text: str) -> Any:
-        try:
-            value = kind(text)
-        except ValueError:
-            name = "an integer" if kind is int else "a number"
-            raise argparse.ArgumentTypeError(f"{text!r} is not {name}") from None
+        value = kind(text)  # a ValueError: argparse says "invalid float value: 'x'"
         if value > high or (low is not None and value < low):
             show = (lambda x: str(int(x))) if kind is int else (lambda x: f"{x:g}")
             span = f"{show(low)}..{show(high)}" if low is not None else f"at most {show(high)}"
             raise argparse.ArgumentTypeError(f"{text} is out of range ({span})")
         return value
 
-    parse.__name__ = "integer" if kind is int else "number"
+    parse.__name__ = kind.__name__
     return parse
 
 

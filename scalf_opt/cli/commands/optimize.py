@@ -60,7 +60,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
     parser.add_argument(
         "--starts",
-        type=bounded(int, MAX_STARTS, 1),
+        type=bounded(int, MAX_STARTS),
         default=1,
         help=f"deterministic starts per leg, 1..{MAX_STARTS} (default 1; the first is the default "
         "start): the best is kept, the spread reported",
