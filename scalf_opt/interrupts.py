@@ -16,9 +16,12 @@ from __future__ import annotations
 
 import contextlib
 import signal
+import sys
 import threading
 from collections.abc import Iterator
 from types import FrameType
+
+from scalf_opt.files import captured_native_output
 
 _received: list[int] = []
 """Signals the command line's handlers received (cleared when the command ends)."""
@@ -28,6 +31,13 @@ def _raise_for(signum: int) -> None:
     if signum == signal.SIGTERM:
         raise SystemExit(128 + signum)
     raise KeyboardInterrupt
+
+
+def stop_code() -> int | None:
+    """The exit code of the signal the command line's handlers received (130, 143), if any."""
+    if not _received:
+        return None
+    return 128 + (signal.SIGINT if _received[0] == signal.SIGINT else _received[0])
 
 
 def raise_if_stopped() -> None:
@@ -51,18 +61,31 @@ def stop_on_signals() -> Iterator[None]:
     if threading.current_thread() is not threading.main_thread():
         yield  # the command run from a thread: Python delivers signals to the main thread only
         return
+
+    def unraisable(info: sys.UnraisableHookArgs) -> None:
+        if not _received:  # the signal's exception, raised in a finaliser or a callback: quiet
+            previous_hook(info)
+
+    previous_hook = sys.unraisablehook
+    sys.unraisablehook = unraisable
     previous = {s: signal.signal(s, stop) for s in (signal.SIGINT, signal.SIGTERM)}
     try:
         yield
     finally:
         for signum, handler in previous.items():
             signal.signal(signum, handler)
+        sys.unraisablehook = previous_hook
         _received.clear()
 
 
 @contextlib.contextmanager
 def interruptible() -> Iterator[None]:
-    """Run a native solver inside: a signal it swallowed is raised again when it returns."""
+    """Run a native solver inside: a signal it swallowed is raised again when it returns.
+
+    What the solver's library prints on stderr is held back until it returns, and dropped when
+    a signal stopped it (CasADi's ``KeyboardInterruptException`` warning, with its source path):
+    the command then ends with its one line.
+    """
     if threading.current_thread() is not threading.main_thread():
         yield
         return
@@ -78,10 +101,15 @@ def interruptible() -> Iterator[None]:
     if callable(previous):
         signal.signal(signal.SIGINT, note)
     try:
-        yield
+        with captured_native_output(fds=(2,)) as printed:
+            yield
     finally:
         if callable(previous):
             signal.signal(signal.SIGINT, previous)
+    if printed and not (received or _received):  # no signal: what it printed, now
+        with contextlib.suppress(OSError, ValueError):
+            sys.stderr.write("\n".join(printed) + "\n")
+            sys.stderr.flush()
     if received:  # Ctrl-C, swallowed by the solver
         raise KeyboardInterrupt
     raise_if_stopped()

@@ -9,6 +9,7 @@ code agree on one list. :func:`check_choice` turns a wrong value into a one-line
 
 from __future__ import annotations
 
+import re
 from typing import Any, Literal, TypeAlias, get_args
 
 from scalf_opt.errors import ConfigError
@@ -71,3 +72,19 @@ def check_choice(value: object, kind: Any, field: str) -> str:
     if value not in allowed:
         raise ConfigError(f"{field} = {value!r} is not one of {', '.join(allowed)}", field=field)
     return str(value)
+
+
+_NOT_IDENTIFIER = re.compile(r"[^A-Za-z0-9]+")
+
+
+def casadi_name(*parts: str) -> str:
+    """A valid CasADi function name from arbitrary parts (letters, digits, single underscores).
+
+    URDF names may hold any character (``LH-foot``, ``genou_gauche_é``); CasADi accepts a letter
+    followed by letters, digits and single underscores, and refuses ``null``, ``jac`` and
+    ``hess``.
+    """
+    name = _NOT_IDENTIFIER.sub("_", "_".join(parts)).strip("_")
+    if not name[:1].isalpha() or name in ("null", "jac", "hess"):
+        name = f"f_{name}".rstrip("_")
+    return name

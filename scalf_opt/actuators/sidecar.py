@@ -92,11 +92,27 @@ class Sidecar:
         return [k for k, v in self.sources.items() if v.lower().startswith(ESTIMATE_PREFIX)]
 
 
+MAX_MAGNITUDE = 1e6
+"""Largest magnitude of an actuator file's number, in the file's units (mm, deg, bar, N, N s/m,
+m/s, N m/A, ohm): far beyond any robot's (SCalf's largest: 4000 N), below where the energy's
+arithmetic overflows."""
+
+MIN_POSITIVE = 1e-6
+"""Smallest value of a number that must be positive (a torque constant or a stroke of 1e-300
+would divide the energy into infinity)."""
+
+
 def _number(path: Path, key: str, value: Any, positive: bool = True, zero: bool = False) -> float:
     ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
     if not ok or (positive and (value < 0 if zero else value <= 0)):
         need = "a number >= 0" if zero else "a positive number" if positive else "a number"
         raise ConfigError(f"{path}: {key} must be {need}, got {value!r}")
+    if abs(value) > MAX_MAGNITUDE or (positive and 0 < value < MIN_POSITIVE):
+        low = "0" if zero else f"{MIN_POSITIVE:g}" if positive else f"{-MAX_MAGNITUDE:g}"
+        raise ConfigError(
+            f"{path}: {key} = {value!r} is out of range [{low}, {MAX_MAGNITUDE:g}] "
+            "(in the file's units)"
+        )
     return float(value)
 
 
@@ -353,7 +369,7 @@ def robot_sidecar_path(robot: Robot) -> Path | None:
     if robot.actuator_path is not None:
         return robot.actuator_path
     path = sidecar_path_for(robot.urdf_path)
-    return path if path.is_file() else None
+    return path if path.exists() else None
 
 
 def drives_for(robot: Robot) -> dict[str, Drive]:

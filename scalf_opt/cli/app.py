@@ -12,17 +12,21 @@ from __future__ import annotations
 
 import argparse
 import difflib
+import errno
 import os
 import re
 import sys
+import warnings
 from collections.abc import Sequence
 from typing import NoReturn
 
 from scalf_opt import __version__
 from scalf_opt.cli.commands import COMMANDS
-from scalf_opt.cli.console import Console
+from scalf_opt.cli.console import Console, terminal_safe
+from scalf_opt.cli.options import default_outputs
 from scalf_opt.errors import ScalfError
-from scalf_opt.interrupts import raise_if_stopped, stop_on_signals
+from scalf_opt.files import output_set, remove_stale_scratch
+from scalf_opt.interrupts import raise_if_stopped, stop_code, stop_on_signals
 
 
 class Parser(argparse.ArgumentParser):
@@ -38,7 +42,8 @@ class Parser(argparse.ArgumentParser):
         elif unknown:
             options = [o for action in self._actions for o in action.option_strings]
             hint = _close(unknown.group(1), options)
-        sys.stderr.write(f"scalf-opt: error: {message}{hint} (see {self.prog} --help)\n")
+        line = terminal_safe(" ".join(f"{message}{hint}".splitlines()))
+        sys.stderr.write(f"scalf-opt: error: {line} (see {self.prog} --help)\n")
         sys.exit(2)
 
 
@@ -109,7 +114,7 @@ def build_parser() -> argparse.ArgumentParser:
             ],
         )
         command.add_arguments(p)
-        p.set_defaults(run=command.run)
+        p.set_defaults(run=command.run, outputs=getattr(command, "outputs", None))
         parser.get_default("commands")[command.NAME] = p
     return parser
 
@@ -125,13 +130,45 @@ def main(argv: Sequence[str] | None = None) -> int:
     args.verbose = getattr(args, "verbose", False)
     console = Console(quiet=args.quiet, json_output=getattr(args, "json", False))
     args.console = console
-    with stop_on_signals():
-        return _run(args, argv, console)
+    try:
+        with stop_on_signals():
+            return _run(args, argv, console)
+    except KeyboardInterrupt:  # a second Ctrl-C while the first one's cleanup ran
+        return 130
+
+
+def _with_warnings(args: argparse.Namespace) -> int:
+    """Run the command with the numerical libraries' warnings caught, not printed.
+
+    NumPy's and SciPy's warnings (an overflow in an intermediate value, say) would print
+    several lines with install paths before the one-line error; they are shown, one line
+    each, only with ``--verbose`` when the command succeeds.
+    """
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("default")
+        code = _run_in_output_set(args)
+    if caught and getattr(args, "verbose", False):
+        for warning in caught:
+            args.console.note(f"warning: {warning.category.__name__}: {warning.message}")
+    return code
+
+
+def _run_in_output_set(args: argparse.Namespace) -> int:
+    """Run the command; the files it writes to its outputs are moved into place together."""
+    remove_stale_scratch()  # what killed runs left in the temporary folder
+    outputs = args.outputs(args) if args.outputs is not None else default_outputs(args)
+    if outputs is None:
+        return int(args.run(args))
+    outputs.check()
+    with output_set(outputs.folders.values(), outputs.files.values(), outputs.direct):
+        code = int(args.run(args))
+        raise_if_stopped()  # a signal some library swallowed: nothing is moved into place
+        return code
 
 
 def _run(args: argparse.Namespace, argv: list[str], console: Console) -> int:
     try:
-        code = int(args.run(args))
+        code = _with_warnings(args)
         raise_if_stopped()  # a signal some library swallowed: the run's end is no success
         sys.stdout.flush()  # inside the try: a closed pipe surfaces here, not at exit
         return code
@@ -146,11 +183,44 @@ def _run(args: argparse.Namespace, argv: list[str], console: Console) -> int:
         # /dev/null so that Python's own flush at exit does not fail again
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
+    except OSError as exc:
+        if exc.filename is not None and exc.errno in _PATH_ERRORS:
+            console.error(f"{exc.filename}: {exc.strerror}")  # a path the system refuses
+            return 2
+        return _unexpected(args, exc, console)
     except Exception as exc:
-        if args.debug:
-            raise
-        console.error(
-            f"unexpected failure: {type(exc).__name__}: {exc} (a bug: please report it; rerun "
-            "with --debug for the traceback)"
-        )
-        return 1
+        return _unexpected(args, exc, console)
+
+
+_PATH_ERRORS = frozenset(
+    {
+        errno.ENAMETOOLONG,
+        errno.EACCES,
+        errno.EPERM,
+        errno.ENOSPC,
+        errno.EDQUOT,
+        errno.EROFS,
+        errno.ELOOP,
+        errno.ENOTDIR,
+        errno.EISDIR,
+        errno.ENOENT,
+        errno.EFBIG,
+    }
+)
+"""What the system says of a path the user gave (too long, denied, full, read-only, a loop): bad
+input naming the path, wherever in a library it surfaced."""
+
+
+def _unexpected(args: argparse.Namespace, exc: Exception, console: Console) -> int:
+    """A bug (exit 1), unless a library turned a signal into this error (130, 143)."""
+    stopped = stop_code()
+    if stopped is not None:  # a library turned the signal's exception into its own error
+        console.error("interrupted" if stopped == 130 else "terminated")
+        return stopped
+    if args.debug:
+        raise exc
+    console.error(
+        f"unexpected failure: {type(exc).__name__}: {exc} (a bug: please report it; rerun "
+        "with --debug for the traceback)"
+    )
+    return 1

@@ -8,8 +8,22 @@ writes its files, and Python does not complain at exit.
 from __future__ import annotations
 
 import os
+import re
 import sys
 from typing import Any, TextIO
+
+_UNSAFE = re.compile("[\x00-\x08\x0b-\x1f\x7f-\x9f\u200e\u200f\u202a-\u202e\u2066-\u2069]")
+"""Characters a terminal acts on instead of showing: C0 and C1 controls (escape sequences,
+carriage return, bell) but the newline and the tab, and the bidirectional overrides."""
+
+
+def terminal_safe(text: str) -> str:
+    r"""``text`` with every character a terminal would act on shown as its escape (``\x1b``).
+
+    File names, URDF names and log headers come from untrusted files; printed raw, an escape
+    sequence in one could move the cursor, retitle the window or hide the rest of the line.
+    """
+    return _UNSAFE.sub(lambda m: m.group().encode("unicode_escape").decode("ascii"), text)
 
 
 class Console:
@@ -29,7 +43,7 @@ class Console:
         if self._closed and stream is sys.stdout:
             return
         try:
-            stream.write(text + "\n")
+            stream.write(terminal_safe(text) + "\n")
             stream.flush()
         except BrokenPipeError:
             self._closed = True
@@ -56,7 +70,8 @@ class Console:
 
     def error(self, text: str) -> None:
         """One line on stderr, always."""
-        self._write(sys.stderr, "scalf-opt: error: " + " ".join(text.splitlines()))
+        line = " ".join(part for part in text.splitlines() if part.strip())
+        self._write(sys.stderr, "scalf-opt: error: " + line)
 
 
 def progress_enabled() -> bool:

@@ -4,8 +4,12 @@ from __future__ import annotations
 
 import argparse
 import os
+import stat
+from collections.abc import Callable
+from dataclasses import dataclass
+from dataclasses import field as dataclass_field
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from scalf_opt.energy.accounting import ACCOUNTINGS
 from scalf_opt.errors import ConfigError, GaitError
@@ -16,13 +20,60 @@ if TYPE_CHECKING:
     from scalf_opt.locomotion.gait import Gait
     from scalf_opt.model.robot import Robot
 
-GAIT_OPTIONS: dict[str, tuple[str, type, str]] = {
-    "period_s": ("--period", float, "gait cycle T [s]"),
+
+def bounded(kind: type, high: float, low: float | None = None) -> Callable[[str], Any]:
+    """An argparse ``type`` that refuses a number above ``high`` (or below ``low``, if given).
+
+    What lies below or is not finite is left to the field's own check, which names the field
+    and is what the Python API raises too; the bound above keeps a command line from asking for
+    a run that cannot end (``--grid 100000``, ``--starts 1000000000``).
+    """
+
+    def parse(text: str) -> Any:
+        value = kind(text)  # a ValueError: argparse says "invalid float value: 'x'"
+        if value > high or (low is not None and value < low):
+            show = (lambda x: str(int(x))) if kind is int else (lambda x: f"{x:g}")
+            span = f"{show(low)}..{show(high)}" if low is not None else f"at most {show(high)}"
+            raise argparse.ArgumentTypeError(f"{text} is out of range ({span})")
+        return value
+
+    parse.__name__ = kind.__name__
+    return parse
+
+
+MAX_GAIT_LENGTH_M = 10.0
+"""Largest step length, clearance or stance height an option accepts [m] (the reach limits
+them much further: a 10 m leg is no robot's)."""
+
+MAX_PERIOD_S = 60.0
+"""Longest gait period an option accepts [s]."""
+
+MAX_RATE_HZ = 100_000.0
+"""Highest sample rate an option accepts [Hz] (a phase has at most 20,000 samples anyway)."""
+
+GAIT_OPTIONS: dict[str, tuple[str, Callable[[str], Any], str]] = {
+    "period_s": ("--period", bounded(float, MAX_PERIOD_S), "gait cycle T [s], at most 60"),
     "duty_cycle": ("--duty", float, "stance fraction of the cycle, in [0.5, 1)"),
-    "step_length_m": ("--step-length", float, "step length S [m]"),
-    "clearance_m": ("--clearance", float, "mid-swing clearance H [m]"),
-    "stance_height_m": ("--stance-height", float, "pitching hip above the ground z0 [m]"),
-    "sample_rate_hz": ("--rate", float, "sample rate of each phase [Hz]"),
+    "step_length_m": (
+        "--step-length",
+        bounded(float, MAX_GAIT_LENGTH_M),
+        "step length S [m], at most 10",
+    ),
+    "clearance_m": (
+        "--clearance",
+        bounded(float, MAX_GAIT_LENGTH_M),
+        "mid-swing clearance H [m], at most 10",
+    ),
+    "stance_height_m": (
+        "--stance-height",
+        bounded(float, MAX_GAIT_LENGTH_M),
+        "pitching hip above the ground z0 [m], at most 10",
+    ),
+    "sample_rate_hz": (
+        "--rate",
+        bounded(float, MAX_RATE_HZ),
+        "sample rate of each phase [Hz], at most 100000 (and 20000 samples per phase)",
+    ),
 }
 """Gait fields that have a command-line option: field -> (option, type, help)."""
 
@@ -170,6 +221,10 @@ def refuse_gait_with_saved(args: argparse.Namespace) -> None:
         raise ConfigError(f"{given[0]} and --from: a result directory brings its own gait")
 
 
+MAX_NAME_BYTES = 255
+"""Longest file or folder name (Linux, macOS and Windows file systems) [bytes]."""
+
+
 def check_output_dir(path: Path | None, option: str = "--out") -> None:
     """Refuse, before any work, an output directory that cannot be written.
 
@@ -178,11 +233,20 @@ def check_output_dir(path: Path | None, option: str = "--out") -> None:
     """
     if path is None:
         return
-    if path.exists() and not path.is_dir():
-        raise ConfigError(f"{option} {path}: is a file, not a directory")
-    existing = path
-    while not existing.exists():
-        existing = existing.parent
+    too_long = [part for part in path.parts if len(part.encode()) > MAX_NAME_BYTES]
+    if too_long:
+        raise ConfigError(
+            f"{option} {path}: a name in it is longer than the {MAX_NAME_BYTES} bytes a file "
+            "name may have (File name too long)"
+        )
+    try:
+        if path.exists() and not path.is_dir():
+            raise ConfigError(f"{option} {path}: is a file, not a directory")
+        existing = path
+        while not existing.exists():
+            existing = existing.parent
+    except OSError as exc:  # a name too long, a loop of links
+        raise ConfigError(f"{option} {path}: {exc.strerror}") from None
     if not existing.is_dir() or not os.access(existing, os.W_OK | os.X_OK):
         raise ConfigError(f"{option} {path}: {existing} is not a writable directory")
 
@@ -195,6 +259,49 @@ def check_output_file(path: Path | None, option: str = "--out") -> None:
     """
     if path is None:
         return
-    if path.is_dir():
+    try:
+        kind = path.stat().st_mode if path.exists() else None
+    except OSError as exc:  # a name too long, a loop of links
+        raise ConfigError(f"{option} {path}: {exc.strerror}") from None
+    if kind is not None and stat.S_ISDIR(kind):
         raise ConfigError(f"{option} {path}: is a directory, not a file")
+    if kind is not None and not stat.S_ISREG(kind):
+        raise ConfigError(
+            f"{option} {path}: is not a regular file; only a regular file is replaced"
+        )
     check_output_dir(path.parent if str(path.parent) else Path("."), option)
+
+
+@dataclass(frozen=True)
+class Outputs:
+    """What a command writes: folders and files by the option that names them.
+
+    The command line runs the command inside one :func:`~scalf_opt.files.output_set` of them:
+    the files are moved into place together when the command ends, none when it fails.
+
+    Attributes:
+        folders: Output folders, by option (``None``: not given).
+        files: Output files, by option.
+        direct: Paths under a folder written in place at once (a study's cache).
+    """
+
+    folders: dict[str, Path | None] = dataclass_field(default_factory=dict)
+    files: dict[str, Path | None] = dataclass_field(default_factory=dict)
+    direct: tuple[Path, ...] = ()
+
+    def check(self) -> None:
+        """Refuse, before any work, an output that cannot be written (the message names it).
+
+        Raises:
+            ConfigError: See :func:`check_output_dir` and :func:`check_output_file`.
+        """
+        for option, path in self.folders.items():
+            check_output_dir(path, option.split()[0])
+        for option, path in self.files.items():
+            check_output_file(path, option.split()[0])
+
+
+def default_outputs(args: argparse.Namespace) -> Outputs | None:
+    """The outputs of a command that does not declare its own: the folder ``--out``, if any."""
+    out = getattr(args, "out", None)
+    return Outputs(folders={"--out": out}) if isinstance(out, Path) else None

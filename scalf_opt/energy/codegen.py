@@ -24,11 +24,12 @@ import platform
 import shutil
 import signal
 import subprocess
-import tempfile
 import time
 from pathlib import Path
 
 import casadi as ca
+
+from scalf_opt.files import scratch_folder
 
 OPTIMIZATION_FLAG = "-O1"
 """gcc optimisation level: -O1 compiles the evaluator in a few seconds and runs it ~3x faster
@@ -203,7 +204,8 @@ def compile_library(name: str, functions: list[ca.Function]) -> Path | None:
     compiler = _compiler()
     if compiler is None:
         return None
-    with tempfile.TemporaryDirectory() as tmp:
+    with scratch_folder("compile") as folder:
+        tmp = str(folder)
         gen = ca.CodeGenerator(f"{name}.c", {"with_header": False})
         for fn in functions:
             gen.add(fn)

@@ -30,7 +30,7 @@ from scalf_opt.actuators.drive import Channel, Drive, MaxFn
 from scalf_opt.actuators.stribeck import smooth_max
 from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.model.kinematics import LegKinematics
-from scalf_opt.types import JOINT_ROLES, Accounting, Expr, Space, check_choice
+from scalf_opt.types import JOINT_ROLES, Accounting, Expr, Space, casadi_name, check_choice
 
 CORE_OUTPUTS: tuple[str, ...] = ("q", "qd", "qdd", "foot", "tau", "p_mech", "p_loss", "power")
 """Outputs every leg has, each a 2-vector: joint order (hip, knee), foot (x, z). ``p_mech`` is the
@@ -177,7 +177,7 @@ class LegPhysics:
             q, qd, tau = (ca.SX.sym(n, 2) for n in ("q", "qd", "tau"))
             power, p_loss = self.power_expr(q, qd, tau, accounting)
             self._functions[key] = ca.Function(
-                f"{self.leg.name}_power",
+                casadi_name(self.leg.name, "power"),
                 [q, qd, tau],
                 [power, p_loss],
                 ["q", "qd", "tau"],
@@ -203,7 +203,7 @@ class LegPhysics:
                 q, qd, qdd = y, yd, ydd
             out = self.sample_expr(q, qd, qdd, grf, accounting, heat_eps)
             self._functions[key] = ca.Function(
-                f"{self.leg.name}_{space}_sample",
+                casadi_name(self.leg.name, space, "sample"),
                 [y, yd, ydd, grf],
                 [out[k] for k in self.output_names],
                 ["y", "yd", "ydd", "grf"],

@@ -8,16 +8,19 @@ from collections.abc import Sequence
 from typing import Any
 
 from scalf_opt import __version__
+from scalf_opt.errors import ModelError
+from scalf_opt.files import read_untrusted
 from scalf_opt.model.robot import Robot
+from scalf_opt.model.urdf_file import MAX_URDF_BYTES
 
 
 def sha256_of(path: Any) -> str:
-    """SHA-256 of a file's bytes (hex)."""
-    digest = hashlib.sha256()
-    with open(path, "rb") as handle:
-        for block in iter(lambda: handle.read(1 << 20), b""):
-            digest.update(block)
-    return digest.hexdigest()
+    """SHA-256 of a URDF's bytes (hex), read as untrusted input (a bounded regular file).
+
+    Raises:
+        ModelError: The file is not a regular file or is too large.
+    """
+    return hashlib.sha256(read_untrusted(path, "URDF", MAX_URDF_BYTES, ModelError)).hexdigest()
 
 
 def run_provenance(command: Sequence[str] | None = None, **about: str) -> dict[str, Any]:

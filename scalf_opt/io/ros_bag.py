@@ -27,6 +27,7 @@ from typing import Any
 import numpy as np
 
 from scalf_opt.errors import ConfigError, LogError
+from scalf_opt.files import SCRATCH_PREFIX, copy_untrusted, scratch_folder, write_with
 
 BAG_SUFFIXES = (".mcap", ".db3")
 """Suffixes of the bag files read (a directory holding ``metadata.yaml`` is a bag too)."""
@@ -120,11 +121,8 @@ def write_bag(
     duration = types["builtin_interfaces/msg/Duration"]
     state, trajectory = types[JOINT_STATE], types[JOINT_TRAJECTORY]
     point = types["trajectory_msgs/msg/JointTrajectoryPoint"]
-    try:
-        path.parent.mkdir(parents=True, exist_ok=True)
-        scratch = Path(tempfile.mkdtemp(prefix=f".{path.name}.", dir=path.parent))
-    except OSError as exc:
-        raise ConfigError(f"{path.parent}: cannot write output directory ({exc.strerror})") from exc
+    # written in a private scratch folder, then into place as any output (write_with)
+    scratch = Path(tempfile.mkdtemp(prefix=f"{SCRATCH_PREFIX}bag-{os.getpid()}-"))
     try:
         bag = scratch / "bag"
         messages: list[tuple[int, Any, bytes]] = []
@@ -164,7 +162,8 @@ def write_bag(
             # in time order, as a recorder writes them (readers expect it)
             for ns, conn, data in sorted(messages, key=lambda m: (m[0], m[1].id)):
                 writer.write(conn, ns, data)
-        os.replace(bag / "bag.mcap", path)
+        with open(bag / "bag.mcap", "rb") as written:
+            write_with(path, lambda handle: shutil.copyfileobj(written, handle))
     finally:
         shutil.rmtree(scratch, ignore_errors=True)
     return path
@@ -188,11 +187,43 @@ def read_joint_states(path: str | Path, topic: str) -> JointStateSeries:
     path = Path(path)
     if not path.exists():
         raise LogError(f"{path}: the bag does not exist")
+    with scratch_folder("bag") as folder:  # the reader is given a bounded copy, nothing else
+        return _read_joint_states(path, _bounded_copy(path, folder), topic)
+
+
+MAX_BAG_BYTES = 512 * 1024 * 1024
+"""Largest ROS 2 bag read (the files of a bag folder together) [bytes]: about 3.5 hours of a
+robot's 1 kHz joint states."""
+
+
+def _bounded_copy(path: Path, folder: Path) -> Path:
+    """A copy of the bag ``path`` (a file, or a folder of files) in ``folder``, bounded.
+
+    Raises:
+        LogError: The bag, or a file of its folder, is not a regular file or is larger than
+            :data:`MAX_BAG_BYTES`; its folder holds a link or a folder.
+    """
+    if not path.is_dir():
+        copy = folder / path.name
+        copy_untrusted(path, copy, "bag", MAX_BAG_BYTES, LogError)
+        return copy
+    copy = folder / (path.name or "bag")
+    copy.mkdir()
+    left = MAX_BAG_BYTES
+    for entry in sorted(path.iterdir()):
+        if entry.is_symlink() or entry.is_dir():
+            raise LogError(f"{entry}: a bag folder holds its files only, not links or folders")
+        left -= copy_untrusted(entry, copy / entry.name, "bag", left, LogError)
+    return copy
+
+
+def _read_joint_states(path: Path, local: Path, topic: str) -> JointStateSeries:
+    """:func:`read_joint_states` of the bag's copy ``local``; messages name ``path``."""
     _rosbags()
     from rosbags.highlevel import AnyReader
 
     try:
-        reader = AnyReader([path])
+        reader = AnyReader([local])
         reader.open()
     except Exception as exc:  # rosbags raises many kinds on a broken file
         raise _bag_error(path, exc) from exc

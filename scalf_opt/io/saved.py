@@ -21,6 +21,7 @@ import numpy as np
 
 from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.errors import ConfigError, GaitError, ScalfError
+from scalf_opt.files import read_untrusted_text
 from scalf_opt.io.provenance import sha256_of
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
@@ -28,6 +29,12 @@ from scalf_opt.model.robot import Robot
 from scalf_opt.types import LEG_NAMES, Accounting
 
 SUMMARY_FILE = "summary.json"
+
+MAX_SUMMARY_BYTES = 16 * 1024 * 1024
+"""Largest ``summary.json`` read [bytes] (a paper run's, with the bound and the stance: ~100 kB)."""
+
+MAX_JSON_DEPTH = 32
+"""Deepest nesting of lists and objects in a ``summary.json`` (written ones: 6)."""
 
 MASS_TOLERANCE = 1e-9
 """Relative difference of total masses that still counts as the same robot."""
@@ -187,16 +194,11 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
     path = Path(directory)
     if path.is_dir() or path.suffix != ".json":
         path = path / SUMMARY_FILE
-    try:
-        data = json.loads(path.read_text(encoding="utf-8"))
-    except FileNotFoundError as exc:
+    if not path.exists():
         raise ConfigError(
             f"{path}: not found (give a directory written by 'scalf-opt optimize --out')"
-        ) from exc
-    except OSError as exc:
-        raise ConfigError(f"{path}: cannot read ({exc.strerror})") from exc
-    except json.JSONDecodeError as exc:
-        raise ConfigError(f"{path}: not valid JSON ({exc.msg}, line {exc.lineno})") from exc
+        )
+    data = read_json(path, "summary")
     if not isinstance(data, dict):
         raise ConfigError(f"{path}: not a summary (expected a JSON object)")
     gait = _gait(path, _field(path, data, "gait", dict))
@@ -255,6 +257,37 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
         optimization if isinstance(optimization, dict) else None,
         float(rate) if isinstance(rate, int | float) and not isinstance(rate, bool) else None,
     )
+
+
+def _depth_of(data: Any) -> int:
+    """How deeply lists and objects nest in parsed JSON (iteratively: no recursion)."""
+    deepest, stack = 0, [(data, 1)]
+    while stack:
+        value, depth = stack.pop()
+        if isinstance(value, dict | list):
+            deepest = max(deepest, depth)
+            items = value.values() if isinstance(value, dict) else value
+            stack.extend((item, depth + 1) for item in items)
+    return deepest
+
+
+def read_json(path: Path, kind: str) -> Any:
+    """A JSON file read as untrusted input: a bounded regular file, nested at most so deep.
+
+    Raises:
+        ConfigError: Not a regular file, larger than :data:`MAX_SUMMARY_BYTES`, not UTF-8, not
+            valid JSON, or nested deeper than :data:`MAX_JSON_DEPTH` (the message names it).
+    """
+    text = read_untrusted_text(path, kind, MAX_SUMMARY_BYTES)
+    try:
+        data = json.loads(text)
+    except json.JSONDecodeError as exc:
+        raise ConfigError(f"{path}: not valid JSON ({exc.msg}, line {exc.lineno})") from exc
+    except RecursionError:
+        data = None
+    if (data is None and text.lstrip().startswith(("[", "{"))) or _depth_of(data) > MAX_JSON_DEPTH:
+        raise ConfigError(f"{path}: JSON nested deeper than the {MAX_JSON_DEPTH} levels allowed")
+    return data
 
 
 def _field(path: Path, data: dict[str, Any], key: str, kind: type, name: str | None = None) -> Any:

@@ -137,21 +137,55 @@ class LogAnalysis:
         }
 
 
+def window_integrals(t_s: np.ndarray, values: np.ndarray, windows: np.ndarray) -> np.ndarray:
+    """Integrals of the piecewise-linear interpolant of ``values`` over windows [unit s].
+
+    ``windows`` has a ``[start, end]`` row per window, shape (k, 2).
+
+    One cumulative sum of the trapezoids and a binary search per window end: linear in the
+    log's length, whatever the number of windows. The ends must lie inside
+    ``[t_s[0], t_s[-1]]``.
+    """
+    t = np.asarray(t_s, dtype=float)
+    p = np.asarray(values, dtype=float)
+    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (p[1:] + p[:-1]) * np.diff(t))])
+    ends = np.asarray(windows, dtype=float).reshape(-1, 2)
+    k = np.clip(np.searchsorted(t, ends, side="right") - 1, 0, t.size - 2)
+    px = np.interp(ends, t, p)
+    primitive = cumulative[k] + 0.5 * (p[k] + px) * (ends - t[k])
+    return primitive[:, 1] - primitive[:, 0]
+
+
 def window_integral(t_s: np.ndarray, values: np.ndarray, start: float, end: float) -> float:
     """Integral over ``[start, end]`` of the piecewise-linear interpolant of ``values`` [unit s].
 
     ``start`` and ``end`` must lie inside ``[t_s[0], t_s[-1]]``.
     """
-    t = np.asarray(t_s, dtype=float)
-    p = np.asarray(values, dtype=float)
-    cumulative = np.concatenate([[0.0], np.cumsum(0.5 * (p[1:] + p[:-1]) * np.diff(t))])
+    return float(window_integrals(t_s, values, np.array([[start, end]]))[0])
 
-    def primitive(x: float) -> float:
-        k = int(np.clip(np.searchsorted(t, x, side="right") - 1, 0, t.size - 2))
-        px = float(np.interp(x, t, p))
-        return float(cumulative[k] + 0.5 * (p[k] + px) * (x - t[k]))
 
-    return primitive(end) - primitive(start)
+POWER_BLOCK_SAMPLES = 8192
+"""Samples charged by one call of the model's power function (mapped once over a block: the
+time stays linear in the log's length, where one map over the whole log grows faster)."""
+
+
+def _charged_power(
+    pipeline: EnergyPipeline, leg: str, theta: np.ndarray, theta_dot: np.ndarray, tau: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The legs' charged power and drive losses summed over the joints, shape (n,) each [W]."""
+    fn = pipeline.physics(leg).power_function("paper").map(POWER_BLOCK_SAMPLES)
+    n = theta.shape[1]
+    power, loss = np.empty(n), np.empty(n)
+    for first in range(0, n, POWER_BLOCK_SAMPLES):
+        last = min(first + POWER_BLOCK_SAMPLES, n)
+        pad = POWER_BLOCK_SAMPLES - (last - first)
+        block = [
+            np.pad(a[:, first:last], ((0, 0), (0, pad)), mode="edge")
+            for a in (theta, theta_dot, tau)
+        ]
+        p, q = (np.array(v).sum(axis=0)[: last - first] for v in fn(*block))
+        power[first:last], loss[first:last] = p, q
+    return power, loss
 
 
 def leg_cylinders(
@@ -274,22 +308,20 @@ def analyze_log(
             [np.array(c.moment_arm_m(theta[j])).ravel() for j, c in enumerate(cylinders)]
         )
         velocity = local_polynomial_derivative(t, data.length_m, half, degree)
-        fn = pipeline.physics(leg).power_function("paper").map(t.size)
-        power, loss = (
-            np.array(v).sum(axis=0) for v in fn(theta, velocity / arm, data.force_n * arm)
-        )
+        power, loss = _charged_power(pipeline, leg, theta, velocity / arm, data.force_n * arm)
         mechanical = power - loss
         windows = [(first + k * period, first + (k + 1) * period) for k in range(count)]
+        ends = np.array(windows)
         per_phase = {
-            name: sum(window_integral(t, mechanical * mask, a, b) for a, b in windows) / count
+            name: float(window_integrals(t, mechanical * mask, ends).sum()) / count
             for name, mask in (("stance", stance), ("swing", ~stance))
         }
         legs[leg] = LegEnergy(
             leg=leg,
             windows_s=windows,
             mechanical_j={**per_phase, "cycle": per_phase["stance"] + per_phase["swing"]},
-            per_cycle_j=[window_integral(t, mechanical, a, b) for a, b in windows],
-            friction_heat_j=sum(window_integral(t, loss, a, b) for a, b in windows) / count,
+            per_cycle_j=[float(e) for e in window_integrals(t, mechanical, ends)],
+            friction_heat_j=float(window_integrals(t, loss, ends).sum()) / count,
         )
     steps = np.concatenate([np.diff(d.t_s) for d in log.legs.values()])
     return LogAnalysis(

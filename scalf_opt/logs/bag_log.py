@@ -32,6 +32,7 @@ import numpy as np
 
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import LogError
+from scalf_opt.files import read_untrusted_text
 from scalf_opt.io.ros_bag import JointStateSeries, cylinder_joint_name, read_joint_states
 from scalf_opt.logs.analysis import leg_cylinders
 from scalf_opt.logs.joint_log import JointLegLog, JointLog
@@ -307,7 +308,7 @@ def read_any_log(
         LogError: A bag without ``topic``, a topic given for a CSV, and every reader's errors.
     """
     from scalf_opt.io.ros_bag import is_bag
-    from scalf_opt.logs.log_file import read_log
+    from scalf_opt.logs.log_file import parse_log
 
     path = Path(path)
     if is_bag(path):
@@ -316,13 +317,7 @@ def read_any_log(
         return bag_log(path, pipeline, topic, signals, names)
     if topic is not None or names:
         raise LogError(f"{path}: --topic and --joint are for a ROS 2 bag (.mcap, .db3)")
-    try:
-        if path.stat().st_size <= MAX_LOG_BYTES:
-            head = path.read_bytes()[:4096].decode("utf-8", errors="replace")
-            if is_export_csv(head):
-                return export_csv_log(path.read_text(encoding="utf-8"), str(path))
-    except OSError:
-        pass  # read_log names the problem
-    except UnicodeDecodeError as exc:
-        raise LogError(f"{path}: not a text file ({exc.reason})") from exc
-    return read_log(path)
+    text = read_untrusted_text(path, "log", MAX_LOG_BYTES, LogError)
+    if is_export_csv(text[:4096]):
+        return export_csv_log(text, str(path))
+    return parse_log(text, str(path))

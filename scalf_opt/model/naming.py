@@ -149,4 +149,15 @@ def read_leg_map(path: Path) -> LegMap:
             if not isinstance(value, str) or not value:
                 raise ConfigError(f"{path}: legs.{leg}.{key} must be a URDF name, got {value!r}")
         out[leg] = LegJoints(table.get("roll"), table["pitch"], table["knee"], table["foot"])
+    seen: dict[str, str] = {}
+    for leg, names in out.items():
+        for key, name in zip(_LEG_KEYS, names, strict=True):
+            if name is None:
+                continue
+            if name in seen:
+                raise ConfigError(
+                    f"{path}: legs.{leg}.{key} = {name!r} is already {seen[name]}: each joint "
+                    "and foot belongs to one leg, once"
+                )
+            seen[name] = f"legs.{leg}.{key}"
     return LegMap(str(path), out)

@@ -14,11 +14,12 @@ import numpy as np
 import pinocchio as pin
 
 from scalf_opt.errors import ModelError
+from scalf_opt.files import captured_native_output
 from scalf_opt.model.discovery import discover_legs
 from scalf_opt.model.inertia import inertia_problems
 from scalf_opt.model.leg import Leg
 from scalf_opt.model.naming import LegNames, legs_file_for, read_leg_map
-from scalf_opt.model.urdf_file import read_urdf_text
+from scalf_opt.model.urdf_file import read_srdf_text, read_urdf_text
 from scalf_opt.types import LEG_NAMES
 
 
@@ -46,13 +47,43 @@ def parse_urdf(path: Path) -> pin.Model:
     """
     text = read_urdf_text(path)
     try:
-        model = pin.buildModelFromXML(text)
+        with captured_native_output() as printed:  # urdfdom prints its errors on stderr
+            model = pin.buildModelFromXML(text)
     except (RuntimeError, ValueError) as exc:
-        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise ModelError(f"{path}: not a valid URDF ({first})") from exc
+        raise ModelError(f"{path}: not a valid URDF ({_first_line(exc, printed)})") from exc
     check_bodies(model, path)
     _rename_links_named_like_joints(model)
     return model
+
+
+def _first_line(exc: BaseException, printed: list[str]) -> str:
+    """The native library's own message: its exception's first line, else what it printed."""
+    for text in (str(exc), *printed):
+        if text.strip():
+            return text.strip().splitlines()[0][:300]
+    return type(exc).__name__
+
+
+def reference_configuration(model: pin.Model, srdf_path: Path, state: str) -> np.ndarray:
+    """The configuration of group state ``state`` in an SRDF, read as untrusted input.
+
+    Raises:
+        ModelError: The SRDF is not a regular, bounded, well-formed file (see
+            :func:`~scalf_opt.model.urdf_file.read_srdf_text`), Pinocchio refuses it, it has no
+            such state, or a value is not finite.
+    """
+    text = read_srdf_text(srdf_path)
+    try:
+        with captured_native_output() as printed:
+            pin.loadReferenceConfigurationsFromXML(model, text, False)
+    except (RuntimeError, ValueError) as exc:
+        raise ModelError(f"{srdf_path}: not a valid SRDF ({_first_line(exc, printed)})") from exc
+    if state not in model.referenceConfigurations:
+        raise ModelError(f"{srdf_path}: no group state {state!r}")
+    reference = np.array(model.referenceConfigurations[state], dtype=float)
+    if not np.isfinite(reference).all():
+        raise ModelError(f"{srdf_path}: group state {state!r} has a value that is not finite")
+    return reference
 
 
 def _rename_links_named_like_joints(model: pin.Model) -> None:
@@ -134,15 +165,11 @@ class Robot:
         if legs is None:
             legs_file = legs_file_for(path)
             legs = (
-                read_leg_map(legs_file) if legs_file.is_file() else discover_legs(model, str(path))
+                read_leg_map(legs_file) if legs_file.exists() else discover_legs(model, str(path))
             )
         reference = None
         if srdf is not None:
-            srdf_path, state = srdf
-            pin.loadReferenceConfigurations(model, str(srdf_path), False)
-            if state not in model.referenceConfigurations:
-                raise ModelError(f"{srdf_path}: no group state {state!r}")
-            reference = np.array(model.referenceConfigurations[state], dtype=float)
+            reference = reference_configuration(model, *srdf)
         return cls(
             model, path, legs, name or path.stem, nominal_stance_height_m, reference, actuator_path
         )

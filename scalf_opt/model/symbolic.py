@@ -38,7 +38,7 @@ from scalf_opt.model.spatial import (
     joint_kind,
     skew,
 )
-from scalf_opt.types import Expr
+from scalf_opt.types import Expr, casadi_name
 
 
 class SymbolicChain:
@@ -193,7 +193,7 @@ class SymbolicChain:
             order = [self._joints[i][2] for i in range(1, self.model.njoints)]
             jac = ca.horzcat(*[cols[order.index(k)] for k in range(self.nv)])
             self._placement_fns[index] = ca.Function(
-                f"frame_{f.name}", [q], [rot, pos, jac], ["q"], ["R", "p", "J"]
+                casadi_name("frame", f.name), [q], [rot, pos, jac], ["q"], ["R", "p", "J"]
             )
         return self._placement_fns[index]
 

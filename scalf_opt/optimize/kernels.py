@@ -27,7 +27,6 @@ samples and CasADi differentiates through it.
 
 from __future__ import annotations
 
-import re
 import weakref
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -38,14 +37,7 @@ import numpy as np
 from scalf_opt.energy.codegen import compile_library, load_external
 from scalf_opt.energy.limits import Bound, leg_bounds
 from scalf_opt.energy.physics import LegPhysics
-from scalf_opt.types import Accounting, Space
-
-
-def casadi_name(*parts: str) -> str:
-    """A valid CasADi function name from arbitrary parts (letters, digits, single underscores)."""
-    name = re.sub(r"[^A-Za-z0-9]+", "_", "_".join(parts)).strip("_")
-    return name if name[:1].isalpha() else f"f_{name}"
-
+from scalf_opt.types import Accounting, Space, casadi_name
 
 HEAT_SMOOTHING_EPS_M_S = 1e-4
 """Velocity scale of the smooth max in the NLP's drive losses [m/s].

@@ -15,6 +15,7 @@ from pathlib import Path
 from scalf_opt.errors import ModelError
 from scalf_opt.model.naming import LegNames, read_leg_map
 from scalf_opt.model.robot import Robot
+from scalf_opt.model.urdf_file import read_srdf_text
 from scalf_opt.robots.catalog import CATALOG, RobotEntry, entry
 from scalf_opt.robots.similarity import similar_stance_height_m
 
@@ -69,7 +70,7 @@ def load_robot(
     if name is not None and urdf is not None:
         raise ModelError("give a robot name or a URDF path, not both")
     actuator_path = Path(actuators) if actuators is not None else None
-    if actuator_path is not None and not actuator_path.is_file():
+    if actuator_path is not None and not actuator_path.exists():
         raise ModelError(f"{actuator_path}: actuator file not found")
     if urdf is None:
         if legs is not None:
@@ -82,7 +83,7 @@ def load_robot(
     names: LegNames | None = read_leg_map(Path(legs)) if legs is not None else None
     srdf_path = path.with_suffix(".srdf")
     standing = f'name="{RobotEntry.STANDING_STATE}"'
-    has_posture = srdf_path.is_file() and standing in srdf_path.read_text(errors="replace")
+    has_posture = srdf_path.exists() and standing in read_srdf_text(srdf_path)
     srdf = (srdf_path, RobotEntry.STANDING_STATE) if has_posture else None
     robot = _with_stance_height(Robot.from_urdf(path, names, None, None, srdf, actuator_path), None)
     return _with_parent(robot)

@@ -35,6 +35,7 @@ length (:func:`~scalf_opt.robots.similarity.similar_stance_height_m`).
 
 from __future__ import annotations
 
+import io
 import math
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
@@ -45,10 +46,11 @@ import pinocchio as pin
 
 from scalf_opt.actuators.sidecar import robot_sidecar_path, sidecar_path_for
 from scalf_opt.errors import ConfigError, ModelError
-from scalf_opt.files import read_toml, write_atomic
+from scalf_opt.files import MAX_TOML_BYTES, read_toml, read_untrusted_text, write_atomic
 from scalf_opt.model.inertia import inertia_problems
 from scalf_opt.model.naming import legs_file_for
 from scalf_opt.model.robot import Robot
+from scalf_opt.model.urdf_file import read_srdf_text, read_urdf_text
 from scalf_opt.robots.catalog import CATALOG
 from scalf_opt.types import LEG_NAMES
 
@@ -266,12 +268,14 @@ def variant_xml(robot: Robot, scales: VariantScales) -> str:
     from lxml import etree
 
     source = robot.urdf_path
+    checked = io.BytesIO(read_urdf_text(source).encode("utf-8"))  # not the file again: its text
     urdf = yourdfpy.URDF.load(
-        str(source),
+        checked,
         build_scene_graph=False,
         build_collision_scene_graph=False,
         load_meshes=False,
         load_collision_meshes=False,
+        filename_handler=lambda filename: filename,  # no mesh is looked for: kept as written
     )
     joints = {joint.name: joint for joint in urdf.robot.joints}
     for leg in LEG_NAMES:
@@ -468,14 +472,16 @@ def derive_variant(robot: Robot, scales: VariantScales, out: str | Path) -> Vari
     extras = []
     actuators = robot_sidecar_path(robot)
     if actuators is not None:
-        text = header.format(src=actuators.name) + actuators.read_text(encoding="utf-8")
+        text = header.format(src=actuators.name) + read_untrusted_text(
+            actuators, "actuator", MAX_TOML_BYTES
+        )
         extras.append((sidecar_path_for(out), text))
     legs = legs_file_for(robot.urdf_path)
-    if legs.is_file():
-        extras.append((legs_file_for(out), legs.read_text(encoding="utf-8")))
+    if legs.exists():
+        extras.append((legs_file_for(out), read_untrusted_text(legs, "legs", MAX_TOML_BYTES)))
     srdf = _srdf_of(robot)
     if srdf is not None:
-        extras.append((out.with_suffix(".srdf"), srdf.read_text(encoding="utf-8")))
+        extras.append((out.with_suffix(".srdf"), read_srdf_text(srdf)))
     extras.append((variant_record_for(out), _record_text(robot, scales, out)))
     written = [write_atomic(out, xml)]
     written += [write_atomic(path, text) for path, text in extras]

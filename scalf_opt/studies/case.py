@@ -19,7 +19,6 @@ from __future__ import annotations
 
 import hashlib
 import json
-import tempfile
 import traceback
 from dataclasses import asdict, replace
 from pathlib import Path
@@ -29,12 +28,14 @@ from scalf_opt import __version__
 from scalf_opt.actuators.sidecar import robot_sidecar_path
 from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.energy.pipeline import EnergyPipeline
-from scalf_opt.errors import ScalfError
+from scalf_opt.errors import ModelError, ScalfError
+from scalf_opt.files import read_untrusted, scratch_folder
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.naming import legs_file_for
 from scalf_opt.model.robot import Robot
+from scalf_opt.model.urdf_file import MAX_URDF_BYTES
 from scalf_opt.optimize.driver import Settings, optimize_swings
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.robots.variants import VariantScales, derive_variant
@@ -81,6 +82,27 @@ def _gait(case: Case, robot: Robot) -> Gait:
     return replace(default_gait_for(robot), **case.gait)
 
 
+def check_setup(case: Case, folder: Path) -> None:
+    """Set the case up as :func:`run_case` does, without optimizing.
+
+    The robot, its variant, the gait, the family and the reference cycle: what fails here fails
+    the case before it runs.
+
+    Args:
+        case: The case.
+        folder: A scratch folder for a variant's URDF.
+
+    Raises:
+        ScalfError: The case's robot, variant, gait or family is invalid, or its reference
+            motion leaves the legs' reach.
+    """
+    robot = _robot(case, folder)
+    gait = _gait(case, robot)
+    make_family(case.family)
+    pipeline = EnergyPipeline(robot, gait, case.accounting)
+    pipeline.robot_cycle(make_family("reference"))
+
+
 def _legs(optimize_choice: str) -> tuple[str, ...]:
     if optimize_choice == "pair":
         return FIRST_PAIR
@@ -110,8 +132,8 @@ def run_case(case: Case) -> dict[str, Any]:
     row["robot"] = case.robot or Path(case.urdf or "").stem
     row["error"] = ""
     try:
-        with tempfile.TemporaryDirectory(prefix="scalf-opt-case-") as folder:
-            robot = _robot(case, Path(folder))
+        with scratch_folder("case") as folder:
+            robot = _robot(case, folder)
             gait = _gait(case, robot)
             row["speed_m_s"] = gait.speed_m_s
             rf = robot.leg("RF")
@@ -147,14 +169,15 @@ def run_case(case: Case) -> dict[str, Any]:
 def _digest(path: str | Path | None) -> str | None:
     if path is None:
         return None
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
+    data = read_untrusted(path, "input", MAX_URDF_BYTES, ModelError)  # the largest input kind
+    return hashlib.sha256(data).hexdigest()
 
 
 def _input_files(case: Case) -> dict[str, str | None]:
     """Hashes of every file the case's robot is read from (URDF, actuator and legs files)."""
     robot = load_robot(name=case.robot, urdf=case.urdf, legs=case.legs, actuators=case.actuators)
     beside = legs_file_for(robot.urdf_path)
-    legs_path = case.legs or (str(beside) if beside.is_file() else None)
+    legs_path = case.legs or (str(beside) if beside.exists() else None)
     return {
         "urdf": _digest(robot.urdf_path),
         "actuators": _digest(robot_sidecar_path(robot)),

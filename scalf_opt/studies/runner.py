@@ -14,7 +14,6 @@ that many local processes (default: one per CPU); ``scheduler`` sends them to a 
 
 from __future__ import annotations
 
-import json
 import multiprocessing
 import os
 from collections.abc import Callable, Iterator
@@ -25,10 +24,18 @@ from pathlib import Path
 from typing import Any
 
 from scalf_opt.errors import ConfigError, ScalfError
-from scalf_opt.files import write_atomic
+from scalf_opt.files import scratch_folder, write_atomic
 from scalf_opt.interrupts import raise_if_stopped
 from scalf_opt.io.results import rows_csv_text, to_json
-from scalf_opt.studies.case import RESULT_COLUMNS, STATUS_ERROR, STATUS_OK, case_key, run_case
+from scalf_opt.io.saved import read_json
+from scalf_opt.studies.case import (
+    RESULT_COLUMNS,
+    STATUS_ERROR,
+    STATUS_OK,
+    case_key,
+    check_setup,
+    run_case,
+)
 from scalf_opt.studies.progress import Progress
 from scalf_opt.studies.study_file import Case, Study
 from scalf_opt.viz.figures import save_atomic
@@ -143,14 +150,42 @@ def choose_runner(workers: int | None = None, scheduler: str | None = None) -> R
 
 
 def _cached(path: Path, case: Case) -> dict[str, Any] | None:
+    if not path.exists():
+        return None
     try:
-        row = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError):
-        return None  # missing, or damaged: run the case again
+        row = read_json(path, "cache entry")
+    except ScalfError:
+        return None  # damaged, or not a regular file: run the case again (written anew)
     if not isinstance(row, dict):
         return None
     row.update({"case": case.index, **case.swept})
     return row
+
+
+def check_some_case_runs(study: Study) -> None:
+    """Refuse, before any case runs, a study none of whose cases can be set up.
+
+    The cases are set up in turn (:func:`~scalf_opt.studies.case.check_setup`) until one
+    passes: a fixed gait field the robot cannot walk, say, fails every case, which is the study
+    file's fault and is said once, with nothing written, rather than as a table of failures.
+
+    Raises:
+        ScalfError: Every case fails its setup; the first case's error, naming the study file.
+    """
+    first: ScalfError | None = None
+    with scratch_folder("check") as folder:
+        for case in study.cases:
+            raise_if_stopped()
+            try:
+                check_setup(case, folder)
+                return
+            except ScalfError as exc:
+                first = first or exc
+    if first is not None:
+        raise type(first)(
+            f"{study.path}: no case can run ({len(study.cases)} tried); case 1: {first}",
+            field=first.field,
+        )
 
 
 def _columns(study: Study) -> list[str]:
@@ -177,6 +212,7 @@ def run_study(
     """
     out = Path(out)
     cache = out / CACHE_DIR
+    check_some_case_runs(study)
     runner = runner or choose_runner()
     rows: dict[int, dict[str, Any]] = {}
     keys: dict[int, str | None] = {}

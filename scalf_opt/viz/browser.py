@@ -15,13 +15,12 @@ import re
 import shutil
 import signal
 import subprocess
-import tempfile
 from dataclasses import dataclass
 from pathlib import Path
 from typing import IO
 
 from scalf_opt.errors import ConfigError
-from scalf_opt.files import write_with
+from scalf_opt.files import current_location, scratch_folder, write_with
 
 CHROMIUM_NAMES = ("chromium", "chromium-browser", "google-chrome", "google-chrome-stable")
 """Executables tried, in order, unless ``SCALF_OPT_CHROMIUM`` names one."""
@@ -108,9 +107,9 @@ def render_page(
             "no Chromium found (install the 'chromium' package, or set SCALF_OPT_CHROMIUM)"
         )
     page, screenshot = Path(page), Path(screenshot)
-    with tempfile.TemporaryDirectory(prefix="scalf-opt-chromium-") as tmp:
+    with scratch_folder("chromium") as tmp:
         probe = Path(tmp) / "page.html"
-        text = page.read_text(encoding="utf-8")
+        text = current_location(page).read_text(encoding="utf-8")
         head = text.find("<head>")
         at = head + len("<head>") if head >= 0 else 0
         probe.write_text(text[:at] + _PROBE + text[at:], encoding="utf-8")

@@ -1,8 +1,9 @@
 """The robot's visual geometry, as Pinocchio reads it from the URDF, in plain arrays.
 
 Pinocchio builds the visual :class:`pinocchio.GeometryModel` (primitives, and meshes of any
-format its mesh loader reads: STL, OBJ, COLLADA, ...), resolving ``package://`` paths against the
-example-robot-data share directory and the URDF's own ancestor directories. Each geometry object
+format its mesh loader reads: STL, OBJ, COLLADA, ...) from bounded copies of the meshes the URDF
+names, each confined to the robot's description
+(:func:`~scalf_opt.model.urdf_file.with_local_meshes`). Each geometry object
 becomes a :class:`Visual`: a primitive's dimensions or a mesh's vertices and triangles (the
 URDF's mesh scale applied), its colour, its parent joint and its placement in that joint's frame.
 """
@@ -17,8 +18,9 @@ import numpy as np
 import pinocchio as pin
 
 from scalf_opt.errors import ModelError, ScalfError
+from scalf_opt.files import captured_native_output, scratch_folder
 from scalf_opt.model.robot import Robot
-from scalf_opt.model.urdf_file import read_urdf_text, with_resolved_meshes
+from scalf_opt.model.urdf_file import read_urdf_text, with_local_meshes
 
 Shape = Literal["box", "cylinder", "sphere", "ellipsoid", "mesh"]
 
@@ -50,33 +52,41 @@ class Visual:
     rgba: tuple[float, float, float, float]
 
 
-def package_roots() -> list[Path]:
-    """Folders whose subfolders are ROS packages: example-robot-data's robot descriptions."""
+def description_packages() -> dict[str, Path]:
+    """Robot description packages without a ``package.xml``, by name: example-robot-data's."""
     try:
         from scalf_opt.robots.example_robot_data import example_robot_data_dir
 
-        return [example_robot_data_dir()]
+        return {"example-robot-data": example_robot_data_dir().parent}
     except ScalfError:
-        return []  # not installed: only the URDF's own tree
+        return {}  # not installed: only real packages and the URDF's own folder
 
 
 def visual_model(robot: Robot) -> pin.GeometryModel:
     """Pinocchio's visual geometry model of ``robot``, from the URDF text that passed the checks.
 
-    Every mesh reference must stay inside the robot's description
-    (:func:`~scalf_opt.model.urdf_file.resolve_mesh`); Pinocchio is then given the checked
-    text with every mesh reference replaced by the absolute path it was checked to resolve to.
+    Every mesh reference must stay inside the robot's description, and the meshes are read
+    with a size bound into a private folder
+    (:func:`~scalf_opt.model.urdf_file.with_local_meshes`); Pinocchio is given the checked text
+    with every mesh reference replaced by its copy, and reads nothing else. What the mesh loader
+    prints is caught.
 
     Raises:
-        ModelError: A mesh leaves its folder, or cannot be found or read (the message names the
-            URDF).
+        ModelError: A mesh leaves its folder, is too large, or cannot be found or read (the
+            message names the URDF or the mesh).
     """
-    text = with_resolved_meshes(robot.urdf_path, read_urdf_text(robot.urdf_path), package_roots())
-    try:
-        return pin.buildGeomFromUrdfString(robot.model, text, pin.GeometryType.VISUAL)
-    except (RuntimeError, ValueError, OSError) as exc:
-        first = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
-        raise ModelError(f"{robot.urdf_path}: cannot load its visual geometry ({first})") from exc
+    text = read_urdf_text(robot.urdf_path)
+    with scratch_folder("meshes") as folder:
+        local = with_local_meshes(robot.urdf_path, text, description_packages(), folder)
+        try:
+            with captured_native_output() as printed:
+                return pin.buildGeomFromUrdfString(robot.model, local, pin.GeometryType.VISUAL)
+        except (RuntimeError, ValueError, OSError) as exc:
+            lines = [line for line in (str(exc), *printed) if line.strip()]
+            first = lines[0].strip().splitlines()[0][:300] if lines else type(exc).__name__
+            raise ModelError(
+                f"{robot.urdf_path}: cannot load its visual geometry ({first})"
+            ) from exc
 
 
 def load_visuals(robot: Robot) -> tuple[list[Visual], list[str]]:

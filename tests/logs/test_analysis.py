@@ -7,7 +7,7 @@ import pytest
 
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
-from scalf_opt.logs.analysis import analyze_log, leg_cylinders, window_integral
+from scalf_opt.logs.analysis import analyze_log, leg_cylinders, window_integral, window_integrals
 from scalf_opt.logs.log_file import CylinderLog
 from scalf_opt.logs.model_log import model_log
 from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
@@ -147,3 +147,24 @@ def test_the_sensor_log_is_deterministic_and_has_the_sensors_noise(pipeline):
     noise_f = first.legs["RF"].force_n - exact.force_n
     assert noise_l.std() == pytest.approx(1e-4, rel=0.25)
     assert noise_f.std() == pytest.approx(70.0, rel=0.25)
+
+
+def test_a_fast_log_is_filtered_over_a_bounded_window(pipeline):
+    """At 8 kHz the 75 ms window would hold 601 samples: it holds 25, and the energy still
+    comes out (linear work and memory, whatever the rate)."""
+    log, cycle = model_log(pipeline, REFERENCE_SWINGS, 8000.0, cycles=2)
+    analysis = analyze_log(log, pipeline)
+    assert analysis.as_dict()["filter"]["samples"] == 25
+    expected = mechanical_j(cycle.legs["RF"])["cycle"]
+    assert analysis.legs["RF"].mechanical_j["cycle"] == pytest.approx(expected, rel=0.01)
+
+
+def test_window_integrals_of_many_windows_are_each_windows_integral():
+    rng = np.random.default_rng(7)
+    t = np.cumsum(rng.uniform(0.005, 0.02, 400))
+    p = rng.normal(0, 10, 400)
+    ends = np.sort(rng.uniform(t[0], t[-1], (50, 2)), axis=1)
+    each = [window_integral(t, p, a, b) for a, b in ends]
+    np.testing.assert_allclose(window_integrals(t, p, ends), each, rtol=1e-12, atol=1e-12)
+    fine = np.union1d(np.linspace(*ends[0], 2001), t[(t > ends[0][0]) & (t < ends[0][1])])
+    assert each[0] == pytest.approx(np.trapezoid(np.interp(fine, t, p), fine), rel=1e-9)

@@ -1,10 +1,17 @@
 """The log's velocity filter: Savitzky-Golay on the sample times."""
 
+import math
+
 import numpy as np
 import pytest
 from scipy.signal import savgol_filter
 
-from scalf_opt.logs.derivative import half_window_samples, local_polynomial_derivative
+from scalf_opt.logs.derivative import (
+    BLOCK_SAMPLES,
+    MAX_HALF_WINDOW_SAMPLES,
+    half_window_samples,
+    local_polynomial_derivative,
+)
 
 
 @pytest.mark.parametrize(("half", "degree"), [(2, 2), (3, 3), (5, 3), (4, 4)])
@@ -27,10 +34,25 @@ def test_a_polynomial_of_the_fits_degree_is_differentiated_exactly_on_any_grid()
     np.testing.assert_allclose(stacked, np.vstack([exact, 3 * exact]), atol=1e-9)
 
 
-def test_the_window_is_a_time():
+def test_the_window_is_a_time_up_to_a_bound_in_samples():
     assert half_window_samples(80.0, 0.0375, 3) == 3  # 7 samples at the robot's 80 Hz
-    assert half_window_samples(2000.0, 0.0375, 3) == 75
+    assert half_window_samples(320.0, 0.0375, 3) == 12
+    assert half_window_samples(2000.0, 0.0375, 3) == MAX_HALF_WINDOW_SAMPLES == 12
+    assert half_window_samples(1e6, 0.0375, 3) == 12  # a 1 MHz log: 25 samples, not 75,001
+    assert half_window_samples(math.inf, 0.0375, 3) == 12
     assert half_window_samples(20.0, 0.0375, 3) == 2  # never fewer than a fit needs
+
+
+def test_blocks_give_the_same_derivative_as_one_fit():
+    """More samples than a block: the blocks' seams change nothing."""
+    rng = np.random.default_rng(2)
+    t = np.cumsum(rng.uniform(0.01, 0.015, BLOCK_SAMPLES + 500))
+    y = np.vstack([np.sin(3 * t), np.cos(2 * t)])
+    whole = local_polynomial_derivative(t, y, 3, 3)
+    np.testing.assert_allclose(whole[0], 3 * np.cos(3 * t), atol=1e-3)
+    around = slice(BLOCK_SAMPLES - 13, BLOCK_SAMPLES + 13)  # the seam and 3 samples each side
+    alone = local_polynomial_derivative(t[around], y[:, around], 3, 3)
+    np.testing.assert_allclose(alone[:, 3:-3], whole[:, around][:, 3:-3], rtol=0, atol=1e-12)
 
 
 def test_too_few_samples_are_refused():

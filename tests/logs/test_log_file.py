@@ -125,7 +125,7 @@ def test_the_command_refuses_a_bad_log_in_one_line(tmp_path, capsys, good_text, 
 
 def test_a_missing_file_and_a_robot_without_cylinders(tmp_path, capsys, good_text):
     assert main(["analyze-log", str(tmp_path / "none.csv")]) == 2
-    assert "cannot read the log" in capsys.readouterr().err
+    assert "log file not found" in capsys.readouterr().err
     path = tmp_path / "log.csv"
     path.write_text(good_text)
     assert main(["analyze-log", str(path), "--robot", "solo12"]) == 2

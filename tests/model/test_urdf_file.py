@@ -81,7 +81,7 @@ def test_non_utf8_and_oversized_files(tmp_path, monkeypatch):
     with pytest.raises(ModelError, match="not UTF-8"):
         load_robot(urdf=path)
     monkeypatch.setattr(urdf_file, "MAX_URDF_BYTES", 1000)
-    with pytest.raises(ModelError, match="larger than the 1000 allowed"):
+    with pytest.raises(ModelError, match="larger than the 1000 bytes allowed"):
         load_robot(urdf=write(tmp_path, SCALF))
 
 

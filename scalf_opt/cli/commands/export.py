@@ -5,7 +5,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from scalf_opt.cli.options import add_robot, check_output_file, load_robot
+from scalf_opt.cli.options import (
+    MAX_RATE_HZ,
+    Outputs,
+    add_robot,
+    bounded,
+    check_output_file,
+    load_robot,
+)
 from scalf_opt.errors import ConfigError
 
 NAME = "export"
@@ -29,6 +36,10 @@ EXAMPLES = (
 )
 FORMATS = (".csv", ".json", ".mcap")
 
+MAX_CYCLES = 1000
+"""Most cycles exported: ``scalf_opt.io.plan_export.MAX_CYCLES``, which the command line does not
+import (it pulls in CasADi; a test checks they agree)."""
+
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
@@ -42,10 +53,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
     parser.add_argument(
         "--rate",
-        type=float,
+        type=bounded(float, MAX_RATE_HZ),
         required=True,
         metavar="X",
-        help="sample rate [Hz]; a sample falls on every touch-down and lift-off: a rate that "
+        help="sample rate [Hz], at most 100000; a sample falls on every touch-down and lift-off: "
+        "a rate that "
         "puts none there becomes the nearest that does (the paper's trot: any multiple of 4 Hz)",
     )
     parser.add_argument(
@@ -58,10 +70,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
     parser.add_argument(
         "--cycles",
-        type=int,
-        default=1,
+        type=bounded(int, MAX_CYCLES),
         metavar="N",
-        help="gait cycles, repeated seamlessly (default 1)",
+        default=1,
+        help=f"gait cycles, repeated seamlessly, 1..{MAX_CYCLES} (default 1)",
     )
     add_robot(parser)
 
@@ -101,3 +113,8 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         )
     args.console.text(f"wrote {path}")
     return 0
+
+
+def outputs(args: argparse.Namespace) -> Outputs:
+    """The exported file, moved into place when it is complete."""
+    return Outputs(files={"--out": args.out})

@@ -8,12 +8,16 @@ from pathlib import Path
 from scalf_opt.cli.options import (
     add_gait,
     add_robot,
+    bounded,
     check_output_dir,
     load_gait,
     load_robot,
     refuse_gait_with_saved,
     warn_without_effect,
 )
+
+MAX_GRID = 201
+"""Most points per parameter of the landscape (201 x 201 energies)."""
 
 NAME = "figures"
 HELP = "draw the paper's figures (PNG and SVG): joints, forces, foot paths, search, energy"
@@ -53,10 +57,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
     parser.add_argument(
         "--grid",
-        type=int,
+        type=bounded(int, MAX_GRID),
         metavar="N",
         default=61,
-        help="points per parameter of the pattern search's energy landscape (default 61)",
+        help=f"points per parameter of the pattern search's energy landscape, 3..{MAX_GRID} "
+        "(default 61)",
     )
 
 

@@ -4,7 +4,14 @@ from __future__ import annotations
 
 import argparse
 
-from scalf_opt.cli.options import GAIT_OPTIONS, add_leg, add_robot, load_robot
+from scalf_opt.cli.options import (
+    GAIT_OPTIONS,
+    MAX_GAIT_LENGTH_M,
+    add_leg,
+    add_robot,
+    bounded,
+    load_robot,
+)
 
 NAME = "model"
 HELP = "print a leg's parameters as Pinocchio sees them"
@@ -21,7 +28,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_leg(parser)
     parser.add_argument(
         "--stance-height",
-        type=float,
+        type=bounded(float, MAX_GAIT_LENGTH_M),
         metavar="X",
         help=GAIT_OPTIONS["stance_height_m"][2],
     )

@@ -9,6 +9,7 @@ from scalf_opt.cli.options import (
     add_accept_unconverged,
     add_gait,
     add_robot,
+    bounded,
     check_output_dir,
     gait_origin,
     leg_name,
@@ -19,6 +20,9 @@ from scalf_opt.cli.options import (
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SOLVERS, solver_help
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
+
+MAX_STARTS = 100
+"""Most starts per leg (each is a full solve)."""
 
 NAME = "optimize"
 HELP = "optimize the swing of one or more legs"
@@ -60,17 +64,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
     parser.add_argument(
         "--precision",
-        type=float,
+        type=bounded(float, 1.0),
         metavar="X",
-        help="pattern-search precision (default 0.1, the paper's); --method pattern only",
+        help="pattern-search precision, at most 1 (default 0.1, the paper's); --method pattern "
+        "only",
     )
     parser.add_argument(
         "--starts",
-        type=int,
-        metavar="N",
+        type=bounded(int, MAX_STARTS),
         default=1,
-        help="deterministic starts per leg (default 1; the first is the default start): the "
-        "best is kept, the spread reported",
+        help=f"deterministic starts per leg, 1..{MAX_STARTS} (default 1; the first is the default "
+        "start): the best is kept, the spread reported",
     )
     parser.add_argument(
         "--bound",

@@ -6,8 +6,10 @@ import argparse
 from pathlib import Path
 
 from scalf_opt.cli.options import (
+    Outputs,
     add_gait,
     add_robot,
+    bounded,
     check_output_dir,
     check_output_file,
     gait_origin,
@@ -18,6 +20,12 @@ from scalf_opt.cli.options import (
 )
 from scalf_opt.errors import ConfigError
 from scalf_opt.types import LEG_NAMES
+
+MAX_SEED = 2**32 - 1
+"""Largest seed of the sensor noise (NumPy's seeds are 32-bit words)."""
+
+MAX_SERVO_BANDWIDTH_HZ = 1000.0
+"""Highest PD-loop natural frequency [Hz] (MuJoCo's step resolves far less)."""
 
 NAME = "simulate"
 HELP = "simulate the trot in MuJoCo: trunk motion, foot forces, joint energy against the model"
@@ -44,9 +52,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--cycles",
         type=int,
-        default=10,
         metavar="N",
-        help="gait cycles to simulate, >= 2 (default 10)",
+        default=10,
+        help="gait cycles to simulate, 2..200 (default 10)",
     )
     parser.add_argument(
         "--out",
@@ -65,16 +73,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
     parser.add_argument(
         "--seed",
-        type=int,
+        type=bounded(int, MAX_SEED, 0),
         default=0,
-        metavar="N",
-        help="seed of the log's sensor noise (default 0)",
+        help=f"seed of the log's sensor noise, 0..{MAX_SEED} (default 0)",
     )
     parser.add_argument(
         "--servo-bandwidth",
-        type=float,
-        metavar="X",
-        help="natural frequency of the joints' PD loops (default 30 Hz)",
+        type=bounded(float, MAX_SERVO_BANDWIDTH_HZ),
+        metavar="N",
+        help="natural frequency of the joints' PD loops, at most 1000 Hz (default 30 Hz)",
     )
 
 
@@ -117,3 +124,8 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     args.console.json(result.to_dict())
     args.console.text(f"wrote {', '.join(map(str, written))}")
     return 0
+
+
+def outputs(args: argparse.Namespace) -> Outputs:
+    """The folder and the log, moved into place together."""
+    return Outputs(folders={"--out": args.out}, files={"--log": args.log})

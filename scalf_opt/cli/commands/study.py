@@ -5,6 +5,11 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from scalf_opt.cli.options import Outputs, bounded
+
+MAX_WORKERS = 256
+"""Most local worker processes."""
+
 NAME = "study"
 HELP = "run a sweep declared in a study file (local processes or a Dask cluster)"
 JSON = True
@@ -19,9 +24,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument("file", type=Path, metavar="FILE", help="the study file (TOML)")
     parser.add_argument(
         "--workers",
-        type=int,
+        type=bounded(int, MAX_WORKERS),
         metavar="N",
-        help="local worker processes (default: one per CPU; 1 runs the cases in this process)",
+        help=f"local worker processes, 1..{MAX_WORKERS} (default: one per CPU; 1 runs the cases "
+        "in this process)",
     )
     parser.add_argument("--scheduler", metavar="URL", help="a Dask scheduler, e.g. tcp://host:8786")
     parser.add_argument(
@@ -43,7 +49,7 @@ def run(args: argparse.Namespace) -> int:
     if args.workers is not None and args.scheduler is not None:
         raise ConfigError("give --workers or --scheduler, not both")
     study = read_study(args.file)
-    out = args.out if args.out is not None else Path("results") / "study" / args.file.stem
+    out = output_folder(args)
     result = run_study(study, out, choose_runner(args.workers, args.scheduler))
     args.console.text(results_table(study.name, result))
     args.console.json(
@@ -60,3 +66,25 @@ def run(args: argparse.Namespace) -> int:
         )
         return 3
     return 0
+
+
+def output_folder(args: argparse.Namespace) -> Path:
+    """``--out``, or ``results/study/<study file name>``."""
+    return args.out if args.out is not None else Path("results") / "study" / args.file.stem
+
+
+def outputs(args: argparse.Namespace) -> Outputs:
+    """The results and the figure, moved into place together.
+
+    The cache of finished cases is written at once (a killed study resumes from it).
+
+    Raises:
+        ConfigError: The output folder is the study file itself.
+    """
+    from scalf_opt.errors import ConfigError
+    from scalf_opt.studies.runner import CACHE_DIR
+
+    out = output_folder(args)
+    if args.file.resolve() == out.resolve():
+        raise ConfigError(f"--out {out}: is the study file {args.file} itself")
+    return Outputs(folders={"--out": out}, direct=(out / CACHE_DIR,))

@@ -6,12 +6,15 @@ import argparse
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from scalf_opt.cli.options import add_robot, load_robot
+from scalf_opt.cli.options import Outputs, add_robot, bounded, load_robot
 
 if TYPE_CHECKING:
     from scalf_opt.model.leg import Leg
     from scalf_opt.model.robot import Robot
     from scalf_opt.robots.variants import VariantScales
+
+MAX_SCALE = 10.0
+"""Largest scale of a length or a mass."""
 
 NAME = "variant"
 HELP = "derive a URDF with scaled thigh/shank lengths and masses (and its actuator file)"
@@ -37,10 +40,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         parser.add_argument(
             f"--{field.replace('_', '-')}",
             dest=field,
-            type=float,
+            type=bounded(float, MAX_SCALE),
             default=1.0,
             metavar="X",
-            help=f"scale the {what} (default 1)",
+            help=f"scale the {what}, at most {MAX_SCALE:g} (default 1)",
         )
     parser.add_argument(
         "--out",
@@ -52,6 +55,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
+    from scalf_opt.files import current_location
     from scalf_opt.locomotion.scaling import default_gait_for
     from scalf_opt.robots.loading import load_robot as load_path
     from scalf_opt.robots.variants import VariantScales, derive_variant
@@ -59,7 +63,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     scales = VariantScales(**{field: getattr(args, field) for field, _ in SCALES})
     robot = load_robot(args)
     variant = derive_variant(robot, scales, args.out)
-    derived = load_path(urdf=variant.urdf_path)
+    derived = load_path(urdf=current_location(variant.urdf_path))  # staged until the end
     say = args.console.text
     say(
         f"variant of {robot.name} ({robot.urdf_path.name}): "
@@ -121,3 +125,12 @@ def _variant_data(
 def _link_masses(old: Leg, new: Leg, joint: int) -> tuple[float, float]:
     """Mass moved by the hip-pitch (0) or knee (1) joint, before and after [kg]."""
     return float(old.model.inertias[joint + 1].mass), float(new.model.inertias[joint + 1].mass)
+
+
+def outputs(args: argparse.Namespace) -> Outputs:
+    """The variant's URDF and the files that may go beside it, moved into place together."""
+    from scalf_opt.actuators.sidecar import sidecar_path_for
+    from scalf_opt.model.naming import legs_file_for
+
+    beside = (sidecar_path_for(args.out), legs_file_for(args.out), args.out.with_suffix(".srdf"))
+    return Outputs(files={"--out": args.out, **{f"--out ({p.name})": p for p in beside}})

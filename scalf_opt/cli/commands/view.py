@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from scalf_opt.cli.options import (
+    Outputs,
     add_gait,
     add_robot,
     load_gait,
@@ -46,9 +47,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--cycles",
         type=int,
-        default=3,
         metavar="N",
-        help="gait cycles walked and animated (default 3)",
+        default=3,
+        help="gait cycles walked and animated, 1..50 (default 3)",
     )
     parser.add_argument(
         "--color-by",
@@ -61,7 +62,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         type=float,
         metavar="X",
         default=1.0,
-        help="animation speed against real time (default 1; 0.25 is four times slower)",
+        help="animation speed against real time, 0.01..100 (default 1; 0.25 is four times slower)",
     )
     parser.add_argument(
         "--screenshot",
@@ -121,3 +122,8 @@ def run(args: argparse.Namespace) -> int:
             raise RuntimeError(f"{out}: the page logged errors: {'; '.join(rendering.errors)}")
         args.console.text(f"wrote {args.screenshot}")
     return 0
+
+
+def outputs(args: argparse.Namespace) -> Outputs:
+    """The page and the screenshot, moved into place together."""
+    return Outputs(files={"--out": args.out, "--screenshot": args.screenshot})
