@@ -73,6 +73,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--starts",
         type=bounded(int, MAX_STARTS),
         default=1,
+        metavar="N",
         help=f"deterministic starts per leg, 1..{MAX_STARTS} (default 1; the first is the default "
         "start): the best is kept, the spread reported",
     )

@@ -75,6 +75,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--seed",
         type=bounded(int, MAX_SEED, 0),
         default=0,
+        metavar="N",
         help=f"seed of the log's sensor noise, 0..{MAX_SEED} (default 0)",
     )
     parser.add_argument(
