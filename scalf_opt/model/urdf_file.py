@@ -25,7 +25,7 @@ import math
 import os
 import posixpath
 import stat
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from pathlib import Path
 from xml.etree.ElementTree import Element, ParseError, tostring
 from xml.parsers import expat
@@ -254,7 +254,13 @@ def with_resolved_meshes(urdf: Path, text: str, packages: Mapping[str, Path]) ->
     return tostring(root, encoding="unicode")
 
 
-def with_local_meshes(urdf: Path, text: str, packages: Mapping[str, Path], folder: Path) -> str:
+def with_local_meshes(
+    urdf: Path,
+    text: str,
+    packages: Mapping[str, Path],
+    folder: Path,
+    came_from: Path | None = None,
+) -> str:
     """The URDF text with every mesh replaced by a bounded copy in ``folder``.
 
     Each reference is resolved by :func:`resolve_mesh`, read by
@@ -262,6 +268,9 @@ def with_local_meshes(urdf: Path, text: str, packages: Mapping[str, Path], folde
     :data:`MAX_MESHES_BYTES` for all the robot's meshes together) and copied into ``folder``
     (private, removed by the caller); the mesh loader is given the copies only, so it reads no
     file the checks did not read, however a mesh file refers to others.
+
+    ``came_from`` is the URDF this one was derived from (a variant's parent,
+    :func:`resolve_mesh`).
 
     Raises:
         ModelError: A reference leaves its folder, names no regular file, or a mesh, or all of
@@ -273,7 +282,7 @@ def with_local_meshes(urdf: Path, text: str, packages: Mapping[str, Path], folde
     for mesh in meshes:
         filename = mesh.get("filename", "")
         if filename not in copies:
-            source = resolve_mesh(urdf, filename, packages)
+            source = resolve_mesh(urdf, filename, packages, came_from)
             data = read_untrusted(source, "mesh", MAX_MESH_BYTES, ModelError)
             total += len(data)
             if total > MAX_MESHES_BYTES:
@@ -347,24 +356,30 @@ def _confined(folder: Path, relative: str, urdf: Path, filename: str, where: str
     return current
 
 
-def _package_roots(here: Path, package: str, packages: Mapping[str, Path]) -> list[Path]:
-    """The folders ``package://package/`` may mean for a URDF in ``here``.
+def _package_roots(
+    homes: Sequence[Path], package: str, packages: Mapping[str, Path]
+) -> list[Path]:
+    """The folders ``package://package/`` may mean for a URDF whose description is in ``homes``.
 
-    A real ROS package among the URDF's ancestors (a folder of that name holding a
-    ``package.xml``), or the robot description package the URDF came from (``packages``: a
-    package without a ``package.xml``, such as example-robot-data, when the URDF lies inside it).
+    ``homes`` are the URDF's folder and, for a derived URDF (a variant), the folder of the URDF
+    it was derived from. A real ROS package among their ancestors (a folder of that name holding
+    a ``package.xml``), or the robot description package they lie in (``packages``: a package
+    without a ``package.xml``, such as example-robot-data).
     """
-    roots = []
+    roots: list[Path] = []
     known = packages.get(package)
-    if known is not None and here.is_relative_to(known.resolve()):
-        roots.append(known.resolve())
-    for folder in (here, *here.parents):
-        if folder.name == package and (folder / "package.xml").is_file():
-            roots.append(folder)
-    return roots
+    for here in homes:
+        if known is not None and here.is_relative_to(known.resolve()):
+            roots.append(known.resolve())
+        for folder in (here, *here.parents):
+            if folder.name == package and (folder / "package.xml").is_file():
+                roots.append(folder)
+    return list(dict.fromkeys(roots))
 
 
-def resolve_mesh(urdf: Path, filename: str, packages: Mapping[str, Path]) -> Path:
+def resolve_mesh(
+    urdf: Path, filename: str, packages: Mapping[str, Path], came_from: Path | None = None
+) -> Path:
     """The file a mesh reference names, which must stay inside the robot's description.
 
     A ``package://NAME/rest`` reference resolves to ``rest`` inside a real package root named
@@ -378,6 +393,8 @@ def resolve_mesh(urdf: Path, filename: str, packages: Mapping[str, Path]) -> Pat
         urdf: The URDF.
         filename: The ``<mesh filename>``.
         packages: Robot description packages without a ``package.xml``, by name (the catalog's).
+        came_from: The URDF this one was derived from (a variant's parent): its description's
+            packages are this one's too.
 
     Raises:
         ModelError: The reference leaves its folder, or is of another kind.
@@ -392,7 +409,8 @@ def resolve_mesh(urdf: Path, filename: str, packages: Mapping[str, Path]) -> Pat
         )
         if package in ("", ".", "..") or "\\" in package:
             raise refused
-        roots = _package_roots(here, package, packages)
+        homes = [here] if came_from is None else [here, came_from.resolve().parent]
+        roots = _package_roots(homes, package, packages)
         if not roots:
             raise refused
         errors = []

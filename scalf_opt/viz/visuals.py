@@ -53,13 +53,40 @@ class Visual:
 
 
 def description_packages() -> dict[str, Path]:
-    """Robot description packages without a ``package.xml``, by name: example-robot-data's."""
+    """Robot description packages without a ``package.xml``, by name: example-robot-data's.
+
+    Each ``robots/<name>_description`` folder of example-robot-data is the package its URDFs
+    call ``package://<name>_description``.
+    """
     try:
         from scalf_opt.robots.example_robot_data import example_robot_data_dir
 
-        return {"example-robot-data": example_robot_data_dir().parent}
+        robots = example_robot_data_dir()
     except ScalfError:
         return {}  # not installed: only real packages and the URDF's own folder
+    return {folder.name: folder for folder in sorted(robots.iterdir()) if folder.is_dir()}
+
+
+def variant_parent_urdf(urdf: Path) -> Path | None:
+    """The URDF a variant was derived from (its record beside it), else ``None``.
+
+    A variant keeps its parent's ``package://`` mesh references; they resolve in the parent's
+    description (:func:`~scalf_opt.model.urdf_file.resolve_mesh`).
+
+    Raises:
+        ConfigError: The variant's record cannot be read.
+    """
+    from scalf_opt.robots.loading import load_robot
+    from scalf_opt.robots.variants import read_variant_record, variant_record_for
+
+    record_path = variant_record_for(urdf)
+    if not record_path.exists():
+        return None
+    record = read_variant_record(record_path)
+    if record.parent_urdf is not None:
+        return record.parent_urdf
+    assert record.parent_robot is not None
+    return load_robot(record.parent_robot).urdf_path
 
 
 def visual_model(robot: Robot) -> pin.GeometryModel:
@@ -76,8 +103,9 @@ def visual_model(robot: Robot) -> pin.GeometryModel:
             message names the URDF or the mesh).
     """
     text = read_urdf_text(robot.urdf_path)
+    parent = variant_parent_urdf(robot.urdf_path)
     with scratch_folder("meshes") as folder:
-        local = with_local_meshes(robot.urdf_path, text, description_packages(), folder)
+        local = with_local_meshes(robot.urdf_path, text, description_packages(), folder, parent)
         try:
             with captured_native_output() as printed:
                 return pin.buildGeomFromUrdfString(robot.model, local, pin.GeometryType.VISUAL)
