@@ -356,9 +356,7 @@ def _confined(folder: Path, relative: str, urdf: Path, filename: str, where: str
     return current
 
 
-def _package_roots(
-    homes: Sequence[Path], package: str, packages: Mapping[str, Path]
-) -> list[Path]:
+def _package_roots(homes: Sequence[Path], package: str, packages: Mapping[str, Path]) -> list[Path]:
     """The folders ``package://package/`` may mean for a URDF whose description is in ``homes``.
 
     ``homes`` are the URDF's folder and, for a derived URDF (a variant), the folder of the URDF
