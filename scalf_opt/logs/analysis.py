@@ -169,7 +169,7 @@ POWER_BLOCK_SAMPLES = 8192
 time stays linear in the log's length, where one map over the whole log grows faster)."""
 
 
-def _charged_power(
+def charged_power(
     pipeline: EnergyPipeline, leg: str, theta: np.ndarray, theta_dot: np.ndarray, tau: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:
     """The legs' charged power and drive losses summed over the joints, shape (n,) each [W]."""
@@ -308,7 +308,7 @@ def analyze_log(
             [np.array(c.moment_arm_m(theta[j])).ravel() for j, c in enumerate(cylinders)]
         )
         velocity = local_polynomial_derivative(t, data.length_m, half, degree)
-        power, loss = _charged_power(pipeline, leg, theta, velocity / arm, data.force_n * arm)
+        power, loss = charged_power(pipeline, leg, theta, velocity / arm, data.force_n * arm)
         mechanical = power - loss
         windows = [(first + k * period, first + (k + 1) * period) for k in range(count)]
         ends = np.array(windows)

@@ -20,8 +20,8 @@ import numpy as np
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import LogError
 from scalf_opt.locomotion.trot import stance_start_s
-from scalf_opt.logs.analysis import LegEnergy, LogAnalysis
-from scalf_opt.logs.analysis import window_integral as integral
+from scalf_opt.logs.analysis import LegEnergy, LogAnalysis, charged_power
+from scalf_opt.logs.analysis import window_integrals as integrals
 from scalf_opt.logs.derivative import (
     DEFAULT_DEGREE,
     DEFAULT_HALF_WINDOW_S,
@@ -72,6 +72,22 @@ class JointLog:
         return any(leg.contact is not None for leg in self.legs.values())
 
 
+def _mean_squared_differences(signals: np.ndarray, max_lag: int) -> np.ndarray:
+    """``D(lag) = mean((x[:, lag:] - x[:, :n - lag])**2)`` for every lag in ``0..max_lag``.
+
+    By cumulative sums of the squares and one FFT autocorrelation: ``O(n log n)`` rather than a
+    pass over the signals per lag (quadratic: hours for a 3-hour log).
+    """
+    m, n = signals.shape
+    lags = np.arange(max_lag + 1)
+    squares = np.concatenate([np.zeros((m, 1)), np.cumsum(signals**2, axis=1)], axis=1)
+    tail = squares[:, n : n + 1] - squares[:, lags]  # sum of x_i^2 for i >= lag
+    head = squares[:, n - lags]  # sum of x_i^2 for i < n - lag
+    spectrum = np.fft.rfft(signals, 2 * n, axis=1)
+    products = np.fft.irfft(spectrum * np.conj(spectrum), 2 * n, axis=1)[:, : max_lag + 1]
+    return (tail + head - 2.0 * products).sum(axis=0) / (m * (n - lags))
+
+
 def period_of_motion_s(source: str, series: list[tuple[np.ndarray, np.ndarray]]) -> float:
     """The period of a motion [s]: each ``(t_s, values (m, n))`` a leg's signals.
 
@@ -97,9 +113,7 @@ def period_of_motion_s(source: str, series: list[tuple[np.ndarray, np.ndarray]])
             f"{source}: {end - start:.3g} s of motion is too short to find its period "
             "(give --period)"
         )
-    d = np.array(
-        [np.mean((signals[:, lag:] - signals[:, : n - lag]) ** 2) for lag in range(hi + 1)]
-    )
+    d = _mean_squared_differences(signals, hi)
     threshold = 0.2 * float(np.mean(d[lo:hi]))
     for lag in range(lo, hi):
         if d[lag] <= d[lag - 1] and d[lag] <= d[lag + 1] and d[lag] < threshold:
@@ -179,20 +193,20 @@ def analyze_joint_log(
                 )
             qd = local_polynomial_derivative(t, data.q_rad, half, degree)
         mechanical = np.abs(data.tau_nm * qd).sum(axis=0)
-        fn = pipeline.physics(leg).power_function("paper").map(t.size)
-        drawn = np.array(fn(data.q_rad, qd, data.tau_nm)[0]).sum(axis=0)
+        drawn, _ = charged_power(pipeline, leg, data.q_rad, qd, data.tau_nm)
         loss = drawn - mechanical  # what the drives draw beyond the joints' mechanical power
         windows = [(first + k * period, first + (k + 1) * period) for k in range(count)]
+        ends = np.array(windows)  # every window at once: linear in the log's length
         per_phase = {
-            name: sum(integral(t, mechanical * mask, a, b) for a, b in windows) / count
+            name: float(integrals(t, mechanical * mask, ends).sum()) / count
             for name, mask in (("stance", stance), ("swing", ~stance))
         }
         legs[leg] = LegEnergy(
             leg=leg,
             windows_s=windows,
             mechanical_j={**per_phase, "cycle": per_phase["stance"] + per_phase["swing"]},
-            per_cycle_j=[integral(t, mechanical, a, b) for a, b in windows],
-            friction_heat_j=sum(integral(t, loss, a, b) for a, b in windows) / count,
+            per_cycle_j=[float(e) for e in integrals(t, mechanical, ends)],
+            friction_heat_j=float(integrals(t, loss, ends).sum()) / count,
         )
         power_of[leg] = (t, mechanical)
     steps = np.concatenate([np.diff(d.t_s) for d in log.legs.values()])

@@ -24,8 +24,14 @@ import numpy as np
 
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.trot import stance_start_s
-from scalf_opt.logs.analysis import LegEnergy, LogAnalysis, analyze_log, leg_cylinders
-from scalf_opt.logs.analysis import window_integral as integral
+from scalf_opt.logs.analysis import (
+    LegEnergy,
+    LogAnalysis,
+    analyze_log,
+    charged_power,
+    leg_cylinders,
+)
+from scalf_opt.logs.analysis import window_integrals as integrals
 from scalf_opt.logs.derivative import (
     DEFAULT_DEGREE,
     DEFAULT_HALF_WINDOW_S,
@@ -100,8 +106,7 @@ def leg_mechanical_power_w(
     if speed_m_s is None:
         half = half_window_samples(1.0 / float(np.median(np.diff(t))), half_window_s, degree)
         speed_m_s = local_polynomial_derivative(t, data.length_m, half, degree)
-    fn = pipeline.physics(leg).power_function("paper").map(t.size)
-    _, loss = (np.array(v).sum(axis=0) for v in fn(theta, speed_m_s / arm, data.force_n * arm))
+    _, loss = charged_power(pipeline, leg, theta, speed_m_s / arm, data.force_n * arm)
     return np.abs(data.force_n * speed_m_s).sum(axis=0), loss
 
 
@@ -160,16 +165,17 @@ def analyze_measured(
         windows = old.windows_s
         stance = _stance_mask(data, pipeline, leg, analysis.period_s)
         count = len(windows)
+        ends = np.array(windows)  # every window at once: linear in the log's length
         per_phase = {
-            name: sum(integral(data.t_s, mechanical * mask, a, b) for a, b in windows) / count
+            name: float(integrals(data.t_s, mechanical * mask, ends).sum()) / count
             for name, mask in (("stance", stance), ("swing", ~stance))
         }
         legs[leg] = LegEnergy(
             leg=leg,
             windows_s=windows,
             mechanical_j={**per_phase, "cycle": per_phase["stance"] + per_phase["swing"]},
-            per_cycle_j=[integral(data.t_s, mechanical, a, b) for a, b in windows],
-            friction_heat_j=sum(integral(data.t_s, loss, a, b) for a, b in windows) / count,
+            per_cycle_j=[float(e) for e in integrals(data.t_s, mechanical, ends)],
+            friction_heat_j=float(integrals(data.t_s, loss, ends).sum()) / count,
         )
     analysis = replace(analysis, legs=legs)
     return MeasuredAnalysis(analysis, "measured" if measured else "filter", power)

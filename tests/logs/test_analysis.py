@@ -168,3 +168,13 @@ def test_window_integrals_of_many_windows_are_each_windows_integral():
     np.testing.assert_allclose(window_integrals(t, p, ends), each, rtol=1e-12, atol=1e-12)
     fine = np.union1d(np.linspace(*ends[0], 2001), t[(t > ends[0][0]) & (t < ends[0][1])])
     assert each[0] == pytest.approx(np.trapezoid(np.interp(fine, t, p), fine), rel=1e-9)
+
+
+def test_the_motions_period_differences_are_the_direct_ones():
+    """The FFT form of D(lag) equals the direct mean of squared differences (round-off)."""
+    from scalf_opt.logs.joint_log import _mean_squared_differences
+
+    rng = np.random.default_rng(3)
+    x = rng.normal(size=(3, 300))
+    direct = [np.mean((x[:, lag:] - x[:, : 300 - lag]) ** 2) for lag in range(251)]
+    np.testing.assert_allclose(_mean_squared_differences(x, 250), direct, rtol=0, atol=1e-12)
