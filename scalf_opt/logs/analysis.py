@@ -68,6 +68,39 @@ class LegEnergy:
     friction_heat_j: float
 
 
+def leg_energy(
+    leg: str,
+    t_s: np.ndarray,
+    mechanical_w: np.ndarray,
+    loss_w: np.ndarray,
+    stance: np.ndarray,
+    windows_s: list[tuple[float, float]],
+) -> LegEnergy:
+    """A leg's energies over complete cycles from its sampled powers (every window at once).
+
+    Args:
+        leg: Leg name.
+        t_s: Sample times, shape (n,) [s].
+        mechanical_w: Mechanical power ``sum |tau qd|`` over the leg's joints, shape (n,) [W].
+        loss_w: What the drives draw beyond it (SCalf: the friction heat), shape (n,) [W].
+        stance: Whether each sample is in stance, shape (n,).
+        windows_s: The complete cycles ``(start, end)`` [s].
+    """
+    ends = np.array(windows_s)  # every window at once: linear in the log's length
+    count = len(windows_s)
+    per_phase = {
+        name: float(window_integrals(t_s, mechanical_w * mask, ends).sum()) / count
+        for name, mask in (("stance", stance), ("swing", ~stance))
+    }
+    return LegEnergy(
+        leg=leg,
+        windows_s=windows_s,
+        mechanical_j={**per_phase, "cycle": per_phase["stance"] + per_phase["swing"]},
+        per_cycle_j=[float(e) for e in window_integrals(t_s, mechanical_w, ends)],
+        friction_heat_j=float(window_integrals(t_s, loss_w, ends).sum()) / count,
+    )
+
+
 @dataclass(frozen=True)
 class LogAnalysis:
     """The energy in a log.
@@ -308,21 +341,13 @@ def analyze_log(
             [np.array(c.moment_arm_m(theta[j])).ravel() for j, c in enumerate(cylinders)]
         )
         velocity = local_polynomial_derivative(t, data.length_m, half, degree)
-        power, loss = charged_power(pipeline, leg, theta, velocity / arm, data.force_n * arm)
-        mechanical = power - loss
+        qd, tau = velocity / arm, data.force_n * arm
+        drawn, _ = charged_power(pipeline, leg, theta, qd, tau)
+        # sum |F v| of the cylinders, whatever the drives charge (a valve-controlled cylinder
+        # meters its own input power: drawn minus its losses would be zero)
+        mechanical = np.abs(tau * qd).sum(axis=0)
         windows = [(first + k * period, first + (k + 1) * period) for k in range(count)]
-        ends = np.array(windows)
-        per_phase = {
-            name: float(window_integrals(t, mechanical * mask, ends).sum()) / count
-            for name, mask in (("stance", stance), ("swing", ~stance))
-        }
-        legs[leg] = LegEnergy(
-            leg=leg,
-            windows_s=windows,
-            mechanical_j={**per_phase, "cycle": per_phase["stance"] + per_phase["swing"]},
-            per_cycle_j=[float(e) for e in window_integrals(t, mechanical, ends)],
-            friction_heat_j=float(window_integrals(t, loss, ends).sum()) / count,
-        )
+        legs[leg] = leg_energy(leg, t, mechanical, drawn - mechanical, stance, windows)
     steps = np.concatenate([np.diff(d.t_s) for d in log.legs.values()])
     return LogAnalysis(
         source=log.source,

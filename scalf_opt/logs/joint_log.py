@@ -20,8 +20,7 @@ import numpy as np
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import LogError
 from scalf_opt.locomotion.trot import stance_start_s
-from scalf_opt.logs.analysis import LegEnergy, LogAnalysis, charged_power
-from scalf_opt.logs.analysis import window_integrals as integrals
+from scalf_opt.logs.analysis import LegEnergy, LogAnalysis, charged_power, leg_energy
 from scalf_opt.logs.derivative import (
     DEFAULT_DEGREE,
     DEFAULT_HALF_WINDOW_S,
@@ -196,18 +195,7 @@ def analyze_joint_log(
         drawn, _ = charged_power(pipeline, leg, data.q_rad, qd, data.tau_nm)
         loss = drawn - mechanical  # what the drives draw beyond the joints' mechanical power
         windows = [(first + k * period, first + (k + 1) * period) for k in range(count)]
-        ends = np.array(windows)  # every window at once: linear in the log's length
-        per_phase = {
-            name: float(integrals(t, mechanical * mask, ends).sum()) / count
-            for name, mask in (("stance", stance), ("swing", ~stance))
-        }
-        legs[leg] = LegEnergy(
-            leg=leg,
-            windows_s=windows,
-            mechanical_j={**per_phase, "cycle": per_phase["stance"] + per_phase["swing"]},
-            per_cycle_j=[float(e) for e in integrals(t, mechanical, ends)],
-            friction_heat_j=float(integrals(t, loss, ends).sum()) / count,
-        )
+        legs[leg] = leg_energy(leg, t, mechanical, loss, stance, windows)
         power_of[leg] = (t, mechanical)
     steps = np.concatenate([np.diff(d.t_s) for d in log.legs.values()])
     analysis = LogAnalysis(
