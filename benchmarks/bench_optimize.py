@@ -122,13 +122,13 @@ def main() -> None:
             f"{name}: Ipopt {t_ipopt:.3f} s, SLSQP-FD {t_slsqp:.3f} s, "
             f"ratio {t_slsqp / t_ipopt:.1f}x{note}"
         )
-    t_bound, bound = timed(lambda: bound_for(pipeline, LEG))
+    bound, t_bound = timed(lambda: bound_for(pipeline, LEG))
     levels = ", ".join(f"{lv.spans}: {lv.wall_time_s:.1f} s" for lv in bound.levels)
     lines.append(
         f"bound {LEG}: {t_bound:.1f} s ({t_bound / t_ipopt:.0f}x the {families[-1]} Ipopt solve; "
         f"levels {levels}), {bound.status_text()}"
     )
-    t_stance, stance = timed(lambda: optimize_stance(pipeline, make_family("joint-6")))
+    stance, t_stance = timed(lambda: optimize_stance(pipeline, make_family("joint-6")))
     lines.append(
         f"free stance: {t_stance:.1f} s ({t_stance / t_ipopt:.0f}x the {families[-1]} Ipopt "
         f"solve), {stance.evaluations} stances tried, "
