@@ -1,9 +1,11 @@
 """Peaks of a cycle per leg and joint, set against the leg's limits.
 
 For every joint: the largest torque, speed and charged power over the cycle, and the largest
-magnitude of every drive output that has a symmetric limit (SCalf's cylinder force and speed);
-each with the limit it must respect, where it occurs, and whether it exceeds the limit. Every
-other bound (the joint range, the cylinder stroke) is checked too: :func:`cycle_violations`.
+magnitude of every drive output whose limits lie on both sides of zero (SCalf's cylinder force
+and speed, HyQ's cylinder force: 3.2 kN of push, 1.96 kN of pull); each with the limit it must
+respect, where it occurs, and whether it exceeds the limit. With different limits on the two
+sides the peak is the sample closest to its side's limit, reported with that limit. Every other
+bound (the joint range, the cylinder stroke) is checked too: :func:`cycle_violations`.
 """
 
 from __future__ import annotations
@@ -34,8 +36,11 @@ class Peak:
         value: The quantity at that sample (signed, SI).
         phase: ``stance`` or ``swing``.
         t_s: Cycle time of the sample [s].
-        limit: The magnitude it must stay below, ``None`` when it has no limit.
+        limit: The magnitude it must stay below (on the value's side, when the two sides'
+            limits differ), ``None`` when it has no limit.
         source: Where the limit comes from.
+        one_sided: The two sides have different limits (a cylinder's push and pull): the
+            value's sign says which side ``limit`` is.
     """
 
     leg: str
@@ -47,6 +52,7 @@ class Peak:
     t_s: float
     limit: float | None
     source: str = ""
+    one_sided: bool = False
 
     @property
     def exceeds(self) -> bool:
@@ -62,6 +68,7 @@ class Peak:
             "t_s": self.t_s,
             "limit": self.limit,
             "limit_source": self.source or None,
+            "limit_of_the_values_side": self.one_sided,
             "exceeds": self.exceeds,
         }
 
@@ -77,27 +84,54 @@ def _samples(values: dict[str, np.ndarray], quantity: str, joint: int) -> np.nda
     return np.asarray(values[name], dtype=float) if name in values else None
 
 
+def _magnitude_bound(b: Bound) -> bool:
+    """A bound on a magnitude: its limits on both sides of zero (not a range like a stroke)."""
+    return b.symmetric or (b.lower < 0.0 < b.upper)
+
+
+def _use(value: np.ndarray, bound: Bound | None) -> np.ndarray:
+    """How much of its side's limit each sample uses (its magnitude without a bound)."""
+    if bound is None or bound.symmetric:
+        return np.abs(value)
+    side = np.where(value >= 0.0, bound.upper, -bound.lower)
+    return np.abs(value) / side  # inf limit on a side: 0 there
+
+
 def _leg_peaks(cycle: RobotCycle, leg: str, bounds: tuple[Bound, ...]) -> list[Peak]:
-    drive = {(b.quantity, b.unit): None for b in bounds if b.row is None and b.symmetric}
+    drive = {(b.quantity, b.unit): None for b in bounds if b.row is None and _magnitude_bound(b)}
     quantities = [*PEAK_QUANTITIES, *drive, ("power", "w")]
     leg_cycle = cycle.legs[leg]
     peaks = []
     for joint, role in enumerate(JOINT_ROLES):
         for quantity, unit in quantities:
-            limit, source = None, ""
-            for b in bounds:
-                if b.quantity == quantity and b.joint == joint and b.symmetric:
-                    limit, source = b.upper, b.source
-            best: tuple[float, str, float] | None = None
+            bound = next(
+                (
+                    b
+                    for b in bounds
+                    if b.quantity == quantity and b.joint == joint and _magnitude_bound(b)
+                ),
+                None,
+            )
+            best: tuple[float, float, str, float] | None = None  # use, value, phase, time
             for phase in (leg_cycle.stance, leg_cycle.swing):
                 value = _samples(phase.values, quantity, joint)
                 if value is None:
                     continue
-                k = int(np.argmax(np.abs(value)))
-                if best is None or abs(value[k]) > abs(best[0]):
-                    best = (float(value[k]), phase.phase, float(phase.t_s[k]))
-            if best is not None:
-                peaks.append(Peak(leg, role, quantity, unit, *best, limit, source))
+                use = _use(value, bound)
+                k = int(np.argmax(use))
+                if best is None or use[k] > best[0]:
+                    best = (float(use[k]), float(value[k]), phase.phase, float(phase.t_s[k]))
+            if best is None:
+                continue
+            _, value_k, phase_name, t_k = best
+            limit: float | None = None
+            if bound is not None:
+                limit = bound.upper if value_k >= 0.0 else -bound.lower
+            source = bound.source if bound is not None else ""
+            one_sided = bound is not None and not bound.symmetric
+            peaks.append(
+                Peak(leg, role, quantity, unit, value_k, phase_name, t_k, limit, source, one_sided)
+            )
     return peaks
 
 

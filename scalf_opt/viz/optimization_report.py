@@ -33,6 +33,9 @@ def _g(x: float) -> str:
 def peaks_table(peaks: list[Peak], reference: list[Peak] | None = None) -> str:
     """Peaks per leg and joint, then the limits; ``*`` marks a peak beyond its limit.
 
+    A quantity whose two sides have different limits (HyQ's cylinder force: push and pull) is
+    shown signed, its peak the sample closest to its side's limit, and that limit signed too.
+
     Args:
         peaks: The cycle's peaks.
         reference: The reference cycle's peaks, shown in brackets beside each (optimize).
@@ -41,8 +44,9 @@ def peaks_table(peaks: list[Peak], reference: list[Peak] | None = None) -> str:
     for p in peaks:
         if (p.quantity, p.unit) not in columns:
             columns.append((p.quantity, p.unit))
+    signed = {p.quantity for p in peaks if p.quantity == "power" or p.one_sided}
     heads = [
-        f"{q} [{UNITS.get(u, u)}]" if q == "power" else f"|{q}| [{UNITS.get(u, u)}]"
+        f"{q} [{UNITS.get(u, u)}]" if q in signed else f"|{q}| [{UNITS.get(u, u)}]"
         for q, u in columns
     ]
     width = 22 if reference else 16
@@ -69,12 +73,17 @@ def peaks_table(peaks: list[Peak], reference: list[Peak] | None = None) -> str:
                 limit_cells.append("-")
                 continue
             p = found
-            value = _g(abs(p.value)) if quantity != "power" else _g(p.value)
+            value = _g(p.value) if quantity in signed else _g(abs(p.value))
             ref = ref_rows.get((leg, joint), {}).get(quantity)
             if ref is not None:
-                value += f" ({_g(abs(ref.value)) if quantity != 'power' else _g(ref.value)})"
+                value += f" ({_g(ref.value) if quantity in signed else _g(abs(ref.value))})"
             cells.append(f"{value}{'*' if p.exceeds else ' '}")
-            limit_cells.append(_g(p.limit) + " " if p.limit is not None else "none ")
+            if p.limit is None:
+                limit_cells.append("none ")
+            else:  # a one-sided limit carries the sign of its side
+                limit_cells.append(
+                    _g(p.limit if p.value >= 0 or not p.one_sided else -p.limit) + " "
+                )
         lines.append(f"{leg:5s} {joint:5s} " + "".join(f"{c:>{width}s}" for c in cells))
         limits[(leg, joint)] = limit_cells
     by_joint = {joint: cells for (_, joint), cells in limits.items()}

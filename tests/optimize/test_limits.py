@@ -213,3 +213,29 @@ def test_the_pattern_search_on_a_rich_family_starts_at_the_reference(model):
         default_start(SwingProblem(model, "LH", make_family("paper")), solver("pattern"))[0]
         == "zero"
     )
+
+
+def test_a_one_sided_drive_limit_is_in_the_peaks_with_its_side(hyq):
+    """HyQ's cylinders push up to 3.2 kN but pull only 1.96 kN: the force is among the peaks."""
+    from scalf_opt.locomotion.scaling import default_gait_for
+    from scalf_opt.viz.optimization_report import peaks_table
+
+    pipeline = EnergyPipeline(hyq, default_gait_for(hyq))
+    cycle = pipeline.robot_cycle(make_family("reference"))
+    physics = {leg: pipeline.physics(leg) for leg in cycle.legs}
+    forces = [p for p in cycle_peaks(cycle, physics) if p.quantity == "cyl_force"]
+    assert len(forces) == 8 and all(p.one_sided for p in forces)
+    for p in forces:
+        (bound,) = (
+            b
+            for b in leg_bounds(physics[p.leg])
+            if b.quantity == "cyl_force" and b.joint == ("hip", "knee").index(p.joint)
+        )
+        assert p.limit == (bound.upper if p.value >= 0 else -bound.lower)
+        # the peak is the sample nearest its side's limit: no sample uses more of its own side
+        use = abs(p.value) / p.limit
+        for phase in (cycle.legs[p.leg].stance, cycle.legs[p.leg].swing):
+            values = phase.values[f"cyl_force_{p.joint}"]
+            sides = np.where(values >= 0, bound.upper, -bound.lower)
+            assert np.max(np.abs(values) / sides) <= use * (1 + 1e-12)
+    assert "cyl_force [N]" in peaks_table(cycle_peaks(cycle, physics))  # signed: no |.|
