@@ -33,6 +33,7 @@ import numpy as np
 from scalf_opt.actuators.cylinder import HydraulicCylinder
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import LogError
+from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.trot import stance_start_s
 from scalf_opt.logs.derivative import (
     DEFAULT_DEGREE,
@@ -66,6 +67,28 @@ class LegEnergy:
     mechanical_j: dict[str, float]
     per_cycle_j: list[float]
     friction_heat_j: float
+
+
+def cycle_windows(
+    t_s: np.ndarray, contact: np.ndarray | None, gait: Gait, leg: str, period_s: float
+) -> tuple[np.ndarray, list[tuple[float, float]]]:
+    """A leg's stance samples and its complete cycles ``(start, end)`` [s] in a log.
+
+    With contact flags the cycles start at the first touch-down; without, the gait's schedule
+    (scaled to ``period_s``) says where the leg's stance starts and how long it lasts. The list is
+    empty when the samples span less than one complete cycle.
+    """
+    if contact is not None:
+        stance = contact
+        downs = touchdowns(contact, t_s)
+        first = float(downs[0]) if downs.size else np.inf
+    else:
+        offset = stance_start_s(gait, leg) * period_s / gait.period_s
+        stance = np.mod(t_s - offset, period_s) < gait.duty_cycle * period_s
+        first = offset + np.ceil((t_s[0] - offset) / period_s) * period_s
+    count = int(np.floor((t_s[-1] - first) / period_s + 1e-9)) if np.isfinite(first) else 0
+    windows = [(first + k * period_s, first + (k + 1) * period_s) for k in range(max(count, 0))]
+    return stance, windows
 
 
 def leg_energy(
@@ -264,7 +287,7 @@ def _check_stroke(
             )
 
 
-def _touchdowns(contact: np.ndarray, t_s: np.ndarray) -> np.ndarray:
+def touchdowns(contact: np.ndarray, t_s: np.ndarray) -> np.ndarray:
     """Times of the 0 -> 1 transitions of ``contact`` [s]."""
     rising = np.flatnonzero(contact[1:] & ~contact[:-1]) + 1
     return t_s[rising]
@@ -274,7 +297,7 @@ def _period(log: CylinderLog, period_s: float | None, gait_period_s: float) -> t
     if period_s is not None:
         return period_s, "--period"
     intervals = [
-        np.diff(_touchdowns(d.contact, d.t_s)) for d in log.legs.values() if d.contact is not None
+        np.diff(touchdowns(d.contact, d.t_s)) for d in log.legs.values() if d.contact is not None
     ]
     if intervals and np.concatenate(intervals).size:
         return float(np.median(np.concatenate(intervals))), "contact"
@@ -304,22 +327,13 @@ def analyze_log(
     """
     gait = pipeline.gait
     period, period_source = _period(log, period_s, gait.period_s)
-    stance_s = gait.duty_cycle * period
     legs = {}
     for leg, data in log.legs.items():
         cylinders = leg_cylinders(pipeline, leg)
         _check_stroke(log.source, pipeline, leg, data, cylinders)
         t = data.t_s
-        if data.contact is not None:
-            stance = data.contact
-            downs = _touchdowns(data.contact, t)
-            first = float(downs[0]) if downs.size else np.inf
-        else:
-            offset = stance_start_s(gait, leg) * period / gait.period_s
-            stance = np.mod(t - offset, period) < stance_s
-            first = offset + np.ceil((t[0] - offset) / period) * period
-        count = int(np.floor((t[-1] - first) / period + 1e-9)) if np.isfinite(first) else 0
-        if count < 1:
+        stance, windows = cycle_windows(t, data.contact, gait, leg, period)
+        if not windows:
             raise LogError(
                 f"{log.source}: row {data.rows[-1]}, column {TIME}: leg {leg}'s samples span "
                 f"{t[-1] - t[0]:.4g} s, less than one complete gait cycle ({period:.4g} s from "
@@ -346,7 +360,6 @@ def analyze_log(
         # sum |F v| of the cylinders, whatever the drives charge (a valve-controlled cylinder
         # meters its own input power: drawn minus its losses would be zero)
         mechanical = np.abs(tau * qd).sum(axis=0)
-        windows = [(first + k * period, first + (k + 1) * period) for k in range(count)]
         legs[leg] = leg_energy(leg, t, mechanical, drawn - mechanical, stance, windows)
     steps = np.concatenate([np.diff(d.t_s) for d in log.legs.values()])
     return LogAnalysis(

@@ -19,8 +19,14 @@ import numpy as np
 
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import LogError
-from scalf_opt.locomotion.trot import stance_start_s
-from scalf_opt.logs.analysis import LegEnergy, LogAnalysis, charged_power, leg_energy
+from scalf_opt.logs.analysis import (
+    LegEnergy,
+    LogAnalysis,
+    charged_power,
+    cycle_windows,
+    leg_energy,
+    touchdowns,
+)
 from scalf_opt.logs.derivative import (
     DEFAULT_DEGREE,
     DEFAULT_HALF_WINDOW_S,
@@ -125,11 +131,6 @@ def period_of_motion_s(source: str, series: list[tuple[np.ndarray, np.ndarray]])
     )
 
 
-def _touchdowns(contact: np.ndarray, t_s: np.ndarray) -> np.ndarray:
-    """Times of the 0 -> 1 transitions of ``contact`` [s]."""
-    return t_s[np.flatnonzero(contact[1:] & ~contact[:-1]) + 1]
-
-
 def analyze_joint_log(
     log: JointLog,
     pipeline: EnergyPipeline,
@@ -152,7 +153,7 @@ def analyze_joint_log(
         period, period_source = period_s, "--period"
     elif log.has_contact:
         intervals = [
-            np.diff(_touchdowns(d.contact, d.t_s))
+            np.diff(touchdowns(d.contact, d.t_s))
             for d in log.legs.values()
             if d.contact is not None
         ]
@@ -168,16 +169,8 @@ def analyze_joint_log(
     power_of: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     for leg, data in log.legs.items():
         t = data.t_s
-        if data.contact is not None:
-            stance = data.contact
-            downs = _touchdowns(data.contact, t)
-            first = float(downs[0]) if downs.size else np.inf
-        else:
-            offset = stance_start_s(gait, leg) * period / gait.period_s
-            stance = np.mod(t - offset, period) < gait.duty_cycle * period
-            first = offset + np.ceil((t[0] - offset) / period) * period
-        count = int(np.floor((t[-1] - first) / period + 1e-9)) if np.isfinite(first) else 0
-        if count < 1:
+        stance, windows = cycle_windows(t, data.contact, gait, leg, period)
+        if not windows:
             raise LogError(
                 f"{log.source}: leg {leg}'s samples span {t[-1] - t[0]:.4g} s, less than one "
                 f"complete gait cycle ({period:.4g} s from a touch-down)"
@@ -194,7 +187,6 @@ def analyze_joint_log(
         mechanical = np.abs(data.tau_nm * qd).sum(axis=0)
         drawn, _ = charged_power(pipeline, leg, data.q_rad, qd, data.tau_nm)
         loss = drawn - mechanical  # what the drives draw beyond the joints' mechanical power
-        windows = [(first + k * period, first + (k + 1) * period) for k in range(count)]
         legs[leg] = leg_energy(leg, t, mechanical, loss, stance, windows)
         power_of[leg] = (t, mechanical)
     steps = np.concatenate([np.diff(d.t_s) for d in log.legs.values()])
