@@ -23,3 +23,13 @@ def hyq():
 @pytest.fixture(scope="session")
 def solo12():
     return load_robot("solo12")
+
+
+@pytest.fixture(scope="session")
+def optimum(tmp_path_factory):
+    """SCalf's default optimum as `scalf-opt optimize --out DIR` saves it (the DIR)."""
+    from scalf_opt.cli import main
+
+    out = tmp_path_factory.mktemp("optimum")
+    assert main(["optimize", "--out", str(out), "-q"]) == 0
+    return out

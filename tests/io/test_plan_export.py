@@ -16,13 +16,6 @@ from scalf_opt.types import LEG_NAMES
 
 
 @pytest.fixture(scope="module")
-def optimum(tmp_path_factory):
-    out = tmp_path_factory.mktemp("optimum")
-    assert main(["optimize", "--out", str(out), "-q"]) == 0
-    return out
-
-
-@pytest.fixture(scope="module")
 def export(optimum, scalf):
     return export_plan(optimum, scalf, rate_hz=1000, cycles=3).export
 

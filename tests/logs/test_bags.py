@@ -21,13 +21,6 @@ EPOCH_S = 1_767_225_600.0  # a driver stamps with the wall clock
 
 
 @pytest.fixture(scope="module")
-def optimum(tmp_path_factory):
-    out = tmp_path_factory.mktemp("optimum")
-    assert main(["optimize", "--out", str(out), "-q"]) == 0
-    return out
-
-
-@pytest.fixture(scope="module")
 def fine(optimum, scalf):
     """The plan at 4 kHz over 4 cycles: the driver's samples are picked from it."""
     return export_plan(optimum, scalf, rate_hz=4000, cycles=4).export

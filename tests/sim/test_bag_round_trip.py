@@ -19,13 +19,6 @@ TRAPEZOID_RTOL = 0.005
 pytestmark = pytest.mark.slow  # an optimization and two 3-cycle simulations: about 10 s
 
 
-@pytest.fixture(scope="module")
-def optimum(tmp_path_factory):
-    out = tmp_path_factory.mktemp("optimum")
-    assert main(["optimize", "--out", str(out), "-q"]) == 0
-    return out
-
-
 def test_export_simulate_and_analyze_the_bag(optimum, scalf, tmp_path):
     plan = export_plan(optimum, scalf, rate_hz=1000, cycles=3)
     planned = read_joint_states(plan.write(tmp_path / "plan.mcap"), "/plan/joint_states")
