@@ -66,12 +66,30 @@ class RobotCycle:
         accounting: Power accounting used for ``power``.
         legs: LegCycle per leg name, in :data:`~scalf_opt.types.LEG_NAMES` order.
         total_mass_kg: Mass of the whole robot (for the cost of transport) [kg].
+        loads: The stance load model (:mod:`scalf_opt.energy.loads`).
     """
 
     gait: Gait
     accounting: Accounting
     legs: dict[str, LegCycle]
     total_mass_kg: float
+    loads: str = "whole-body"
+
+    @property
+    def peak_unbalanced_moment_nm(self) -> float:
+        """Largest moment the stance feet could not supply, over every stance sample [N m]."""
+        peaks = [np.linalg.norm(c.stance.unbalanced_nm, axis=0).max() for c in self.legs.values()]
+        return float(max(peaks, default=0.0))
+
+    @property
+    def mean_stance_force_n(self) -> float:
+        """Mean magnitude of the stance foot force over every stance sample and leg [N]."""
+        norms = [
+            np.hypot(np.hypot(c.stance.values["grf"][0], c.stance.values["grf"][1]),
+                     c.stance.grf_lateral_n).mean()
+            for c in self.legs.values()
+        ]
+        return float(np.mean(norms))
 
     @property
     def energy_j(self) -> float:

@@ -2,7 +2,7 @@
 
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -22,6 +22,10 @@ class PhaseSamples:
         t_phase_s: Time since the phase began, shape (n,) [s].
         start_s: Cycle time at which the phase begins [s].
         period_s: Gait period, to wrap cycle times into [0, T] [s].
+        unbalanced_nm: Moment the stance feet cannot supply (trunk axes), (3, n) [N m];
+            ``None``: zero (:mod:`scalf_opt.energy.loads`).
+        grf_lateral_n: The foot force's lateral part F_y, (n,) [N] (loads only the roll joint);
+            ``None``: zero.
     """
 
     phase: Phase
@@ -31,6 +35,8 @@ class PhaseSamples:
     t_phase_s: np.ndarray
     start_s: float
     period_s: float
+    unbalanced_nm: np.ndarray | None = None
+    grf_lateral_n: np.ndarray | None = None
 
     @property
     def cycle_times_s(self) -> np.ndarray:
@@ -58,6 +64,9 @@ class PhaseResult:
         loss_j: The drives' loss part of ``energy_j`` (SCalf: friction heat) [J], shape (2,).
         drive_columns: Drive output name -> column name with unit (``cyl_len_hip`` ->
             ``cyl_len_hip_m``), in column order.
+        unbalanced_nm: Moment the stance feet cannot supply at each sample (trunk axes),
+            shape (3, n) [N m] (zero in swing, under trunk loads, and with three or more feet).
+        grf_lateral_n: Lateral foot force F_y, shape (n,) [N].
     """
 
     leg: str
@@ -68,6 +77,8 @@ class PhaseResult:
     energy_j: np.ndarray
     loss_j: np.ndarray
     drive_columns: dict[str, str]
+    unbalanced_nm: np.ndarray = field(default_factory=lambda: np.zeros((3, 0)))
+    grf_lateral_n: np.ndarray = field(default_factory=lambda: np.zeros(0))
 
 
 def evaluate_phase(
@@ -93,4 +104,8 @@ def evaluate_phase(
         energy_j=values["power"] @ w,
         loss_j=values["p_loss"] @ w,
         drive_columns={o.name: o.column for o in physics.drive_outputs},
+        unbalanced_nm=(
+            np.zeros((3, n)) if samples.unbalanced_nm is None else samples.unbalanced_nm
+        ),
+        grf_lateral_n=np.zeros(n) if samples.grf_lateral_n is None else samples.grf_lateral_n,
     )

@@ -211,6 +211,32 @@ class LegPhysics:
             )
         return self._functions[key]
 
+    def wrench_function(self, space: Space) -> ca.Function:
+        """``(y, yd, ydd) -> wrench (6)``: the leg's part of the load on the stance feet.
+
+        The spatial force the trunk supplies to the leg's moving links (thigh, shank, foot) for
+        their motion and weight, in the trunk frame about its origin, force [N] then moment
+        [N m] (:meth:`~scalf_opt.model.symbolic.SymbolicChain.root_wrench`). It depends on this
+        leg's motion only, so the whole robot's load is a sum of one such term per leg and a
+        constant one for the trunk (:mod:`scalf_opt.energy.loads`).
+        """
+        check_choice(space, Space, "space")
+        key = (space, "wrench", None)
+        if key not in self._functions:
+            y, yd, ydd = (ca.SX.sym(n, 2) for n in ("y", "yd", "ydd"))
+            if space == "foot":
+                q, qd, qdd = self.kin.joint_motion_expr(y, yd, ydd)
+            else:
+                q, qd, qdd = y, yd, ydd
+            self._functions[key] = ca.Function(
+                casadi_name(self.leg.name, space, "wrench"),
+                [y, yd, ydd],
+                [self.leg.symbolic.root_wrench(q, qd, qdd)],
+                ["y", "yd", "ydd"],
+                ["wrench"],
+            )
+        return self._functions[key]
+
     @cached_property
     def _functions(self) -> dict[tuple[str, str, float | None], ca.Function]:
         return {}

@@ -15,6 +15,7 @@ import numpy as np
 from scalf_opt.actuators.drive import Drive
 from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.cycle import LegCycle, RobotCycle
+from scalf_opt.energy.loads import DEFAULT_LOADS, StanceForces, StanceLoads, Swings, stance_loads
 from scalf_opt.energy.phase import PhaseResult, PhaseSamples, evaluate_phase
 from scalf_opt.energy.physics import LegPhysics
 from scalf_opt.energy.robot_physics import RobotPhysics
@@ -45,6 +46,9 @@ class EnergyPipeline:
         drives: Drives keyed by joint name; ``None`` reads the sidecar beside the URDF, ``{}``
             gives every joint an ideal drive.
         model: The robot's physics; ``None`` builds it from ``robot`` and ``drives``.
+        loads: What the stance feet carry (a name in
+            :data:`~scalf_opt.energy.loads.LOAD_MODELS`): the whole robot's dynamics (default)
+            or the trunk's weight only (the paper's).
     """
 
     robot: Robot
@@ -52,9 +56,11 @@ class EnergyPipeline:
     accounting: Accounting = "paper"
     drives: Mapping[str, Drive] | None = None
     model: RobotPhysics | None = field(default=None, repr=False, compare=False)
+    loads: str = DEFAULT_LOADS
 
     def __post_init__(self) -> None:
         power_accounting(self.accounting)
+        stance_loads(self.loads)
         if self.model is None:
             object.__setattr__(self, "model", RobotPhysics(self.robot, self.drives))
         assert self.model is not None
@@ -68,11 +74,26 @@ class EnergyPipeline:
 
     def with_gait(self, gait: Gait) -> EnergyPipeline:
         """The same robot physics and accounting with another gait (or rate)."""
-        return EnergyPipeline(self.robot, gait, self.accounting, model=self.robot_physics)
+        return EnergyPipeline(
+            self.robot, gait, self.accounting, model=self.robot_physics, loads=self.loads
+        )
+
+    def with_loads(self, loads: str) -> EnergyPipeline:
+        """The same robot physics, gait and accounting with another load model."""
+        return EnergyPipeline(
+            self.robot, self.gait, self.accounting, model=self.robot_physics, loads=loads
+        )
+
+    @property
+    def load_model(self) -> StanceLoads:
+        """The load model (:mod:`scalf_opt.energy.loads`)."""
+        return stance_loads(self.loads)
 
     def with_accounting(self, accounting: Accounting) -> EnergyPipeline:
         """The same robot physics and gait with another accounting."""
-        return EnergyPipeline(self.robot, self.gait, accounting, model=self.robot_physics)
+        return EnergyPipeline(
+            self.robot, self.gait, accounting, model=self.robot_physics, loads=self.loads
+        )
 
     def physics(self, leg: str) -> LegPhysics:
         """The leg's :class:`LegPhysics` (built once per robot)."""
@@ -94,8 +115,9 @@ class EnergyPipeline:
         return {leg: stance_path(self.gait, self.stance_times_s, leg) for leg in LEG_NAMES}
 
     @cached_property
-    def stance_forces(self) -> dict[str, np.ndarray]:
-        """Ground reaction force on each leg's foot over its stance samples, (2, n) [N]."""
+    def trunk_stance_forces(self) -> dict[str, np.ndarray]:
+        """The trunk-only load on each leg's foot over its stance samples, (2, n) [N]: the
+        paper's sagittal minimum-norm share of the trunk link's weight (decision 11)."""
         com = self.robot.trunk_com_m
         hips = {}
         for leg in LEG_NAMES:
@@ -103,8 +125,38 @@ class EnergyPipeline:
             hips[leg] = np.array([hip[0], hip[2]])
         return stance_forces(self.gait, hips, self.robot.trunk_mass_kg)
 
-    def stance(self, leg: str) -> PhaseResult:
+    def reference_swings(self) -> dict[str, tuple[SwingFamily, np.ndarray]]:
+        """Every leg on the reference swing (what a stance is evaluated with by default)."""
+        reference = make_family("reference")
+        return {leg: (reference, np.zeros(0)) for leg in LEG_NAMES}
+
+    def stance_forces(self, leg: str, swings: Swings | None = None) -> StanceForces:
+        """The load on ``leg``'s foot over its stance samples under :attr:`loads`.
+
+        Args:
+            leg: The leg.
+            swings: Every leg's swing (family, parameters), which the whole-body loads depend
+                on; ``None``: every leg on the reference swing.
+        """
+        chosen = self.reference_swings() if swings is None else swings
+        key = (leg, tuple((k, f.name, tuple(np.ravel(t))) for k, (f, t) in sorted(chosen.items())))
+        if not self.load_model.couples_legs:
+            key = (leg, ())
+        if key not in self._stance_force_cache:
+            self._stance_force_cache[key] = self.load_model.stance_forces(self, leg, chosen)
+        return self._stance_force_cache[key]
+
+    @cached_property
+    def _stance_force_cache(self) -> dict[object, StanceForces]:
+        return {}
+
+    def stance(self, leg: str, swings: Swings | None = None) -> PhaseResult:
         """Evaluate ``leg``'s stance phase.
+
+        Args:
+            leg: The leg.
+            swings: Every leg's swing (family, parameters): the whole-body loads depend on
+                them; ``None``: every leg on the reference swing.
 
         Raises:
             GaitError: The stance path leaves the leg's reach or joint limits.
@@ -118,14 +170,17 @@ class EnergyPipeline:
             "stance",
             ("stance_height_m", "step_length_m"),
         )
+        forces = self.stance_forces(leg, swings)
         samples = PhaseSamples(
             phase="stance",
             space="foot",
             path=path,
-            grf_n=self.stance_forces[leg],
+            grf_n=forces.sagittal_n,
             t_phase_s=self.stance_times_s,
             start_s=stance_start_s(self.gait, leg),
             period_s=self.gait.period_s,
+            unbalanced_nm=forces.unbalanced_nm,
+            grf_lateral_n=forces.grf_n[1],
         )
         return evaluate_phase(self.physics(leg), samples, self.accounting)
 
@@ -158,12 +213,50 @@ class EnergyPipeline:
         return evaluate_phase(self.physics(leg), samples, self.accounting)
 
     # --- cycles -------------------------------------------------------------------------------
-    def leg_cycle(self, leg: str, family: SwingFamily, theta: np.ndarray | None = None) -> LegCycle:
-        """One leg's stance and swing."""
+    def leg_cycle(
+        self,
+        leg: str,
+        family: SwingFamily,
+        theta: np.ndarray | None = None,
+        swings: Swings | None = None,
+    ) -> LegCycle:
+        """One leg's stance and swing.
+
+        Args:
+            leg: The leg.
+            family: Its swing family.
+            theta: Its parameters (``None``: zeros).
+            swings: Every leg's swing, for the whole-body stance loads; ``None``: every leg
+                swings like this one (its symmetric twin with the same parameters, the other
+                pair with the same family at zero parameters, as :meth:`robot_cycle` does
+                without ``thetas``).
+        """
         theta_arr = np.zeros(family.n_params) if theta is None else np.asarray(theta, float)
+        if swings is None:
+            swings = self.swings(family, {leg: theta_arr})
         return LegCycle(
-            leg, self.stance(leg), self.swing(leg, family, theta_arr), family.name, theta_arr
+            leg,
+            self.stance(leg, swings),
+            self.swing(leg, family, theta_arr),
+            family.name,
+            theta_arr,
         )
+
+    def swings(
+        self, family: SwingFamily, thetas: Mapping[str, np.ndarray] | None = None
+    ) -> dict[str, tuple[SwingFamily, np.ndarray]]:
+        """Every leg's swing under :meth:`robot_cycle`'s rule for ``family`` and ``thetas``."""
+        reference = make_family("reference")
+        out: dict[str, tuple[SwingFamily, np.ndarray]] = {}
+        for leg in LEG_NAMES:
+            if thetas is None:
+                out[leg] = (family, np.zeros(family.n_params))
+            elif leg in thetas or SYMMETRIC_TWIN[leg] in thetas:
+                theta = thetas[leg] if leg in thetas else thetas[SYMMETRIC_TWIN[leg]]
+                out[leg] = (family, np.asarray(theta, dtype=float))
+            else:
+                out[leg] = (reference, np.zeros(0))
+        return out
 
     def robot_cycle(
         self,
@@ -178,14 +271,11 @@ class EnergyPipeline:
         nor its twin's parameters keeps the reference swing; without ``thetas`` every leg uses
         the family at zero parameters.
         """
-        reference = make_family("reference")
+        swings = self.swings(family, thetas)
         cycles = {}
         for leg in (name for name in LEG_NAMES if name in legs):
-            if thetas is None:
-                cycles[leg] = self.leg_cycle(leg, family)
-            elif leg in thetas or SYMMETRIC_TWIN[leg] in thetas:
-                theta = thetas[leg] if leg in thetas else thetas[SYMMETRIC_TWIN[leg]]
-                cycles[leg] = self.leg_cycle(leg, family, theta)
-            else:
-                cycles[leg] = self.leg_cycle(leg, reference)
-        return RobotCycle(self.gait, self.accounting, cycles, self.robot.total_mass_kg)
+            own, theta = swings[leg]
+            cycles[leg] = self.leg_cycle(leg, own, theta, swings)
+        return RobotCycle(
+            self.gait, self.accounting, cycles, self.robot.total_mass_kg, loads=self.loads
+        )

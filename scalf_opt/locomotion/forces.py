@@ -54,3 +54,66 @@ def min_norm_foot_forces(
     wrench = np.array([trunk_mass_kg * trunk_acceleration_m_s2, trunk_mass_kg * gravity_m_s2, 0.0])
     forces = np.linalg.pinv(a) @ wrench
     return forces.reshape(-1, 2).T
+
+
+def contact_distribution(feet_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The minimum-norm map from a required wrench to point-foot forces, in 3-D.
+
+    With ``p_k`` the stance feet's positions in the trunk frame and ``c`` their centroid, the
+    feet supply the wrench ``W_c = (sum F_k, sum (p_k - c) x F_k)`` about ``c``: ``W_c = A F``.
+    The forces taken are ``F = A^+ W_c`` (Moore-Penrose pseudo-inverse): among the forces that
+    supply the closest wrench, the smallest. So the distribution has no internal forces (no
+    component in the null space of ``A``: two feet do not squeeze or pull each other).
+
+    Two point feet cannot supply a moment about the line joining them (``A`` has rank 5); the
+    centroid lies on that line, so the least-squares residual ``W_c - A F`` is exactly that
+    moment (a pure moment, the same about any point): what this stance cannot balance.
+
+    Args:
+        feet_m: Stance-foot positions in the trunk frame, shape (3, k) [m], k >= 2.
+
+    Returns:
+        ``(P, c)``: ``P`` of shape (3k, 6) maps ``W_c`` to the stacked forces
+        ``(F_1, ..., F_k)``; ``c`` the centroid (3,) [m].
+    """
+    feet = np.asarray(feet_m, dtype=float)
+    centroid = feet.mean(axis=1)
+    k = feet.shape[1]
+    a = np.zeros((6, 3 * k))
+    for j in range(k):
+        r = feet[:, j] - centroid
+        a[0:3, 3 * j : 3 * j + 3] = np.eye(3)
+        a[3:6, 3 * j : 3 * j + 3] = np.array(
+            [[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]]
+        )
+    return np.linalg.pinv(a, rcond=1e-10), centroid
+
+
+def shift_wrench(wrench: np.ndarray, point_m: np.ndarray) -> np.ndarray:
+    """A wrench (6, ...) about the trunk origin, taken about ``point_m`` (3,): ``M - p x F``."""
+    w = np.array(wrench, dtype=float)
+    w[3:6] = w[3:6] - np.cross(point_m, w[0:3], axis=0)
+    return w
+
+
+def min_norm_contact_forces(
+    feet_m: np.ndarray, wrench: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """Point-foot forces that supply ``wrench``, and the moment they cannot supply.
+
+    Args:
+        feet_m: Stance-foot positions in the trunk frame, shape (3, k) [m].
+        wrench: Wrench the feet must supply, force [N] then moment about the trunk origin
+            [N m], trunk axes, shape (6,).
+
+    Returns:
+        ``(forces, unbalanced)``: forces on the feet (3, k) [N]; the unbalanced moment (3,)
+        [N m] (zero with three or more feet not in a line). See :func:`contact_distribution`.
+    """
+    p, centroid = contact_distribution(feet_m)
+    w_c = shift_wrench(np.asarray(wrench, dtype=float).reshape(6, 1), centroid)[:, 0]
+    stacked = p @ w_c
+    forces = stacked.reshape(-1, 3).T
+    r = np.asarray(feet_m, dtype=float) - centroid[:, None]
+    supplied = np.sum(np.cross(r, forces, axis=0), axis=1)
+    return forces, w_c[3:6] - supplied

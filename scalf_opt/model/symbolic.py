@@ -98,6 +98,15 @@ class SymbolicChain:
         return int(frame)
 
     def _rnea_sx(self, q: Expr, v: Expr, a: Expr, gravity: bool) -> Expr:
+        return self._rnea_parts(q, v, a, gravity)[0]
+
+    def _rnea_parts(self, q: Expr, v: Expr, a: Expr, gravity: bool) -> tuple[Expr, Expr]:
+        """Joint forces (nv x 1) and the spatial force (6 x 1) the root supplies to the chain.
+
+        The second output is the sum, over the root's children, of the force transmitted
+        through their joints, expressed in the root frame about its origin (linear part first):
+        what a floating root would have to add for the chain's motion and weight.
+        """
         model = self.model
         local = self._local_placements(q)
         g = np.array(model.gravity.linear) if gravity else np.zeros(3)
@@ -137,11 +146,10 @@ class SymbolicChain:
             fl, fa = forces[i]
             tau[self._joints[i][2]] = ca.dot(s_lin, fl) + ca.dot(s_ang, fa)
             parent = model.parents[i]
-            if parent > 0:
-                pl, pa = act_force(*local[i], fl, fa)
-                forces[parent][0] = forces[parent][0] + pl
-                forces[parent][1] = forces[parent][1] + pa
-        return ca.vertcat(*tau)
+            pl, pa = act_force(*local[i], fl, fa)
+            forces[parent][0] = forces[parent][0] + pl
+            forces[parent][1] = forces[parent][1] + pa
+        return ca.vertcat(*tau), ca.vertcat(*forces[0])
 
     # --- compiled functions (SX, built once) ---------------------------------------------------
     @cached_property
@@ -153,6 +161,17 @@ class SymbolicChain:
         q, v, a = self._sym
         return ca.Function(
             "rnea", [q, v, a], [self._rnea_sx(q, v, a, True)], ["q", "v", "a"], ["tau"]
+        )
+
+    @cached_property
+    def _root_wrench_fn(self) -> ca.Function:
+        q, v, a = self._sym
+        return ca.Function(
+            "root_wrench",
+            [q, v, a],
+            [self._rnea_parts(q, v, a, True)[1]],
+            ["q", "v", "a"],
+            ["wrench"],
         )
 
     @cached_property
@@ -231,6 +250,16 @@ class SymbolicChain:
     def rnea(self, q: Any, v: Any, a: Any) -> Any:
         """Joint forces ``M(q) a + C(q, v) v + G(q)`` (nv x 1), like ``pin.rnea``."""
         return self._rnea_fn(q, v, a)
+
+    def root_wrench(self, q: Any, v: Any, a: Any) -> Any:
+        """Spatial force (6 x 1: force [N], then moment [N m] about the root origin, root axes)
+        the root supplies to the moving chain for motion ``(q, v, a)`` against gravity.
+
+        For a root that moves at constant velocity without rotating this is the chain's part
+        of the wrench the rest of the robot must receive from outside (the first six rows of a
+        floating-base RNEA): the rate of change of the chain's momentum minus its weight.
+        """
+        return self._root_wrench_fn(q, v, a)
 
     def crba(self, q: Any) -> Any:
         """Joint-space mass matrix M(q) (nv x nv), like ``pin.crba`` (full, symmetric)."""

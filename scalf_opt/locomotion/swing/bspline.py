@@ -81,9 +81,11 @@ class BSplineFamily(SwingFamily):
         """
         return 4.0 * swing_duration_s / self.spans
 
-    def path(self, gait: Gait, kin: LegKinematics) -> AffinePath:  # noqa: D102
+    def path(  # noqa: D102
+        self, gait: Gait, kin: LegKinematics, t_s: np.ndarray | None = None
+    ) -> AffinePath:
         b = self.boundary(gait, kin)
-        t = gait.phase_times_s("swing")
+        t = gait.phase_times_s("swing") if t_s is None else np.asarray(t_s, dtype=float)
         k = self.spans
         basis_s = design_matrices(k, t / b.duration_s)
         time_scale = np.array([1.0, 1.0 / b.duration_s, 1.0 / b.duration_s**2])[:, None, None]

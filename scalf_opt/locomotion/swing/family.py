@@ -108,8 +108,15 @@ class SwingFamily(ABC):
         return foot_boundary(gait, kin.leg.name)
 
     @abstractmethod
-    def path(self, gait: Gait, kin: LegKinematics) -> AffinePath:
-        """Swing samples on the gait's swing grid as an affine function of the parameters."""
+    def path(self, gait: Gait, kin: LegKinematics, t_s: np.ndarray | None = None) -> AffinePath:
+        """Swing samples as an affine function of the parameters.
+
+        Args:
+            gait: The gait (its swing duration and boundary conditions).
+            kin: The leg's kinematics.
+            t_s: Times since lift-off, in [0, T_sw] [s]; ``None``: the gait's swing grid. (The
+                whole-body loads need the swinging legs at the stance legs' sample times.)
+        """
 
     def embed(self, theta: np.ndarray, poorer: SwingFamily) -> np.ndarray:
         """Map a poorer nested family's parameters to this family's (zeros elsewhere)."""

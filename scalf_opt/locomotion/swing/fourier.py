@@ -92,9 +92,11 @@ class FourierFamily(SwingFamily):
         """Period of the highest harmonic, ``cos(N pi s)``: ``2 T_sw / N`` [s]."""
         return 2.0 * swing_duration_s / self.order
 
-    def path(self, gait: Gait, kin: LegKinematics) -> AffinePath:  # noqa: D102
+    def path(  # noqa: D102
+        self, gait: Gait, kin: LegKinematics, t_s: np.ndarray | None = None
+    ) -> AffinePath:
         b = self.boundary(gait, kin)
-        t = gait.phase_times_s("swing")
+        t = gait.phase_times_s("swing") if t_s is None else np.asarray(t_s, dtype=float)
         s = t / b.duration_s
         inv = np.linalg.inv(_functionals(ELIMINATED_TERMS))
         scale = PARAMETER_SCALE[self.space]

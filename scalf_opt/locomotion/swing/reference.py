@@ -75,11 +75,13 @@ class ReferenceSpline(SwingFamily):
     name = "reference"
     space = "foot"
 
-    def path(self, gait: Gait, kin: LegKinematics) -> AffinePath:  # noqa: D102
+    def path(  # noqa: D102
+        self, gait: Gait, kin: LegKinematics, t_s: np.ndarray | None = None
+    ) -> AffinePath:
         b = foot_boundary(gait, kin.leg.name)
         # decision 12: the apex H above the ground, midway between lift-off and touch-down
         apex = np.array([0.5 * (b.start[0] + b.end[0]), -gait.stance_height_m + gait.clearance_m])
-        t = gait.phase_times_s("swing")
+        t = gait.phase_times_s("swing") if t_s is None else np.asarray(t_s, dtype=float)
         base = np.zeros((3, 2, t.size))
         for c in range(2):
             base[:, c] = clamped_spline(

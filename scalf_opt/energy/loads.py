@@ -1,0 +1,246 @@
+r"""Stance loads: which forces the stance feet carry, from the trunk alone or the whole robot.
+
+Two load models (``--loads``), each one object in :data:`LOAD_MODELS`, so that nothing else in
+scalf-opt asks which one it has:
+
+``trunk`` (the paper's, decision 11)
+    The stance feet carry the trunk link's weight (and its forward acceleration, zero in the
+    plan), shared by the sagittal minimum-norm distribution
+    (:func:`~scalf_opt.locomotion.forces.min_norm_foot_forces`). The legs' own weight and
+    inertia never reach the other legs: the stance forces do not depend on the swings.
+
+``whole-body``
+    The stance feet supply the wrench the whole robot needs for its planned motion: the
+    floating-base inverse dynamics' first six rows. The trunk moves at constant velocity
+    without rotating, so its frame is inertial (Galilean invariance) and that wrench, in the
+    trunk frame about its origin, is a sum of one constant term and one term per leg::
+
+        W = W_static + sum_legs W_leg(q_leg, qd_leg, qdd_leg),
+
+    ``W_static = (m_s g, c_s x m_s g)`` the weight of every body no leg joint moves (trunk,
+    hip-roll links at zero roll, ...; mass ``m_s``, centre of mass ``c_s``, ``g`` pointing up)
+    and ``W_leg`` the force the trunk supplies to the leg's moving links
+    (:meth:`~scalf_opt.energy.physics.LegPhysics.wrench_function`, one CasADi function per leg
+    for the numeric evaluator and the NLP alike). The wrench is shared by the stance feet with
+    the 3-D minimum-norm distribution (:func:`~scalf_opt.locomotion.forces.contact_distribution`:
+    no internal force between the feet); what two diagonal feet cannot supply (the moment about
+    the line joining them) is reported per sample, not hidden. Each leg's joints then see the
+    sagittal part ``(F_x, F_z)`` of its foot force; the lateral part loads only the locked roll
+    joint. Each leg's own joint torques ``RNEA_leg - J^T F`` are the leg rows of the floating-
+    base RNEA with the foot forces as external forces (the tests check it to 1e-9 on every
+    robot).
+
+Under whole-body loads a stance leg's energy depends on the swinging legs' motion: the stance
+forces are computed for the swings actually chosen (:meth:`StanceLoads.stance_forces`).
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar
+
+import numpy as np
+import pinocchio as pin
+
+from scalf_opt.errors import ConfigError
+from scalf_opt.locomotion.forces import contact_distribution, shift_wrench
+from scalf_opt.locomotion.stance import stance_forces as trunk_stance_forces
+from scalf_opt.locomotion.stance import stance_path
+from scalf_opt.locomotion.trot import (
+    PHASE_EDGE_TOLERANCE_S,
+    stance_start_s,
+    support_legs,
+    time_since_touchdown_s,
+)
+from scalf_opt.model.robot import Robot
+from scalf_opt.types import LEG_NAMES
+
+if TYPE_CHECKING:
+    from scalf_opt.energy.pipeline import EnergyPipeline
+    from scalf_opt.locomotion.swing.family import SwingFamily
+
+Swings = Mapping[str, tuple["SwingFamily", np.ndarray]]
+"""The swing of every leg: its family and parameters (family units)."""
+
+
+@dataclass(frozen=True)
+class StanceForces:
+    """The forces on one leg's foot over its stance samples.
+
+    Attributes:
+        grf_n: Ground reaction force on the foot (F_x, F_y, F_z) in the trunk axes, (3, n) [N].
+        unbalanced_nm: Moment the stance feet cannot supply at each sample (trunk axes), (3, n)
+            [N m]; zero under trunk loads and whenever three or more feet stand.
+    """
+
+    grf_n: np.ndarray
+    unbalanced_nm: np.ndarray
+
+    @property
+    def sagittal_n(self) -> np.ndarray:
+        """``(F_x, F_z)``, (2, n) [N]: what the leg's hip-pitch and knee joints see."""
+        return self.grf_n[[0, 2]]
+
+
+class StanceLoads(ABC):
+    """A model of the loads the stance feet carry."""
+
+    name: ClassVar[str]
+    description: ClassVar[str]
+    couples_legs: ClassVar[bool]
+    """Whether a stance leg's forces depend on the other legs' swings."""
+
+    @abstractmethod
+    def stance_forces(self, pipeline: EnergyPipeline, leg: str, swings: Swings) -> StanceForces:
+        """Forces on ``leg``'s foot over the pipeline's stance grid, for the given swings."""
+
+
+class TrunkLoads(StanceLoads):
+    """The trunk link's weight on the stance feet, sagittal minimum norm (the paper's)."""
+
+    name = "trunk"
+    description = "the trunk link's weight only, sagittal minimum norm (the paper's model)"
+    couples_legs = False
+
+    def stance_forces(  # noqa: D102
+        self, pipeline: EnergyPipeline, leg: str, swings: Swings
+    ) -> StanceForces:
+        sagittal = pipeline.trunk_stance_forces[leg]
+        n = sagittal.shape[1]
+        grf = np.vstack([sagittal[0], np.zeros(n), sagittal[1]])
+        return StanceForces(grf, np.zeros((3, n)))
+
+
+class WholeBodyLoads(StanceLoads):
+    """The whole robot's inverse dynamics on the stance feet, 3-D minimum norm."""
+
+    name = "whole-body"
+    description = "the whole robot's inverse dynamics (trunk and all four legs), 3-D minimum norm"
+    couples_legs = True
+
+    def stance_forces(  # noqa: D102
+        self, pipeline: EnergyPipeline, leg: str, swings: Swings
+    ) -> StanceForces:
+        gait = pipeline.gait
+        t = pipeline.stance_times_s
+        cycle_times = stance_start_s(gait, leg) + t
+        wrench = np.tile(static_wrench(pipeline.robot)[:, None], (1, t.size))
+        for other in LEG_NAMES:
+            space, path = leg_motion(pipeline, other, cycle_times, swings)
+            fn = pipeline.physics(other).wrench_function(space).map(t.size)
+            wrench += np.array(fn(path[0], path[1], path[2]))
+        grf = np.zeros((3, t.size))
+        unbalanced = np.zeros((3, t.size))
+        for j, time_s in enumerate(cycle_times):
+            feet_legs = support_legs(gait, float(time_s), leg)
+            feet = np.column_stack([foot_position_m(pipeline, o, float(time_s)) for o in feet_legs])
+            p, centroid = contact_distribution(feet)
+            w_c = shift_wrench(wrench[:, j : j + 1], centroid)[:, 0]
+            forces = (p @ w_c).reshape(-1, 3).T
+            grf[:, j] = forces[:, 0]  # support_legs lists ``leg`` first
+            r = feet - centroid[:, None]
+            unbalanced[:, j] = w_c[3:6] - np.sum(np.cross(r, forces, axis=0), axis=1)
+        return StanceForces(grf, unbalanced)
+
+
+LOAD_MODELS: dict[str, StanceLoads] = {m.name: m for m in (WholeBodyLoads(), TrunkLoads())}
+"""Every load model by name (the choices of ``--loads``, in this order)."""
+
+DEFAULT_LOADS = WholeBodyLoads.name
+"""The default of every command that evaluates energy, except ``paper``."""
+
+PAPER_LOADS = TrunkLoads.name
+"""The paper's model (decision 11): what ``scalf-opt paper`` reproduces Tables 5 and 6 with."""
+
+
+def stance_loads(name: str) -> StanceLoads:
+    """The load model called ``name``.
+
+    Raises:
+        ConfigError: No load model has that name; the message lists the choices.
+    """
+    if name not in LOAD_MODELS:
+        raise ConfigError(
+            f"loads = {name!r} is not one of {', '.join(LOAD_MODELS)}", field="loads"
+        )
+    return LOAD_MODELS[name]
+
+
+def moving_joints(robot: Robot) -> set[int]:
+    """Joints of the whole model that a leg's hip pitch or knee moves (their subtrees)."""
+    model = robot.model
+    roots = set()
+    for leg in LEG_NAMES:
+        for joint in robot.leg(leg).joint_names:
+            roots.add(int(model.getJointId(joint)))
+    moving = set()
+    for j in range(1, model.njoints):
+        k = j
+        while k > 0:
+            if k in roots:
+                moving.add(j)
+                break
+            k = int(model.parents[k])
+    return moving
+
+
+def static_wrench(robot: Robot) -> np.ndarray:
+    """The wrench that holds up every body no leg joint moves, (6,): ``(m g, c x m g)``.
+
+    Force [N] then moment [N m] about the trunk origin, trunk axes; the other joints (hip
+    roll, ...) at their neutral position, as the legs' sagittal models assume.
+    """
+    model = robot.model
+    data = model.createData()
+    pin.forwardKinematics(model, data, pin.neutral(model))
+    moving = moving_joints(robot)
+    total = pin.Inertia.Zero()
+    for j in range(model.njoints):
+        if j not in moving:
+            total += data.oMi[j].act(model.inertias[j])
+    up = -np.array(model.gravity.linear, dtype=float)
+    force = total.mass * up
+    return np.concatenate([force, np.cross(np.array(total.lever), force)])
+
+
+def foot_position_m(pipeline: EnergyPipeline, leg: str, cycle_time_s: float) -> np.ndarray:
+    """Position of ``leg``'s stance foot in the trunk frame at a cycle time, (3,) [m]."""
+    model_leg = pipeline.robot.leg(leg)
+    local = time_since_touchdown_s(pipeline.gait, cycle_time_s, leg)
+    xz = stance_path(pipeline.gait, np.array([local]), leg)[0, :, 0]
+    return model_leg.hip_origin_m + np.array([xz[0], model_leg.foot_lateral_m, xz[1]])
+
+
+def leg_motion(
+    pipeline: EnergyPipeline, leg: str, cycle_times_s: np.ndarray, swings: Swings
+) -> tuple[str, np.ndarray]:
+    """``leg``'s planned motion at the given cycle times: ``(space, path (3, 2, n))``.
+
+    Stance samples are foot positions; swing samples in the swing family's space. A foot exactly
+    at touch-down or lift-off (within the phase-edge tolerance) is taken from the swing, as
+    :func:`~scalf_opt.locomotion.trot.support_legs` does not count it as standing; a leg whose
+    times all lie inside its stance is returned in foot space. Raises ``ConfigError`` when a leg
+    needs a swing that is not in ``swings``.
+    """
+    gait = pipeline.gait
+    t_stance, t_swing = gait.stance_duration_s, gait.swing_duration_s
+    local = np.array([time_since_touchdown_s(gait, float(t), leg) for t in cycle_times_s])
+    tol = PHASE_EDGE_TOLERANCE_S
+    in_stance = (local > tol) & (local < t_stance - tol)
+    swing_t = local - t_stance
+    swing_t = np.where(swing_t < -tol, swing_t + gait.period_s, swing_t)  # touch-down: T_sw
+    swing_t = np.clip(np.where(local <= tol, t_swing, swing_t), 0.0, t_swing)
+    stance = stance_path(gait, local, leg)
+    if in_stance.all():
+        return "foot", stance
+    if leg not in swings:
+        raise ConfigError(f"the whole-body loads need leg {leg}'s swing", field="loads")
+    family, theta = swings[leg]
+    swing = family.path(gait, pipeline.kinematics(leg), swing_t).values(theta)
+    if family.space == "foot":
+        return "foot", np.where(in_stance[None, None, :], stance, swing)
+    joints = pipeline.kinematics(leg).functions["motion"].map(local.size)(*stance)
+    stance_q = np.array([np.array(x) for x in joints])
+    return "joint", np.where(in_stance[None, None, :], stance_q, swing)
