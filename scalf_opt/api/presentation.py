@@ -17,6 +17,8 @@ from collections.abc import Callable, Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
 from scalf_opt.api.optimization import optimize_swing
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.pipeline import EnergyPipeline
@@ -49,12 +51,19 @@ def saved_trajectory(pipeline: EnergyPipeline, saved: SavedSwings) -> Trajectory
     Raises:
         InfeasibleError: A saved swing cannot be realised by this robot (another robot's result).
     """
-    legs = {}
+    chosen = {}
     for leg in LEG_NAMES:
-        family = saved.families.get(leg, "reference")
+        family = make_family(saved.families.get(leg, "reference"))
         theta = saved.parameters.get(leg)
-        legs[leg] = pipeline.leg_cycle(leg, make_family(family), theta)
-    cycle = RobotCycle(pipeline.gait, pipeline.accounting, legs, pipeline.robot.total_mass_kg)
+        chosen[leg] = (family, np.zeros(family.n_params) if theta is None else np.asarray(theta))
+    legs = {leg: pipeline.leg_cycle(leg, *chosen[leg], swings=chosen) for leg in LEG_NAMES}
+    cycle = RobotCycle(
+        pipeline.gait,
+        pipeline.accounting,
+        legs,
+        pipeline.robot.total_mass_kg,
+        loads=pipeline.loads,
+    )
     return Trajectory(saved.label, cycle)
 
 

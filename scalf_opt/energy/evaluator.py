@@ -96,8 +96,10 @@ class CycleEvaluator:
             )
         pipeline = self.pipeline
         phases = {}
+        swings = pipeline.swings(family, thetas)
         for leg in self.legs:
-            phases[(leg, "stance")] = (pipeline.stance_paths[leg], pipeline.stance_forces[leg])
+            forces = pipeline.stance_forces(leg, swings).sagittal_n
+            phases[(leg, "stance")] = (pipeline.stance_paths[leg], forces)
             path = pipeline.swing_path(leg, family)
             theta = (thetas or {}).get(leg)
             phases[(leg, "swing")] = (path.values(theta), np.zeros((2, path.t_s.size)))

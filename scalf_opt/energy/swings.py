@@ -30,8 +30,17 @@ def planned_cycle(pipeline: EnergyPipeline, swings: Mapping[str, SwingChoice]) -
         ConfigError: A family name is unknown.
         InfeasibleError, GaitError: A path leaves the leg's reach or joint limits.
     """
-    legs: dict[str, LegCycle] = {}
-    for leg in LEG_NAMES:
-        family, theta = swings[leg]
-        legs[leg] = pipeline.leg_cycle(leg, make_family(family), np.asarray(theta, dtype=float))
-    return RobotCycle(pipeline.gait, pipeline.accounting, legs, pipeline.robot.total_mass_kg)
+    chosen = {
+        leg: (make_family(family), np.asarray(theta, dtype=float))
+        for leg, (family, theta) in ((leg, swings[leg]) for leg in LEG_NAMES)
+    }
+    legs: dict[str, LegCycle] = {
+        leg: pipeline.leg_cycle(leg, *chosen[leg], swings=chosen) for leg in LEG_NAMES
+    }
+    return RobotCycle(
+        pipeline.gait,
+        pipeline.accounting,
+        legs,
+        pipeline.robot.total_mass_kg,
+        loads=pipeline.loads,
+    )
