@@ -57,11 +57,12 @@ from scalf_opt.locomotion.trot import (
 from scalf_opt.model.robot import Robot
 from scalf_opt.types import LEG_NAMES
 
+from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
+
 if TYPE_CHECKING:
     from scalf_opt.energy.pipeline import EnergyPipeline
-    from scalf_opt.locomotion.swing.family import SwingFamily
 
-Swings = Mapping[str, tuple["SwingFamily", np.ndarray]]
+Swings = Mapping[str, tuple[SwingFamily, np.ndarray]]
 """The swing of every leg: its family and parameters (family units)."""
 
 
@@ -218,29 +219,44 @@ def leg_motion(
 ) -> tuple[str, np.ndarray]:
     """``leg``'s planned motion at the given cycle times: ``(space, path (3, 2, n))``.
 
-    Stance samples are foot positions; swing samples in the swing family's space. A foot exactly
-    at touch-down or lift-off (within the phase-edge tolerance) is taken from the swing, as
-    :func:`~scalf_opt.locomotion.trot.support_legs` does not count it as standing; a leg whose
-    times all lie inside its stance is returned in foot space. Raises ``ConfigError`` when a leg
-    needs a swing that is not in ``swings``.
+    See :func:`affine_leg_motion`; this is its value at the leg's parameters.
     """
-    gait = pipeline.gait
-    t_stance, t_swing = gait.stance_duration_s, gait.swing_duration_s
-    local = np.array([time_since_touchdown_s(gait, float(t), leg) for t in cycle_times_s])
-    tol = PHASE_EDGE_TOLERANCE_S
-    in_stance = (local > tol) & (local < t_stance - tol)
-    swing_t = local - t_stance
-    swing_t = np.where(swing_t < -tol, swing_t + gait.period_s, swing_t)  # touch-down: T_sw
-    swing_t = np.clip(np.where(local <= tol, t_swing, swing_t), 0.0, t_swing)
-    stance = stance_path(gait, local, leg)
-    if in_stance.all():
-        return "foot", stance
     if leg not in swings:
         raise ConfigError(f"the whole-body loads need leg {leg}'s swing", field="loads")
     family, theta = swings[leg]
-    swing = family.path(gait, pipeline.kinematics(leg), swing_t).values(theta)
-    if family.space == "foot":
-        return "foot", np.where(in_stance[None, None, :], stance, swing)
-    joints = pipeline.kinematics(leg).functions["motion"].map(local.size)(*stance)
-    stance_q = np.array([np.array(x) for x in joints])
-    return "joint", np.where(in_stance[None, None, :], stance_q, swing)
+    motion = affine_leg_motion(pipeline, leg, cycle_times_s, family)
+    return motion.space, motion.values(theta)
+
+
+def affine_leg_motion(
+    pipeline: EnergyPipeline, leg: str, cycle_times_s: np.ndarray, family: SwingFamily
+) -> AffinePath:
+    """``leg``'s planned motion at the given cycle times, affine in its swing's parameters.
+
+    Stance samples are the stance path (fixed); swing samples the family's path at those
+    times. A foot exactly at touch-down or lift-off (within the phase-edge tolerance) is taken
+    from the swing, as :func:`~scalf_opt.locomotion.trot.support_legs` does not count it as
+    standing. The space is the family's; stance samples of a joint-space family are mapped to
+    joint motion by the leg's inverse kinematics.
+    """
+    gait = pipeline.gait
+    t_stance, t_swing = gait.stance_duration_s, gait.swing_duration_s
+    times = np.asarray(cycle_times_s, dtype=float)
+    local = np.array([time_since_touchdown_s(gait, float(t), leg) for t in times])
+    tol = PHASE_EDGE_TOLERANCE_S
+    in_stance = (local > tol) & (local < t_stance - tol)
+    swing_t = local - t_stance
+    swing_t = np.where(swing_t < -tol, swing_t + gait.period_s, swing_t)
+    swing_t = np.clip(np.where(local <= tol, t_swing, swing_t), 0.0, t_swing)  # touch-down: T_sw
+    stance = stance_path(gait, local, leg)
+    swing = family.path(gait, pipeline.kinematics(leg), swing_t)
+    if family.space == "joint" and in_stance.any():
+        joints = pipeline.kinematics(leg).functions["motion"].map(local.size)(*stance)
+        stance = np.array([np.array(x) for x in joints])
+    mask = in_stance[None, None, :]
+    return AffinePath(
+        swing.space,
+        times,
+        np.where(mask, stance, swing.base),
+        np.where(mask[..., None], 0.0, swing.basis),
+    )

@@ -81,7 +81,8 @@ class StartResult:
     Attributes:
         label: Where it started (``zero``, ``closest to the reference``, ...).
         optimum: The optimizer's answer at the final rate.
-        check_energy_j: Its swing energy at ten times the rate [J] (inf if it failed).
+        check_energy_j: Its objective (the swing energy; under whole-body loads plus the
+            pair's stance energy) at ten times the rate [J] (inf if it failed).
         converged: Solved, and its energy converged in the sampling.
     """
 
@@ -114,7 +115,8 @@ class LegResult:
         starts: Every start, in order.
         reference_swing_energy_j: The reference swing's energy at the same rate [J] (NaN when
             the reference leaves the joint range at this gait).
-        check_energy_j: The best optimum's swing energy at ten times the rate [J].
+        check_energy_j: The best optimum's objective at ten times the rate [J] (see
+            :class:`StartResult`).
         sampling_error: Relative difference of the two energies.
         bound_check_energy_j: The free-trajectory bound at ten times its rate, when computed
             [J] (:mod:`scalf_opt.optimize.bound`).
@@ -156,7 +158,7 @@ class LegResult:
     @property
     def spread_j(self) -> float:
         """Largest minus smallest swing energy of the converged starts [J] (0 for one)."""
-        energies = [s.optimum.swing_energy_j for s in self.starts if s.converged]
+        energies = [s.optimum.objective_j for s in self.starts if s.converged]
         return max(energies) - min(energies) if energies else math.nan
 
     def as_dict(self) -> dict[str, Any]:
@@ -264,12 +266,20 @@ def reference_swing_energy_j(pipeline: EnergyPipeline, leg: str) -> float:
         return math.nan
 
 
+ALTERNATION_RTOL = 1e-6
+"""The coupled legs' alternation stops when a round changes their energy by less than this."""
+
+MAX_ALTERNATIONS = 8
+"""Most rounds of the coupled legs' alternation at one rate."""
+
+
 def _solve_leg(
     pipeline: EnergyPipeline,
     leg: str,
     family: SwingFamily,
     settings: Settings,
     theta0: np.ndarray | None,
+    others: Mapping[str, np.ndarray] | None = None,
 ) -> tuple[SwingOptimum, float]:
     """Optimize one leg at the pipeline's rate; also return the energy at ten times the rate.
 
@@ -278,19 +288,71 @@ def _solve_leg(
     does not resolve the optimum, exactly as when the energy has not converged.
     """
     raise_if_stopped()
-    problem = SwingProblem(pipeline, leg, family)
+    problem = SwingProblem(pipeline, leg, family, others)
     if theta0 is None:
         theta0 = np.zeros(problem.n_params)
     optimum = solver(settings.method).solve(problem, theta0, settings.solver_options)
     check = math.inf
     if optimum.success:
         fine_pipeline = pipeline.with_gait(with_rate(pipeline.gait, check_rate_hz(pipeline.gait)))
-        check, crossed = SwingProblem(fine_pipeline, leg, family).energy_and_bound_excess(
+        check, crossed = SwingProblem(fine_pipeline, leg, family, others).energy_and_bound_excess(
             optimum.theta
         )
         if crossed > BETWEEN_SAMPLES_RTOL:
             check = math.inf
     return optimum, check
+
+
+def _solve_legs(
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    family: SwingFamily,
+    settings: Settings,
+    current: Mapping[str, np.ndarray | None],
+) -> tuple[dict[str, tuple[SwingOptimum, float]], int]:
+    """Optimize every leg at the pipeline's rate; also return the rounds it took.
+
+    Under trunk loads each leg is its own problem: one round. Under whole-body loads a leg's
+    objective depends on the other optimized legs' swings (their twins load the same stance
+    feet), so the legs are optimized in turn, each with the others' latest parameters, until a
+    round changes their summed objective by less than :data:`ALTERNATION_RTOL` (block
+    coordinate descent on the pair's energy: no round makes it worse), at most
+    :data:`MAX_ALTERNATIONS` rounds.
+    """
+    thetas = {leg: current[leg] for leg in legs}
+    coupled = pipeline.load_model.couples_legs and len(legs) > 1
+    answers: dict[str, tuple[SwingOptimum, float]] = {}
+    previous = math.inf
+    for round_ in range(1, MAX_ALTERNATIONS + 1):
+        for leg in legs:
+            others = None
+            if coupled:
+                others = {
+                    o: (np.zeros(family.n_params) if thetas[o] is None else thetas[o])
+                    for o in legs
+                    if o != leg
+                }
+            answers[leg] = _solve_leg(pipeline, leg, family, settings, thetas[leg], others)
+            if answers[leg][0].success:
+                thetas[leg] = answers[leg][0].theta
+        if not coupled or not all(o.success for o, _ in answers.values()):
+            return answers, round_
+        total = answers[legs[-1]][0].objective_j + sum(
+            answers[leg][0].swing_energy_j for leg in legs[:-1]
+        )
+        if abs(previous - total) <= ALTERNATION_RTOL * abs(total):
+            break
+        previous = total
+    return answers, round_
+
+
+def coupled_others(
+    pipeline: EnergyPipeline, legs: tuple[str, ...], leg: str, thetas: Mapping[str, np.ndarray]
+) -> dict[str, np.ndarray] | None:
+    """The other optimized legs' parameters a leg's problem holds fixed (``None``: uncoupled)."""
+    if not pipeline.load_model.couples_legs:
+        return None
+    return {o: thetas[o] for o in legs if o != leg}
 
 
 def optimize_swings(
@@ -342,9 +404,9 @@ def optimize_swings(
         if progress is not None:
             progress(f"{family.name} at {rate:g} Hz")
         at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
-        answers = {leg: _solve_leg(at_rate, leg, family, settings, current[leg]) for leg in legs}
+        answers, _ = _solve_legs(at_rate, legs, family, settings, current)
         solved = all(o.success for o, _ in answers.values())
-        errors = [relative_difference(o.swing_energy_j, c) for o, c in answers.values()]
+        errors = [relative_difference(o.objective_j, c) for o, c in answers.values()]
         if not solved:
             break
         if all(e <= settings.sampling_tolerance for e in errors):  # inf / inf is NaN: not met
@@ -355,31 +417,33 @@ def optimize_swings(
         rate *= 2
         current = {leg: o.theta for leg, (o, _) in answers.items()}
     results = {}
+    final = {leg: answers[leg][0].theta for leg in legs}
     for leg in legs:
         optimum, check = answers[leg]
-        error = relative_difference(optimum.swing_energy_j, check)
+        error = relative_difference(optimum.objective_j, check)
         ok = optimum.success and error <= settings.sampling_tolerance
         runs = [StartResult(first[leg][0], optimum, check, ok)]
-        problem = SwingProblem(at_rate, leg, family)
+        others = coupled_others(at_rate, legs, leg, final)
+        problem = SwingProblem(at_rate, leg, family, others)
         for label, theta in starts(problem, solver(settings.method), settings.starts)[1:]:
             if progress is not None:
                 progress(f"{leg}: start {label}")
-            other, other_check = _solve_leg(at_rate, leg, family, settings, theta)
+            other, other_check = _solve_leg(at_rate, leg, family, settings, theta, others)
             other_ok = (
                 other.success
-                and relative_difference(other.swing_energy_j, other_check)
+                and relative_difference(other.objective_j, other_check)
                 <= settings.sampling_tolerance
             )
             runs.append(StartResult(label, other, other_check, other_ok))
         good = [r for r in runs if r.converged]
-        best = min(good, key=lambda r: r.optimum.swing_energy_j) if good else runs[0]
+        best = min(good, key=lambda r: r.optimum.objective_j) if good else runs[0]
         results[leg] = LegResult(
             leg=leg,
             best=best.optimum,
             starts=runs,
             reference_swing_energy_j=reference_swing_energy_j(at_rate, leg),
             check_energy_j=best.check_energy_j,
-            sampling_error=relative_difference(best.optimum.swing_energy_j, best.check_energy_j),
+            sampling_error=relative_difference(best.optimum.objective_j, best.check_energy_j),
         )
     return SwingOptimization(
         family, settings, at_rate, results, rates, converged, time.perf_counter() - start

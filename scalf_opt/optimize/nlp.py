@@ -46,7 +46,8 @@ import numpy as np
 
 from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.interrupts import interruptible
-from scalf_opt.optimize.kernels import casadi_name
+from scalf_opt.energy.physics import LegPhysics
+from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S, casadi_name
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.types import Accounting
 
@@ -95,6 +96,7 @@ class BuiltNlp:
         accounting: Power accounting.
         constant_basis: ``B`` is built in (sparse family) rather than a parameter.
         build_time_s: Time spent building it [s].
+        coupled: The shape of the pair's stance term under whole-body loads, else ``None``.
     """
 
     solver: ca.Function
@@ -105,6 +107,7 @@ class BuiltNlp:
     accounting: Accounting
     constant_basis: bool
     build_time_s: float
+    coupled: CoupledShape | None = None
 
     @property
     def n_slack_rows(self) -> int:
@@ -117,6 +120,125 @@ class BuiltNlp:
     def n_slacks(self) -> int:
         """Slack variables after ``theta`` and ``Y``."""
         return power_accounting(self.accounting).slacks * len(self.charged) * self.n_samples
+
+
+@dataclass(frozen=True)
+class CoupledShape:
+    """The pair's stance term of a swing NLP under whole-body loads (its structure only).
+
+    The stance legs' torques are affine in the twin's wrench (:mod:`scalf_opt.energy.coupling`):
+    their charged power gets slacks like the swing's, their losses the smooth max.
+
+    Attributes:
+        varying: The swinging twin whose wrench loads the stance feet.
+        space: Its samples' space.
+        stance_legs: The pair's legs.
+        n_samples: Stance samples.
+        charged: Per stance leg, the joints whose mechanical power is charged.
+    """
+
+    varying: str
+    space: str
+    stance_legs: tuple[str, ...]
+    n_samples: int
+    charged: tuple[tuple[int, ...], ...]
+
+    def n_slacks(self, accounting: Accounting) -> int:
+        """Slack variables of the stance term."""
+        return power_accounting(accounting).slacks * self.n_charged
+
+    def n_slack_rows(self, accounting: Accounting) -> int:
+        """Slack constraints of the stance term."""
+        return self.n_charged if power_accounting(accounting).slacks else 0
+
+    @property
+    def n_charged(self) -> int:
+        """Charged joint samples of the stance legs."""
+        return sum(len(c) for c in self.charged) * self.n_samples
+
+
+def coupled_shape(problem: SwingProblem) -> CoupledShape | None:
+    """The stance term's shape of ``problem`` (``None`` when its loads do not couple the legs)."""
+    coupling = problem.coupling
+    if coupling is None:
+        return None
+    pipeline = problem.pipeline
+    charged = tuple(
+        tuple(i for i, d in enumerate(pipeline.physics(t.leg).drives) if d.charges_joint_power)
+        for t in coupling.terms
+    )
+    return CoupledShape(
+        coupling.varying,
+        coupling.motion.space,
+        tuple(t.leg for t in coupling.terms),
+        int(coupling.weights.size),
+        charged,
+    )
+
+
+def _stance_parameters(problem: SwingProblem) -> list[np.ndarray]:
+    """The stance term's parameter values, in :func:`_stance_cost`'s order."""
+    coupling = problem.coupling
+    assert coupling is not None
+    n = coupling.weights.size
+    motion = coupling.motion
+    out = [
+        motion.base.reshape(6, n).ravel(order="F"),
+        motion.basis.reshape(6, n, -1).transpose(1, 0, 2).reshape(6 * n, -1).ravel(order="F"),
+        coupling.weights,
+    ]
+    for term in coupling.terms:
+        out += [
+            term.q.ravel(order="F"),
+            term.qd.ravel(order="F"),
+            term.tau_fixed_nm.ravel(order="F"),
+            term.gain.reshape(n, 12).T.ravel(order="F"),
+        ]
+    return out
+
+
+def _stance_cost(
+    problem: SwingProblem, shape: CoupledShape, theta: ca.MX, accounting: Accounting
+) -> tuple[ca.MX, list[ca.MX], list[ca.MX], list[ca.MX]]:
+    """The pair's smooth stance energy: ``(cost, parameters, slack variables, slack rows)``."""
+    pipeline = problem.pipeline
+    n, n_theta = shape.n_samples, theta.numel()
+    base = ca.MX.sym("twin_base", 6 * n)
+    basis = ca.MX.sym("twin_basis", 6 * n * n_theta)
+    weights = ca.MX.sym("stance_weights", n)
+    parameters = [base, basis, weights]
+    y = base + ca.mtimes(ca.reshape(basis, 6 * n, n_theta), theta) if n_theta else base
+    y = ca.reshape(y, 6, n)
+    wrench_fn = pipeline.physics(shape.varying).wrench_function(shape.space)  # type: ignore[arg-type]
+    wrench = wrench_fn.map(n, "serial")(y[0:2, :], y[2:4, :], y[4:6, :])
+    rule = power_accounting(accounting)
+    cost: ca.MX = ca.MX(0)
+    slack_vars: list[ca.MX] = []
+    rows: list[ca.MX] = []
+    for leg, charged in zip(shape.stance_legs, shape.charged, strict=True):
+        q, qd, tau0 = (ca.MX.sym(f"{leg}_{name}", 2 * n) for name in ("q", "qd", "tau0"))
+        gain = ca.MX.sym(f"{leg}_gain", 12 * n)
+        parameters += [q, qd, tau0, gain]
+        q, qd, tau0 = (ca.reshape(x, 2, n) for x in (q, qd, tau0))
+        g = ca.reshape(gain, 12, n)
+        tau = tau0 + ca.vertcat(ca.sum1(g[0:6, :] * wrench), ca.sum1(g[6:12, :] * wrench))
+        cost += ca.mtimes(_smooth_loss(pipeline.physics(leg)).map(n, "serial")(q, qd, tau), weights)
+        if charged:
+            power = ca.vertcat(*(tau[i, :] * qd[i, :] for i in charged))
+            slacks = [ca.MX.sym(f"{leg}_slack{j}", len(charged), n) for j in range(rule.slacks)]
+            slack_vars += [ca.vec(sl) for sl in slacks]
+            slack_rows = rule.slack_rows(power, slacks)
+            if slack_rows is not None:
+                rows.append(ca.vec(ca.MX(slack_rows)))
+            cost += ca.sum2(ca.sum1(rule.smooth_cost(power, slacks)) * weights.T)
+    return cost, parameters, slack_vars, rows
+
+
+def _smooth_loss(physics: LegPhysics) -> ca.Function:
+    """``(q, qd, tau) -> summed drive losses`` with the NLP's smooth max [W]."""
+    q, qd, tau = (ca.SX.sym(name, 2) for name in ("q", "qd", "tau"))
+    _, loss = physics.power_expr(q, qd, tau, heat_eps=HEAT_SMOOTHING_EPS_M_S)
+    return ca.Function("stance_loss", [q, qd, tau], [ca.sum1(loss)])
 
 
 def _basis_matrix(problem: SwingProblem) -> np.ndarray:
@@ -150,7 +272,9 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
     constant = bool(basis.size) and bool(
         np.count_nonzero(basis) < SPARSE_BASIS_DENSITY * basis.size
     )
+    shape = coupled_shape(problem)
     key = (
+        shape,
         lifted,
         problem.n_samples,
         problem.n_params,
@@ -163,7 +287,7 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
     if key not in kernel.nlps:
         start = time.perf_counter()
         solver = _build(
-            problem, lifted, index, charged, accounting, basis if constant else None, options
+            problem, lifted, index, charged, accounting, basis if constant else None, options, shape
         )
         kernel.nlps[key] = BuiltNlp(
             solver,
@@ -174,6 +298,7 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
             accounting,
             constant,
             time.perf_counter() - start,
+            shape,
         )
     built = kernel.nlps[key]
     assert isinstance(built, BuiltNlp)
@@ -188,6 +313,7 @@ def _build(
     accounting: Accounting,
     constant_basis: np.ndarray | None,
     options: dict[str, Any],
+    shape: CoupledShape | None = None,
 ) -> ca.Function:
     kernel = problem.kernel
     n, n_theta = problem.n_samples, problem.n_params
@@ -223,6 +349,14 @@ def _build(
             constraints.append(ca.vec(ca.MX(rows)))
         cost += ca.sum2(ca.sum1(rule.smooth_cost(power, slacks)) * w)
     constraints.append(ca.vec(c)[index.tolist()])
+    if shape is not None:
+        stance_cost, stance_params, stance_slacks, stance_rows = _stance_cost(
+            problem, shape, theta, accounting
+        )
+        cost += stance_cost
+        parameters += stance_params
+        variables += stance_slacks
+        constraints += stance_rows
     return ca.nlpsol(
         casadi_name(kernel.physics.leg.name, kernel.space, accounting, f"n{n}", f"p{n_theta}"),
         "ipopt",
@@ -271,32 +405,65 @@ def solve_nlp(built: BuiltNlp, problem: SwingProblem, theta0: np.ndarray) -> Nlp
     slacks = rule.initial_slacks(p_mech)
     y_lo, y_hi = problem.input_bounds
     m = 6 * n if built.lifted else 0  # lifted samples and their linear equalities
+    stance_slacks: list[np.ndarray] = []
+    n_stance_slacks = n_stance_rows = 0
+    if built.coupled is not None:
+        coupling = problem.coupling
+        assert coupling is not None
+        torques = coupling.torques_nm(problem.pipeline, theta0)
+        for term, tau, charged in zip(coupling.terms, torques, built.coupled.charged, strict=True):
+            if charged:
+                p_stance = np.nan_to_num((tau * term.qd)[list(charged)])
+                stance_slacks += [s.ravel(order="F") for s in rule.initial_slacks(p_stance)]
+        n_stance_slacks = built.coupled.n_slacks(built.accounting)
+        n_stance_rows = built.coupled.n_slack_rows(built.accounting)
     x0 = np.concatenate(
         [
             theta0,
             problem.samples(theta0).ravel(order="F")[:m],
             *(s.ravel(order="F") for s in slacks),
+            *stance_slacks,
         ]
     )
     lbx = np.concatenate(
-        [np.full(built.n_theta, -np.inf), y_lo.ravel(order="F")[:m], np.zeros(built.n_slacks)]
+        [
+            np.full(built.n_theta, -np.inf),
+            y_lo.ravel(order="F")[:m],
+            np.zeros(built.n_slacks + n_stance_slacks),
+        ]
     )
     ubx = np.concatenate(
-        [np.full(built.n_theta, np.inf), y_hi.ravel(order="F")[:m], np.full(built.n_slacks, np.inf)]
+        [
+            np.full(built.n_theta, np.inf),
+            y_hi.ravel(order="F")[:m],
+            np.full(built.n_slacks + n_stance_slacks, np.inf),
+        ]
     )
     c_lo, c_hi = problem.constraint_bounds
     index = constraint_index(problem, built.lifted)
     slack_lo, slack_hi = rule.slack_row_bounds()
     lbg = np.concatenate(
-        [np.zeros(m), np.full(built.n_slack_rows, slack_lo), c_lo.ravel(order="F")[index]]
+        [
+            np.zeros(m),
+            np.full(built.n_slack_rows, slack_lo),
+            c_lo.ravel(order="F")[index],
+            np.full(n_stance_rows, slack_lo),
+        ]
     )
     ubg = np.concatenate(
-        [np.zeros(m), np.full(built.n_slack_rows, slack_hi), c_hi.ravel(order="F")[index]]
+        [
+            np.zeros(m),
+            np.full(built.n_slack_rows, slack_hi),
+            c_hi.ravel(order="F")[index],
+            np.full(n_stance_rows, slack_hi),
+        ]
     )
     params = [problem.samples_base.ravel(order="F")]
     if not built.constant_basis:
         params.append(_basis_matrix(problem).ravel(order="F"))
     params.append(problem.weights)
+    if built.coupled is not None:
+        params += _stance_parameters(problem)
     start = time.perf_counter()
     with interruptible():  # Ctrl-C stops the program, not just this solve
         sol = built.solver(x0=x0, p=np.concatenate(params), lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)

@@ -1,9 +1,13 @@
 """The swing-optimization problem of one leg, shared by the pattern search and the NLP.
 
 Decision variables: the swing family's free parameters ``theta`` (degrees or centimetres, see
-:mod:`scalf_opt.locomotion.swing`). Objective: the leg's swing energy [J] (the stance energy does
-not depend on the swing), the trapezoidal integral of the exact charged power over the swing
-samples. Constraints at every swing sample (decision 14 and the actuators' limits): every bound
+:mod:`scalf_opt.locomotion.swing`). Objective: the leg's swing energy [J], the trapezoidal
+integral of the exact charged power over the swing samples; under a load model that couples the
+legs (whole-body loads) plus the stance energy of the leg's diagonal pair, which the swing
+changes through the loads its symmetric twin puts on the stance feet
+(:mod:`scalf_opt.energy.coupling`): with the other optimized legs' parameters fixed, this is the
+pair's energy over a cycle (half the robot's) up to a constant. Under trunk loads the stance
+energy does not depend on the swing and the objective is the swing energy alone. Constraints at every swing sample (decision 14 and the actuators' limits): every bound
 of the leg (:func:`~scalf_opt.energy.limits.leg_bounds`: the joint range, the URDF's velocity
 and effort limits, the drives' bounds such as SCalf's cylinder stroke, force and speed), the
 foot at or above the ground at every interior sample and at least H above it at mid-swing, the
@@ -19,11 +23,13 @@ The samples are the pipeline's gait's swing grid: the caller chooses the rate
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
+from scalf_opt.energy.coupling import StanceCoupling, stance_coupling
 from scalf_opt.energy.limits import Bound
 from scalf_opt.energy.physics import LegPhysics, trapezoid_weights
 from scalf_opt.energy.pipeline import EnergyPipeline
@@ -39,7 +45,8 @@ class Evaluation:
     """Exact evaluation of one parameter vector.
 
     Attributes:
-        energy_j: Swing energy of both joints [J] (exact, non-smooth); inf if infeasible.
+        energy_j: The objective [J] (exact, non-smooth): the swing energy of both joints, plus
+            the pair's stance energy under whole-body loads; inf if infeasible.
         reason: ``None`` if feasible, else which constraint fails first.
         violation: Sum of every constraint's excess over its bound beyond the tolerance (SI
             units of each constraint, bounds relative to their size); zero exactly when the
@@ -59,11 +66,34 @@ class SwingProblem:
         pipeline: The robot's energy pipeline (robot, gait and its sample rate, accounting).
         leg: Leg name.
         family: Swing family.
+        others: Parameters of the other legs optimized with this one (family units): fixed
+            here, they set the loads under whole-body loads (``None``: no other leg, the
+            rule of :meth:`~scalf_opt.energy.pipeline.EnergyPipeline.swings`).
     """
 
     pipeline: EnergyPipeline
     leg: str
     family: SwingFamily
+    others: Mapping[str, np.ndarray] | None = None
+
+    @cached_property
+    def coupling(self) -> StanceCoupling | None:
+        """The pair's stance as a function of this leg's swing (``None`` under trunk loads)."""
+        if not self.pipeline.load_model.couples_legs:
+            return None
+        thetas = {**(self.others or {}), self.leg: np.zeros(self.n_params)}
+        swings = self.pipeline.swings(self.family, thetas)
+        return stance_coupling(self.pipeline, self.leg, self.family, swings)
+
+    def stance_energy_j(self, theta: np.ndarray) -> float:
+        """The part of the objective in the pair's stance [J] (0 under trunk loads)."""
+        if self.coupling is None:
+            return 0.0
+        return self.coupling.energy_j(self.pipeline, np.asarray(theta, dtype=float))
+
+    def swing_energy_j(self, theta: np.ndarray) -> float:
+        """Exact swing energy of a member [J], feasible or not (the leg's own swing only)."""
+        return self._energy_j(self.outputs(theta))
 
     @cached_property
     def path(self) -> AffinePath:
@@ -210,11 +240,11 @@ class SwingProblem:
         return float(np.sum(outputs["power"] @ self.weights))
 
     def energy_j(self, theta: np.ndarray) -> float:
-        """Exact swing energy of a member [J], feasible or not."""
-        return self._energy_j(self.outputs(theta))
+        """Exact objective of a member [J], feasible or not."""
+        return self._energy_j(self.outputs(theta)) + self.stance_energy_j(theta)
 
     def energy_and_bound_excess(self, theta: np.ndarray) -> tuple[float, float]:
-        """A member's exact swing energy [J] and how far it crosses its limits.
+        """A member's exact objective [J] and how far it crosses its limits.
 
         The second value is the largest excess of any box bound of the leg (joint range,
         velocity, effort, drive limits) over the samples, as a share of the bound's size (the
@@ -222,7 +252,7 @@ class SwingProblem:
         motion is not finite. The ground and clearance rows are not included.
         """
         out = self.outputs(theta)
-        energy = self._energy_j(out)
+        energy = self._energy_j(out) + self.stance_energy_j(theta)
         k = len(self.bounds)
         c = out["c"][:k]
         if not np.all(np.isfinite(c)):
@@ -252,7 +282,7 @@ class SwingProblem:
         if violation > 0.0:
             row, sample = np.unravel_index(int(np.argmax(beyond)), beyond.shape)
             return Evaluation(float("inf"), self._reason(int(row), int(sample)), violation)
-        return Evaluation(self._energy_j(out), None, 0.0)
+        return Evaluation(self._energy_j(out) + self.stance_energy_j(theta), None, 0.0)
 
     def _reason(self, row: int, sample: int) -> str:
         name = self.kernel.rows[row]

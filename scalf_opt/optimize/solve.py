@@ -7,6 +7,7 @@ evaluated with the exact, non-smooth swing energy of
 
 from __future__ import annotations
 
+import math
 import time
 from dataclasses import dataclass, field
 from typing import Any
@@ -48,6 +49,9 @@ class SwingOptimum:
             the start is feasible); in :meth:`as_dict` records like ``history``.
         infeasible: Pattern search: count of infeasible evaluations per reason.
         stats: Solver statistics (Ipopt's, as returned by CasADi).
+        objective_j: The exact objective at ``theta`` [J]: ``swing_energy_j`` plus, under
+            whole-body loads, the pair's stance energy (:class:`SwingProblem`); inf if
+            infeasible.
     """
 
     leg: str
@@ -66,6 +70,7 @@ class SwingOptimum:
     feasibility_history: list[tuple[float, ...]] = field(default_factory=list)
     infeasible: dict[str, int] = field(default_factory=dict)
     stats: dict[str, Any] = field(default_factory=dict)
+    objective_j: float = math.nan
 
     def _records(self, rows: list[tuple[float, ...]], value: str) -> list[dict[str, Any]]:
         """History rows ``(iteration, *theta, value)`` as records with named parameters."""
@@ -87,6 +92,7 @@ class SwingOptimum:
             "parameters": dict(zip(self.parameter_names, map(float, self.theta), strict=True)),
             "unit": self.unit,
             "swing_energy_j": self.swing_energy_j,
+            "objective_j": self.objective_j,
             "success": self.success,
             "status": self.status,
             "iterations": self.iterations,
@@ -138,6 +144,13 @@ def run_pattern_search(
     return _pattern_optimum(problem, result, phase1, time.perf_counter() - start, status)
 
 
+def _swing_energy_j(problem: SwingProblem, theta: np.ndarray, objective_j: float) -> float:
+    """The leg's own swing energy at a point whose objective is ``objective_j`` (inf: inf)."""
+    if problem.coupling is None or not math.isfinite(objective_j):
+        return objective_j
+    return problem.swing_energy_j(theta)
+
+
 def _with_target(opts: PatternSearchOptions, target: float) -> PatternSearchOptions:
     return PatternSearchOptions(
         opts.initial_step,
@@ -165,7 +178,8 @@ def _pattern_optimum(
         theta=result.x,
         parameter_names=problem.family.parameter_names,
         unit=problem.family.parameter_unit,
-        swing_energy_j=final.energy_j,
+        swing_energy_j=_swing_energy_j(problem, result.x, final.energy_j),
+        objective_j=final.energy_j,
         success=feasible and result.converged,
         status=status,
         iterations=result.iterations,
@@ -204,7 +218,8 @@ def run_ipopt(
         theta=solution.theta,
         parameter_names=problem.family.parameter_names,
         unit=problem.family.parameter_unit,
-        swing_energy_j=final.energy_j,
+        swing_energy_j=_swing_energy_j(problem, solution.theta, final.energy_j),
+        objective_j=final.energy_j,
         success=solution.success and final.reason is None,
         status=solution.status if final.reason is None else f"{solution.status}; {final.reason}",
         iterations=solution.iterations,
