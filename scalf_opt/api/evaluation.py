@@ -9,6 +9,7 @@ from typing import Any
 
 from scalf_opt.api.gaits import command_tuple, read_gait
 from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.energy.peaks import CycleViolation, Peak, cycle_peaks, cycle_violations
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.energy.swings import planned_cycle
@@ -94,6 +95,7 @@ def evaluate(
     accounting: Accounting = "paper",
     swing: str | Path | None = None,
     command: Sequence[str] | None = None,
+    loads: str | None = None,
 ) -> EvaluationResult:
     """Energy of the reference swing, or of a saved optimum, on every leg.
 
@@ -105,6 +107,8 @@ def evaluate(
             evaluated instead of the reference, under any rate and accounting; the gait's timing
             and stance must be the file's.
         command: The command line, recorded in the result's provenance.
+        loads: The stance load model (``whole-body`` or ``trunk``); ``None``: the saved
+            optimum's, else ``whole-body``.
 
     Raises:
         ConfigError: The file is not an optimum of this robot, or the timing differs.
@@ -116,7 +120,9 @@ def evaluate(
         saved.check_robot(robot)
         gait = gait or saved.gait
         saved.check_timing(gait)
-    pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting)
+    if loads is None:
+        loads = saved.loads if saved is not None else DEFAULT_LOADS
+    pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting, loads=loads)
     if saved is None:
         cycle = pipeline.robot_cycle(make_family("reference"))
     else:

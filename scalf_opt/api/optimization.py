@@ -16,6 +16,7 @@ from typing import Any
 
 from scalf_opt.api.gaits import VERBOSE_IPOPT, command_tuple, read_gait
 from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.energy.peaks import CycleViolation, Peak, cycle_peaks, cycle_violations
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
@@ -164,6 +165,7 @@ def optimize_swing(
     verbose: bool = False,
     progress: Progress | None = None,
     command: Sequence[str] | None = None,
+    loads: str = DEFAULT_LOADS,
 ) -> OptimizationResult:
     """Optimize the swing of ``legs`` (LF and RH repeat RF and LH: the paper's symmetry).
 
@@ -187,6 +189,8 @@ def optimize_swing(
         verbose: Print Ipopt's own log.
         progress: Called with a label as each step starts.
         command: The command line, recorded in the result's provenance.
+        loads: The stance load model: ``whole-body`` (a swing pays for the loads it puts on
+            the stance legs) or ``trunk`` (the paper's).
 
     Raises:
         ConfigError: A family without parameters, a precision with Ipopt or not > 0, an
@@ -201,7 +205,7 @@ def optimize_swing(
         )
     if precision is not None and not precision > 0:
         raise ConfigError(f"the precision must be > 0, got {precision}", field="precision")
-    pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting)
+    pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting, loads=loads)
     cmd = command_tuple(command)
     if family == FREE_FAMILY:
         if bound or free_stance or starts != 1 or method != DEFAULT_SOLVER:

@@ -21,6 +21,7 @@ import numpy as np
 
 from scalf_opt.api.optimization import optimize_swing
 from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError, ScalfError
 from scalf_opt.io.saved import SavedSwings, read_saved_swings
@@ -73,6 +74,7 @@ def shown_trajectories(
     from_dirs: Sequence[str | Path] = (),
     accounting: Accounting = "paper",
     progress: Progress | None = None,
+    loads: str | None = None,
 ) -> tuple[EnergyPipeline, list[Trajectory]]:
     """The pipeline and the trajectories to show: reference first.
 
@@ -82,6 +84,8 @@ def shown_trajectories(
         from_dirs: Result directories of ``scalf-opt optimize --out``; none: the default optimum.
         accounting: Power accounting when no directory is given.
         progress: Called with a label as each step of the optimization starts.
+        loads: The stance load model; ``None``: the directories' own (they must agree), else
+            ``whole-body``.
 
     Returns:
         The pipeline the trajectories were evaluated with (at the optimum's rate) and the
@@ -96,7 +100,12 @@ def shown_trajectories(
         swings.check_robot(robot)
     if not saved:
         result = optimize_swing(
-            robot, gait, family=DEFAULT_FAMILY, accounting=accounting, progress=progress
+            robot,
+            gait,
+            family=DEFAULT_FAMILY,
+            accounting=accounting,
+            progress=progress,
+            loads=loads or DEFAULT_LOADS,
         )
         if result.cycle is None:
             raise NotSolvedError(f"the default optimum was not solved: {result.failure()}")
@@ -110,13 +119,14 @@ def shown_trajectories(
         for what, a, b in (
             ("gait", first.gait, other.gait),
             ("accounting", first.accounting, other.accounting),
+            ("loads", first.loads, other.loads),
         ):
             if a != b:
                 raise ConfigError(
                     f"{other.source}: its {what} differs from {first.source}'s; "
-                    "compare results of one gait and accounting"
+                    "compare results of one gait, accounting and load model"
                 )
-    pipeline = EnergyPipeline(robot, first.gait, first.accounting)
+    pipeline = EnergyPipeline(robot, first.gait, first.accounting, loads=loads or first.loads)
     reference = Trajectory(REFERENCE_LABEL, pipeline.robot_cycle(make_family("reference")))
     return pipeline, [reference, *(saved_trajectory(pipeline, s) for s in saved)]
 
@@ -151,6 +161,7 @@ def view(
     accounting: Accounting = "paper",
     options: SceneOptions | None = None,
     progress: Progress | None = None,
+    loads: str | None = None,
 ) -> tuple[Path, list[Trajectory]]:
     """Build and write the offline 3-D view; return the file and the trajectories shown.
 
@@ -163,6 +174,7 @@ def view(
         accounting: Power accounting without ``from_dirs``.
         options: Scene options (cycles, frame rate, colouring, playback speed).
         progress: Called with a label as each step of the optimization starts.
+        loads: The stance load model (default: the directories', else ``whole-body``).
 
     Raises:
         ConfigError: Bad arguments, or a gait together with result directories.
@@ -172,7 +184,7 @@ def view(
 
     check_output_file(out, ".html")
     loaded, base = _robot_and_gait(robot, gait, from_dirs)
-    _, shown = shown_trajectories(loaded, base, from_dirs, accounting, progress)
+    _, shown = shown_trajectories(loaded, base, from_dirs, accounting, progress, loads)
     return write_scene_html(out, loaded, shown, options), shown
 
 
@@ -185,6 +197,7 @@ def figures(
     formats: Sequence[str] | None = None,
     grid_points: int | None = None,
     progress: Progress | None = None,
+    loads: str | None = None,
 ) -> tuple[list[Path], list[Trajectory]]:
     """Compute what to compare and write every figure; return the files and the trajectories.
 
@@ -199,6 +212,7 @@ def figures(
         grid_points: Landscape points per parameter of the pattern-search figure (>= 3;
             default :data:`scalf_opt.studies.search.GRID_POINTS`).
         progress: Called with a label as each step starts.
+        loads: The stance load model (default: the directories', else ``whole-body``).
 
     Raises:
         ConfigError: Bad arguments, or a gait together with result directories.
@@ -214,7 +228,7 @@ def figures(
             f"the landscape grid needs at least 3 points, got {grid_points}", field="grid"
         )
     loaded, base = _robot_and_gait(robot, gait, from_dirs)
-    pipeline, shown = shown_trajectories(loaded, base, from_dirs, accounting, progress)
+    pipeline, shown = shown_trajectories(loaded, base, from_dirs, accounting, progress, loads)
     if progress is not None:
         progress("the pattern search's landscape")
     search = search_study(search_pipeline(pipeline, base, from_dirs), grid_points=grid_points)

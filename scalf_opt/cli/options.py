@@ -12,6 +12,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from scalf_opt.energy.accounting import ACCOUNTINGS
+from scalf_opt.energy.loads import DEFAULT_LOADS, LOAD_MODELS
 from scalf_opt.errors import ConfigError, GaitError
 from scalf_opt.robots.catalog import robot_names
 from scalf_opt.types import LEG_NAMES
@@ -109,6 +110,21 @@ def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
             default="paper",
             help="joint power accounting (default: the paper's |tau*qd| + drive losses)",
         )
+
+
+def add_loads(parser: argparse.ArgumentParser, saved: bool = False) -> None:
+    """``--loads``: what the stance feet carry (:data:`~scalf_opt.energy.loads.LOAD_MODELS`).
+
+    With ``saved`` the default is ``None``: a saved result's own model, else the default.
+    """
+    default = "the saved result's, else whole-body" if saved else "whole-body"
+    parser.add_argument(
+        "--loads",
+        choices=tuple(LOAD_MODELS),
+        default=None if saved else DEFAULT_LOADS,
+        help="stance loads: the whole robot's dynamics (trunk and all four legs) or the trunk's "
+        f"weight only (the paper's model); default: {default}",
+    )
 
 
 def add_accept_unconverged(parser: argparse.ArgumentParser) -> None:

@@ -26,7 +26,7 @@ from typing import TYPE_CHECKING
 import casadi as ca
 import numpy as np
 
-from scalf_opt.energy.loads import Swings, affine_leg_motion, static_wrench
+from scalf_opt.energy.loads import Swings, affine_leg_motion, foot_position_m, static_wrench
 from scalf_opt.energy.physics import trapezoid_weights
 from scalf_opt.locomotion.forces import contact_distribution
 from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
@@ -36,7 +36,6 @@ from scalf_opt.locomotion.trot import (
     stance_start_s,
     support_legs,
 )
-from scalf_opt.energy.loads import foot_position_m
 from scalf_opt.types import LEG_NAMES
 
 if TYPE_CHECKING:

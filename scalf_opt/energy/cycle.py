@@ -85,8 +85,10 @@ class RobotCycle:
     def mean_stance_force_n(self) -> float:
         """Mean magnitude of the stance foot force over every stance sample and leg [N]."""
         norms = [
-            np.hypot(np.hypot(c.stance.values["grf"][0], c.stance.values["grf"][1]),
-                     c.stance.grf_lateral_n).mean()
+            np.hypot(
+                np.hypot(c.stance.values["grf"][0], c.stance.values["grf"][1]),
+                c.stance.grf_lateral_n,
+            ).mean()
             for c in self.legs.values()
         ]
         return float(np.mean(norms))

@@ -46,8 +46,8 @@ import pinocchio as pin
 
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.forces import contact_distribution, shift_wrench
-from scalf_opt.locomotion.stance import stance_forces as trunk_stance_forces
 from scalf_opt.locomotion.stance import stance_path
+from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
 from scalf_opt.locomotion.trot import (
     PHASE_EDGE_TOLERANCE_S,
     stance_start_s,
@@ -55,9 +55,7 @@ from scalf_opt.locomotion.trot import (
     time_since_touchdown_s,
 )
 from scalf_opt.model.robot import Robot
-from scalf_opt.types import LEG_NAMES
-
-from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
+from scalf_opt.types import LEG_NAMES, Space
 
 if TYPE_CHECKING:
     from scalf_opt.energy.pipeline import EnergyPipeline
@@ -163,9 +161,7 @@ def stance_loads(name: str) -> StanceLoads:
         ConfigError: No load model has that name; the message lists the choices.
     """
     if name not in LOAD_MODELS:
-        raise ConfigError(
-            f"loads = {name!r} is not one of {', '.join(LOAD_MODELS)}", field="loads"
-        )
+        raise ConfigError(f"loads = {name!r} is not one of {', '.join(LOAD_MODELS)}", field="loads")
     return LOAD_MODELS[name]
 
 
@@ -216,7 +212,7 @@ def foot_position_m(pipeline: EnergyPipeline, leg: str, cycle_time_s: float) -> 
 
 def leg_motion(
     pipeline: EnergyPipeline, leg: str, cycle_times_s: np.ndarray, swings: Swings
-) -> tuple[str, np.ndarray]:
+) -> tuple[Space, np.ndarray]:
     """``leg``'s planned motion at the given cycle times: ``(space, path (3, 2, n))``.
 
     See :func:`affine_leg_motion`; this is its value at the leg's parameters.

@@ -116,8 +116,10 @@ class EnergyPipeline:
 
     @cached_property
     def trunk_stance_forces(self) -> dict[str, np.ndarray]:
-        """The trunk-only load on each leg's foot over its stance samples, (2, n) [N]: the
-        paper's sagittal minimum-norm share of the trunk link's weight (decision 11)."""
+        """The trunk-only load on each leg's foot over its stance samples, (2, n) [N].
+
+        The paper's sagittal minimum-norm share of the trunk link's weight (decision 11).
+        """
         com = self.robot.trunk_com_m
         hips = {}
         for leg in LEG_NAMES:

@@ -102,6 +102,9 @@ def cycle_summary(cycle: RobotCycle) -> dict[str, Any]:
     return {
         "gait": {**g.to_dict(), "speed_m_s": g.speed_m_s},
         "accounting": cycle.accounting,
+        "loads": cycle.loads,
+        "mean_stance_force_n": cycle.mean_stance_force_n,
+        "peak_unbalanced_moment_nm": cycle.peak_unbalanced_moment_nm,
         "legs": legs,
         "total_energy_per_cycle_j": cycle.energy_j,
         "average_total_power_w": cycle.average_power_w,

@@ -20,6 +20,7 @@ from typing import Any
 import numpy as np
 
 from scalf_opt.energy.accounting import accounting as power_accounting
+from scalf_opt.energy.loads import PAPER_LOADS, stance_loads
 from scalf_opt.errors import ConfigError, GaitError, ScalfError
 from scalf_opt.files import read_untrusted_text
 from scalf_opt.io.provenance import sha256_of
@@ -75,6 +76,8 @@ class SavedSwings:
             the provenance record still have it).
         optimization: The ``optimization`` records per optimized leg (``optimize``'s files).
         rate_hz: The rate the optimization converged at, when recorded [Hz].
+        loads: The stance load model (:mod:`scalf_opt.energy.loads`); files written before
+            the option have ``trunk``, the only model there was.
     """
 
     source: Path
@@ -88,6 +91,7 @@ class SavedSwings:
     total_mass_kg: float | None = None
     optimization: dict[str, Any] | None = None
     rate_hz: float | None = None
+    loads: str = PAPER_LOADS
 
     def require_optimum(self) -> None:
         """Refuse a file that holds no solved optimum (an ``evaluate`` result, a failed run).
@@ -207,6 +211,13 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
         power_accounting(accounting)
     except ScalfError as exc:
         raise ConfigError(f"{path}: {exc}") from exc
+    loads = data.get("loads", PAPER_LOADS)
+    if not isinstance(loads, str):
+        raise ConfigError(f"{path}: field loads must be a string, got {loads!r}")
+    try:
+        stance_loads(loads)
+    except ScalfError as exc:
+        raise ConfigError(f"{path}: {exc}") from exc
     legs = _field(path, data, "legs", dict)
     families: dict[str, str] = {}
     parameters: dict[str, np.ndarray] = {}
@@ -256,6 +267,7 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
         float(mass) if isinstance(mass, int | float) and not isinstance(mass, bool) else None,
         optimization if isinstance(optimization, dict) else None,
         float(rate) if isinstance(rate, int | float) and not isinstance(rate, bool) else None,
+        loads,
     )
 
 

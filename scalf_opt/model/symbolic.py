@@ -252,9 +252,9 @@ class SymbolicChain:
         return self._rnea_fn(q, v, a)
 
     def root_wrench(self, q: Any, v: Any, a: Any) -> Any:
-        """Spatial force (6 x 1: force [N], then moment [N m] about the root origin, root axes)
-        the root supplies to the moving chain for motion ``(q, v, a)`` against gravity.
+        """The spatial force the root supplies to the moving chain for motion ``(q, v, a)``.
 
+        6 x 1: force [N], then moment [N m] about the root origin, root axes, gravity included.
         For a root that moves at constant velocity without rotating this is the chain's part
         of the wrench the rest of the robot must receive from outside (the first six rows of a
         floating-base RNEA): the rate of change of the chain's momentum minus its weight.

@@ -325,13 +325,13 @@ def _solve_legs(
     previous = math.inf
     for round_ in range(1, MAX_ALTERNATIONS + 1):
         for leg in legs:
-            others = None
+            others: dict[str, np.ndarray] | None = None
             if coupled:
-                others = {
-                    o: (np.zeros(family.n_params) if thetas[o] is None else thetas[o])
-                    for o in legs
-                    if o != leg
-                }
+                others = {}
+                for o in legs:
+                    theta = thetas[o]
+                    if o != leg:
+                        others[o] = np.zeros(family.n_params) if theta is None else theta
             answers[leg] = _solve_leg(pipeline, leg, family, settings, thetas[leg], others)
             if answers[leg][0].success:
                 thetas[leg] = answers[leg][0].theta

@@ -45,11 +45,11 @@ import casadi as ca
 import numpy as np
 
 from scalf_opt.energy.accounting import accounting as power_accounting
-from scalf_opt.interrupts import interruptible
 from scalf_opt.energy.physics import LegPhysics
+from scalf_opt.interrupts import interruptible
 from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S, casadi_name
 from scalf_opt.optimize.problem import SwingProblem
-from scalf_opt.types import Accounting
+from scalf_opt.types import Accounting, Space
 
 IPOPT_DEFAULTS: dict[str, Any] = {
     # 1e-8 (Ipopt's default): at 1e-10 rich families stalled for a hundred iterations on
@@ -138,7 +138,7 @@ class CoupledShape:
     """
 
     varying: str
-    space: str
+    space: Space
     stance_legs: tuple[str, ...]
     n_samples: int
     charged: tuple[tuple[int, ...], ...]
@@ -209,7 +209,7 @@ def _stance_cost(
     parameters = [base, basis, weights]
     y = base + ca.mtimes(ca.reshape(basis, 6 * n, n_theta), theta) if n_theta else base
     y = ca.reshape(y, 6, n)
-    wrench_fn = pipeline.physics(shape.varying).wrench_function(shape.space)  # type: ignore[arg-type]
+    wrench_fn = pipeline.physics(shape.varying).wrench_function(shape.space)
     wrench = wrench_fn.map(n, "serial")(y[0:2, :], y[2:4, :], y[4:6, :])
     rule = power_accounting(accounting)
     cost: ca.MX = ca.MX(0)

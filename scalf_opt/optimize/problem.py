@@ -2,12 +2,13 @@
 
 Decision variables: the swing family's free parameters ``theta`` (degrees or centimetres, see
 :mod:`scalf_opt.locomotion.swing`). Objective: the leg's swing energy [J], the trapezoidal
-integral of the exact charged power over the swing samples; under a load model that couples the
-legs (whole-body loads) plus the stance energy of the leg's diagonal pair, which the swing
+integral of the exact charged power over the swing samples; under a load model that couples
+the legs (whole-body loads) plus the stance energy of the leg's diagonal pair, which the swing
 changes through the loads its symmetric twin puts on the stance feet
-(:mod:`scalf_opt.energy.coupling`): with the other optimized legs' parameters fixed, this is the
-pair's energy over a cycle (half the robot's) up to a constant. Under trunk loads the stance
-energy does not depend on the swing and the objective is the swing energy alone. Constraints at every swing sample (decision 14 and the actuators' limits): every bound
+(:mod:`scalf_opt.energy.coupling`): with the other optimized legs' parameters fixed, this is
+the pair's energy over a cycle (half the robot's) up to a constant. Under trunk loads the
+stance energy does not depend on the swing and the objective is the swing energy alone.
+Constraints at every swing sample (decision 14 and the actuators' limits): every bound
 of the leg (:func:`~scalf_opt.energy.limits.leg_bounds`: the joint range, the URDF's velocity
 and effort limits, the drives' bounds such as SCalf's cylinder stroke, force and speed), the
 foot at or above the ground at every interior sample and at least H above it at mid-swing, the

@@ -7,6 +7,7 @@ actuator file. Percentages are signed changes of the optimized trajectory agains
 from __future__ import annotations
 
 from scalf_opt.energy.accounting import PAPER_ACCOUNTING
+from scalf_opt.energy.loads import PAPER_LOADS
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.robot import Robot
 
@@ -30,6 +31,13 @@ MIT_CHEETAH_COT = 0.51
 """Section 1: cost of transport of the MIT Cheetah, for comparison."""
 
 
-def is_paper_setup(robot: Robot, gait: Gait, power: str = PAPER_ACCOUNTING) -> bool:
-    """SCalf on the paper's gait and accounting: the only setup the paper's numbers fit."""
-    return robot.name == "scalf" and gait == Gait() and power == PAPER_ACCOUNTING
+def is_paper_setup(
+    robot: Robot, gait: Gait, power: str = PAPER_ACCOUNTING, loads: str = PAPER_LOADS
+) -> bool:
+    """SCalf on the paper's gait, accounting and (trunk-only) loads: what its numbers fit."""
+    return (
+        robot.name == "scalf"
+        and gait == Gait()
+        and power == PAPER_ACCOUNTING
+        and loads == PAPER_LOADS
+    )

@@ -8,6 +8,7 @@ from typing import Any
 import numpy as np
 
 from scalf_opt.energy.cycle import RobotCycle, change_percent
+from scalf_opt.energy.loads import stance_loads
 from scalf_opt.optimize.solve import SwingOptimum
 
 
@@ -82,7 +83,8 @@ def evaluate_report(
         # four significant digits: a Froude-scaled gait's exact values are in summary.json
         f"{title} swing trajectory on {robot_name}: trot T={g.period_s:.4g} s, "
         f"duty {g.duty_cycle:.4g}, S={g.step_length_m:.4g} m, H={g.clearance_m:.4g} m, "
-        f"z0={g.stance_height_m:.4g} m, {g.sample_rate_hz:.4g} Hz, accounting '{cycle.accounting}'",
+        f"z0={g.stance_height_m:.4g} m, {g.sample_rate_hz:.4g} Hz, "
+        f"accounting '{cycle.accounting}', loads '{cycle.loads}'",
         "",
         "leg   swing [J]   stance [J]   cycle [J]   swing hip/knee [J]   stance hip/knee [J]",
     ]
@@ -110,7 +112,14 @@ def evaluate_report(
         f"cost of transport            {cycle.cost_of_transport:10.4f}     "
         f"(m = {cycle.total_mass_kg:.2f} kg)",
         f"symmetry check |E_LF - E_RF|, |E_RH - E_LH| relative: {cycle.symmetry_error:.1e}",
+        f"stance feet: mean force {cycle.mean_stance_force_n:.1f} N "
+        f"({stance_loads(cycle.loads).description})",
     ]
+    if stance_loads(cycle.loads).couples_legs:
+        lines.append(
+            f"unbalanced moment (two point feet cannot supply the moment about the line joining "
+            f"them): peak {cycle.peak_unbalanced_moment_nm:.1f} N m"
+        )
     return "\n".join(lines)
 
 

@@ -13,7 +13,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from scalf_opt.energy.loads import LOAD_MODELS, static_wrench, stance_loads
+from scalf_opt.energy.loads import LOAD_MODELS, stance_loads, static_wrench
 from scalf_opt.energy.physics import LegPhysics
 from scalf_opt.energy.robot_physics import RobotPhysics
 from scalf_opt.errors import ConfigError
@@ -83,7 +83,7 @@ def test_whole_body_torques_are_a_floating_base_rnea_with_the_contact_forces(nam
         close(tau_fb[3:6], unbalanced)
         free = pin.rnea(fb, data, q_fb, v_fb, a_fb)[0:6]  # no contact: the wrench itself
         close(free, wrench)
-        for k, leg in enumerate(LEG_NAMES):
+        for leg in LEG_NAMES:
             leg_physics: LegPhysics = physics.leg(leg)
             grf = forces[[0, 2], stance.index(leg)] if leg in stance else np.zeros(2)
             out = leg_physics.sample_function("joint")(*motion[leg], grf)

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from scalf_opt.cli.options import (
     add_gait,
+    add_loads,
     add_robot,
     check_output_dir,
     gait_origin,
@@ -28,6 +29,7 @@ JSON = True
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_robot(parser)
     add_gait(parser)
+    add_loads(parser, saved=True)
     parser.add_argument(
         "--swing",
         type=Path,
@@ -53,12 +55,19 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     warn_without_effect(args, robot)
     base = read_saved_swings(args.swing).gait if args.swing is not None else None
     gait = load_gait(args, robot, base)
-    result = evaluate(robot, gait, accounting=args.accounting, swing=args.swing, command=args.argv)
+    result = evaluate(
+        robot,
+        gait,
+        accounting=args.accounting,
+        swing=args.swing,
+        command=args.argv,
+        loads=args.loads,
+    )
     comparison, title = None, "reference"
     if result.swing is not None:
         families = sorted({f for f in result.swing.families.values() if f != "reference"})
         title = f"saved optimum ({', '.join(families)}, {result.swing.source})"
-    elif paper_data.is_paper_setup(robot, gait, args.accounting):
+    elif paper_data.is_paper_setup(robot, gait, args.accounting, result.pipeline.loads):
         comparison = ("paper (Table 6)", paper_data.REFERENCE_AVERAGE_POWER_W)
     written = result.write(args.out) if args.out is not None else []
     console = args.console

@@ -7,6 +7,7 @@ from pathlib import Path
 
 from scalf_opt.cli.options import (
     add_gait,
+    add_loads,
     add_robot,
     bounded,
     check_output_dir,
@@ -31,6 +32,7 @@ EXAMPLES = (
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_robot(parser)
     add_gait(parser)
+    add_loads(parser, saved=True)
     parser.add_argument(
         "--from",
         dest="from_dirs",
@@ -83,7 +85,7 @@ def run(args: argparse.Namespace) -> int:
     try:
         with ProgressBar(None, "figures", enabled=not args.quiet) as bar:
             pipeline, shown = shown_trajectories(
-                robot, gait, args.from_dirs, args.accounting, bar.step
+                robot, gait, args.from_dirs, args.accounting, bar.step, args.loads
             )
             bar.step("the pattern search's landscape")
             search = search_study(

@@ -8,6 +8,7 @@ from pathlib import Path
 from scalf_opt.cli.options import (
     add_accept_unconverged,
     add_gait,
+    add_loads,
     add_robot,
     bounded,
     check_output_dir,
@@ -38,6 +39,7 @@ VERBOSE = True
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_robot(parser)
     add_gait(parser)
+    add_loads(parser)
     parser.add_argument(
         "--leg",
         type=leg_name,
@@ -129,6 +131,7 @@ def run(args: argparse.Namespace) -> int:
             verbose=args.verbose,
             progress=bar.step,
             command=args.argv,
+            loads=args.loads,
         )
     console = args.console
     console.text(gait_origin(args, robot))

@@ -8,6 +8,7 @@ from pathlib import Path
 from scalf_opt.cli.options import (
     Outputs,
     add_gait,
+    add_loads,
     add_robot,
     load_gait,
     load_robot,
@@ -27,6 +28,7 @@ EXAMPLES = (
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_robot(parser)
     add_gait(parser)
+    add_loads(parser, saved=True)
     parser.add_argument(
         "--from",
         dest="from_dirs",
@@ -99,7 +101,12 @@ def run(args: argparse.Namespace) -> int:
     try:
         with ProgressBar(None, "view", enabled=not args.quiet) as bar:
             _, shown = shown_trajectories(
-                robot, load_gait(args, robot), args.from_dirs, args.accounting, bar.step
+                robot,
+                load_gait(args, robot),
+                args.from_dirs,
+                args.accounting,
+                bar.step,
+                args.loads,
             )
     except NotSolvedError as exc:
         args.console.error(f"{exc}; nothing written")
