@@ -7,6 +7,7 @@ from dataclasses import dataclass
 from typing import Any
 
 from scalf_opt.api.gaits import VERBOSE_IPOPT, command_tuple, read_gait
+from scalf_opt.energy.loads import PAPER_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.robot import Robot
@@ -48,7 +49,7 @@ def paper(
         command: The command line, recorded in the result's provenance.
     """
     robot = robot or load_robot("scalf")
-    pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot))
+    pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), loads=PAPER_LOADS)
     rep = reproduce(
         pipeline,
         beyond=not quick,
