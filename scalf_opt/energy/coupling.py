@@ -130,7 +130,7 @@ def stance_coupling(
         if other == twin:
             continue
         own_family, theta = swings[other]
-        motion = affine_leg_motion(pipeline, other, cycle_times, own_family)
+        motion = affine_leg_motion(pipeline, other, cycle_times, own_family, other in pair)
         fn = pipeline.physics(other).wrench_function(motion.space).map(n)
         fixed += np.array(fn(*motion.values(theta)))
     shares = {s: np.zeros((n, 2, 6)) for s in pair}

@@ -49,6 +49,7 @@ from scalf_opt.locomotion.forces import contact_distribution, shift_wrench
 from scalf_opt.locomotion.stance import stance_path
 from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
 from scalf_opt.locomotion.trot import (
+    DIAGONAL_PARTNER,
     PHASE_EDGE_TOLERANCE_S,
     stance_start_s,
     support_legs,
@@ -127,7 +128,8 @@ class WholeBodyLoads(StanceLoads):
         cycle_times = stance_start_s(gait, leg) + t
         wrench = np.tile(static_wrench(pipeline.robot)[:, None], (1, t.size))
         for other in LEG_NAMES:
-            space, path = leg_motion(pipeline, other, cycle_times, swings)
+            standing = other in (leg, DIAGONAL_PARTNER[leg])
+            space, path = leg_motion(pipeline, other, cycle_times, swings, standing)
             fn = pipeline.physics(other).wrench_function(space).map(t.size)
             wrench += np.array(fn(path[0], path[1], path[2]))
         grf = np.zeros((3, t.size))
@@ -211,7 +213,11 @@ def foot_position_m(pipeline: EnergyPipeline, leg: str, cycle_time_s: float) -> 
 
 
 def leg_motion(
-    pipeline: EnergyPipeline, leg: str, cycle_times_s: np.ndarray, swings: Swings
+    pipeline: EnergyPipeline,
+    leg: str,
+    cycle_times_s: np.ndarray,
+    swings: Swings,
+    standing: bool = False,
 ) -> tuple[Space, np.ndarray]:
     """``leg``'s planned motion at the given cycle times: ``(space, path (3, 2, n))``.
 
@@ -220,20 +226,28 @@ def leg_motion(
     if leg not in swings:
         raise ConfigError(f"the whole-body loads need leg {leg}'s swing", field="loads")
     family, theta = swings[leg]
-    motion = affine_leg_motion(pipeline, leg, cycle_times_s, family)
+    motion = affine_leg_motion(pipeline, leg, cycle_times_s, family, standing)
     return motion.space, motion.values(theta)
 
 
 def affine_leg_motion(
-    pipeline: EnergyPipeline, leg: str, cycle_times_s: np.ndarray, family: SwingFamily
+    pipeline: EnergyPipeline,
+    leg: str,
+    cycle_times_s: np.ndarray,
+    family: SwingFamily,
+    standing: bool = False,
 ) -> AffinePath:
     """``leg``'s planned motion at the given cycle times, affine in its swing's parameters.
 
     Stance samples are the stance path (fixed); swing samples the family's path at those
-    times. A foot exactly at touch-down or lift-off (within the phase-edge tolerance) is taken
-    from the swing, as :func:`~scalf_opt.locomotion.trot.support_legs` does not count it as
-    standing. The space is the family's; stance samples of a joint-space family are mapped to
-    joint motion by the leg's inverse kinematics.
+    times. ``standing``: the times lie in this leg's own stance, ends included (the stance
+    whose samples these are: its leg and diagonal partner). Otherwise a foot exactly at
+    touch-down or lift-off (within the phase-edge tolerance) is taken from the swing, its
+    value on the side of the edge where the window lies (the other pair lifts off as the
+    window begins and touches down as it ends), as
+    :func:`~scalf_opt.locomotion.trot.support_legs` does not count it as standing. The space
+    is the family's; stance samples of a joint-space family are mapped to joint motion by the
+    leg's inverse kinematics.
     """
     gait = pipeline.gait
     t_stance, t_swing = gait.stance_duration_s, gait.swing_duration_s
@@ -241,6 +255,9 @@ def affine_leg_motion(
     local = np.array([time_since_touchdown_s(gait, float(t), leg) for t in times])
     tol = PHASE_EDGE_TOLERANCE_S
     in_stance = (local > tol) & (local < t_stance - tol)
+    if standing:
+        in_stance[:] = True
+        local = np.clip(np.where(local > t_stance + tol, local - gait.period_s, local), 0, t_stance)
     swing_t = local - t_stance
     swing_t = np.where(swing_t < -tol, swing_t + gait.period_s, swing_t)
     swing_t = np.clip(np.where(local <= tol, t_swing, swing_t), 0.0, t_swing)  # touch-down: T_sw
