@@ -42,12 +42,10 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING, ClassVar
 
 import numpy as np
-import pinocchio as pin
 
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.forces import contact_distribution, shift_wrench
 from scalf_opt.locomotion.stance import stance_path
-from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
 from scalf_opt.locomotion.trot import (
     DIAGONAL_PARTNER,
     PHASE_EDGE_TOLERANCE_S,
@@ -55,13 +53,14 @@ from scalf_opt.locomotion.trot import (
     support_legs,
     time_since_touchdown_s,
 )
-from scalf_opt.model.robot import Robot
 from scalf_opt.types import LEG_NAMES, Space
 
 if TYPE_CHECKING:
     from scalf_opt.energy.pipeline import EnergyPipeline
+    from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
+    from scalf_opt.model.robot import Robot
 
-Swings = Mapping[str, tuple[SwingFamily, np.ndarray]]
+Swings = Mapping[str, tuple["SwingFamily", np.ndarray]]
 """The swing of every leg: its family and parameters (family units)."""
 
 
@@ -191,6 +190,8 @@ def static_wrench(robot: Robot) -> np.ndarray:
     Force [N] then moment [N m] about the trunk origin, trunk axes; the other joints (hip
     roll, ...) at their neutral position, as the legs' sagittal models assume.
     """
+    import pinocchio as pin  # here: the registry's names load without Pinocchio (command line)
+
     model = robot.model
     data = model.createData()
     pin.forwardKinematics(model, data, pin.neutral(model))
@@ -249,6 +250,8 @@ def affine_leg_motion(
     is the family's; stance samples of a joint-space family are mapped to joint motion by the
     leg's inverse kinematics.
     """
+    from scalf_opt.locomotion.swing.family import AffinePath
+
     gait = pipeline.gait
     t_stance, t_swing = gait.stance_duration_s, gait.swing_duration_s
     times = np.asarray(cycle_times_s, dtype=float)
