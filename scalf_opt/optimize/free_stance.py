@@ -19,6 +19,10 @@ stays inside the reach and the joint range and every sample respects the leg's l
 velocity and effort, the cylinders' stroke, force and speed); the swing keeps its constraints
 (ground, clearance H at mid-swing, limits) at the new height.
 
+Under whole-body loads the stance energy depends on the swings (the stance feet carry the
+swinging legs): a stance's total is the pair's cycle energy with its optimized swings
+(:func:`pair_energy_j`), and its stance limits are checked with those swings too.
+
 The report splits the saving against the paper's stance with the reference swing into the part
 of the stance energy and the part of the swing energy.
 """
@@ -73,7 +77,8 @@ class StanceEvaluation:
 
     Attributes:
         gait: The gait with that stance.
-        total_j: Stance plus optimized swing energy of RF and LH [J] (inf if infeasible).
+        total_j: Energy of RF and LH over a cycle, stance and optimized swing, at the
+            optimization's rate [J] (:func:`pair_energy_j`; inf if infeasible).
         reason: Why it is infeasible, else ``None``.
         run: The swing optimization at that stance (``None`` if the stance itself failed).
     """
@@ -178,6 +183,26 @@ def _stance_feasible(pipeline: EnergyPipeline, legs: tuple[str, ...]) -> tuple[f
     return total, None
 
 
+def pair_energy_j(
+    pipeline: EnergyPipeline, family: SwingFamily, run: SwingOptimization, legs: tuple[str, ...]
+) -> tuple[float, str | None]:
+    """The energy of ``legs`` over a cycle with the run's swings [J], or ``(inf, reason)``.
+
+    The pair's cycle as every report evaluates it (the stance loads of ``pipeline``'s model,
+    with these swings); infinite when a stance sample breaks a limit of its leg.
+    """
+    try:
+        cycle = pipeline.robot_cycle(family, run.thetas, legs)
+    except ScalfError as exc:
+        return math.inf, str(exc)
+    for leg in legs:
+        beyond = violations(cycle.legs[leg].stance.values, leg_bounds(pipeline.physics(leg)))
+        if beyond:
+            b = beyond[0].bound
+            return math.inf, f"stance of {leg}: {b.name} beyond its {b.source}"
+    return cycle.energy_j, None
+
+
 def optimize_stance(
     pipeline: EnergyPipeline,
     family: SwingFamily,
@@ -195,11 +220,13 @@ def optimize_stance(
     # the whole search at the rate the nominal optimization converged at, so that every stance
     # is compared on the same grid (a stance that needs a finer one is refined by the driver)
     at_rate = pipeline.with_gait(with_rate(pipeline.gait, nominal_run.rate_hz))
-    nominal_stance, reason = _stance_feasible(at_rate, legs)
+    _, reason = _stance_feasible(at_rate, legs)
     if reason is not None:
         raise ScalfError(reason)
-    swing = sum(r.best.swing_energy_j for r in nominal_run.legs.values())
-    nominal = StanceEvaluation(at_rate.gait, nominal_stance + swing, None, nominal_run)
+    nominal_total, reason = pair_energy_j(at_rate, family, nominal_run, legs)
+    if reason is not None:
+        raise ScalfError(reason)
+    nominal = StanceEvaluation(at_rate.gait, nominal_total, None, nominal_run)
     seen: dict[tuple[float, ...], StanceEvaluation] = {}
     warm = {leg: r.best.theta for leg, r in nominal_run.legs.items()}
 
@@ -213,7 +240,7 @@ def optimize_stance(
             seen[key] = StanceEvaluation(at_rate.gait, math.inf, str(exc))
             return seen[key]
         trial = at_rate.with_gait(gait)
-        stance, why = _stance_feasible(trial, legs)
+        _, why = _stance_feasible(trial, legs)
         if why is not None:
             seen[key] = StanceEvaluation(gait, math.inf, why)
             return seen[key]
@@ -222,8 +249,8 @@ def optimize_stance(
             seen[key] = StanceEvaluation(gait, math.inf, "swing not solved", run)
             return seen[key]
         warm.update({leg: r.best.theta for leg, r in run.legs.items()})
-        total = stance + sum(r.best.swing_energy_j for r in run.legs.values())
-        seen[key] = StanceEvaluation(gait, total, None, run)
+        total, why = pair_energy_j(run.pipeline, family, run, legs)
+        seen[key] = StanceEvaluation(gait, total, why, run)
         return seen[key]
 
     x0 = stance_vector_cm(at_rate.gait)
@@ -242,7 +269,7 @@ def optimize_stance(
         nominal_run = replace(nominal_run, pipeline=at_final)
         nominal = StanceEvaluation(
             at_final.gait,
-            float(sum(at_final.leg_cycle(leg, family, thetas[leg]).energy_j for leg in legs)),
+            at_final.robot_cycle(family, thetas, legs).energy_j,
             None,
             nominal_run,
         )
