@@ -26,15 +26,13 @@ from typing import TYPE_CHECKING
 import casadi as ca
 import numpy as np
 
-from scalf_opt.energy.loads import Swings, affine_leg_motion, foot_position_m, static_wrench
+from scalf_opt.energy.loads import Swings, affine_leg_motion, static_wrench
 from scalf_opt.energy.physics import trapezoid_weights
-from scalf_opt.locomotion.forces import contact_distribution
 from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
 from scalf_opt.locomotion.trot import (
     DIAGONAL_PARTNER,
     SYMMETRIC_TWIN,
     stance_start_s,
-    support_legs,
 )
 from scalf_opt.types import LEG_NAMES
 
@@ -133,18 +131,8 @@ def stance_coupling(
         motion = affine_leg_motion(pipeline, other, cycle_times, own_family, other in pair)
         fn = pipeline.physics(other).wrench_function(motion.space).map(n)
         fixed += np.array(fn(*motion.values(theta)))
-    shares = {s: np.zeros((n, 2, 6)) for s in pair}
-    for j, time_s in enumerate(cycle_times):
-        feet_legs = support_legs(gait, float(time_s), leg)
-        feet = np.column_stack([foot_position_m(pipeline, o, float(time_s)) for o in feet_legs])
-        p, centroid = contact_distribution(feet)
-        shift = np.eye(6)
-        cx, cy, cz = centroid
-        shift[3:6, 0:3] = -np.array([[0.0, -cz, cy], [cz, 0.0, -cx], [-cy, cx, 0.0]])
-        distribution = p @ shift  # stacked foot forces per unit wrench about the trunk origin
-        for s in pair:
-            k = feet_legs.index(s)
-            shares[s][j] = distribution[3 * k : 3 * k + 3][[0, 2]]
+    distribution = pipeline.stance_distribution(leg)
+    shares = {s: distribution.force[s][:, [0, 2]] for s in pair}  # sagittal rows (n, 2, 6)
     terms = []
     for s in pair:
         physics = pipeline.physics(s)

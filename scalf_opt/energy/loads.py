@@ -122,27 +122,67 @@ class WholeBodyLoads(StanceLoads):
     def stance_forces(  # noqa: D102
         self, pipeline: EnergyPipeline, leg: str, swings: Swings
     ) -> StanceForces:
-        gait = pipeline.gait
         t = pipeline.stance_times_s
-        cycle_times = stance_start_s(gait, leg) + t
+        cycle_times = stance_start_s(pipeline.gait, leg) + t
         wrench = np.tile(static_wrench(pipeline.robot)[:, None], (1, t.size))
         for other in LEG_NAMES:
             standing = other in (leg, DIAGONAL_PARTNER[leg])
             space, path = leg_motion(pipeline, other, cycle_times, swings, standing)
             fn = pipeline.physics(other).wrench_function(space).map(t.size)
             wrench += np.array(fn(path[0], path[1], path[2]))
-        grf = np.zeros((3, t.size))
-        unbalanced = np.zeros((3, t.size))
-        for j, time_s in enumerate(cycle_times):
-            feet_legs = support_legs(gait, float(time_s), leg)
-            feet = np.column_stack([foot_position_m(pipeline, o, float(time_s)) for o in feet_legs])
-            p, centroid = contact_distribution(feet)
-            w_c = shift_wrench(wrench[:, j : j + 1], centroid)[:, 0]
-            forces = (p @ w_c).reshape(-1, 3).T
-            grf[:, j] = forces[:, 0]  # support_legs lists ``leg`` first
-            r = feet - centroid[:, None]
-            unbalanced[:, j] = w_c[3:6] - np.sum(np.cross(r, forces, axis=0), axis=1)
+        share = pipeline.stance_distribution(leg)
+        grf = np.einsum("nij,jn->in", share.force[leg], wrench)
+        unbalanced = np.einsum("nij,jn->in", share.unbalanced, wrench)
         return StanceForces(grf, unbalanced)
+
+
+@dataclass(frozen=True)
+class StanceDistribution:
+    """The linear maps from the required wrench to a stance's foot forces, sample by sample.
+
+    The wrench ``W`` (6: force, then moment about the trunk origin, trunk axes) at stance
+    sample ``j`` gives foot force ``force[leg][j] @ W`` (3) on each leg of the diagonal pair
+    and the moment the feet cannot supply ``unbalanced[j] @ W`` (3)
+    (:func:`~scalf_opt.locomotion.forces.contact_distribution`). The maps depend only on where
+    the feet stand: computed once per gait and pair.
+
+    Attributes:
+        force: Per leg of the pair, shape (n, 3, 6) [1, 1/m].
+        unbalanced: Shape (n, 3, 6) [m, 1].
+    """
+
+    force: dict[str, np.ndarray]
+    unbalanced: np.ndarray
+
+
+def stance_distribution(pipeline: EnergyPipeline, leg: str) -> StanceDistribution:
+    """The distribution maps of ``leg``'s stance samples (see :class:`StanceDistribution`)."""
+    gait = pipeline.gait
+    cycle_times = stance_start_s(gait, leg) + pipeline.stance_times_s
+    n = cycle_times.size
+    pair = (leg, DIAGONAL_PARTNER[leg])
+    force = {s: np.zeros((n, 3, 6)) for s in pair}
+    unbalanced = np.zeros((n, 3, 6))
+    for j, time_s in enumerate(cycle_times):
+        feet_legs = support_legs(gait, float(time_s), leg)
+        feet = np.column_stack([foot_position_m(pipeline, o, float(time_s)) for o in feet_legs])
+        p, centroid = contact_distribution(feet)
+        shift = shift_wrench(np.eye(6), centroid)  # W -> W about the centroid
+        stacked = p @ shift
+        for s in pair:
+            k = feet_legs.index(s)
+            force[s][j] = stacked[3 * k : 3 * k + 3]
+        r = feet - centroid[:, None]
+        supplied = sum(
+            _cross_matrix(r[:, k]) @ stacked[3 * k : 3 * k + 3] for k in range(len(feet_legs))
+        )
+        unbalanced[j] = shift[3:6] - supplied
+    return StanceDistribution(force, unbalanced)
+
+
+def _cross_matrix(r: np.ndarray) -> np.ndarray:
+    """``[r]_x``: ``r x f = [r]_x f``."""
+    return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
 
 
 LOAD_MODELS: dict[str, StanceLoads] = {m.name: m for m in (WholeBodyLoads(), TrunkLoads())}

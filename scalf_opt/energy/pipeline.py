@@ -15,7 +15,15 @@ import numpy as np
 from scalf_opt.actuators.drive import Drive
 from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.cycle import LegCycle, RobotCycle
-from scalf_opt.energy.loads import DEFAULT_LOADS, StanceForces, StanceLoads, Swings, stance_loads
+from scalf_opt.energy.loads import (
+    DEFAULT_LOADS,
+    StanceDistribution,
+    StanceForces,
+    StanceLoads,
+    Swings,
+    stance_distribution,
+    stance_loads,
+)
 from scalf_opt.energy.phase import PhaseResult, PhaseSamples, evaluate_phase
 from scalf_opt.energy.physics import LegPhysics
 from scalf_opt.energy.robot_physics import RobotPhysics
@@ -150,6 +158,16 @@ class EnergyPipeline:
 
     @cached_property
     def _stance_force_cache(self) -> dict[object, StanceForces]:
+        return {}
+
+    def stance_distribution(self, leg: str) -> StanceDistribution:
+        """How ``leg``'s stance feet share a wrench, per sample (built once per gait)."""
+        if leg not in self._distributions:
+            self._distributions[leg] = stance_distribution(self, leg)
+        return self._distributions[leg]
+
+    @cached_property
+    def _distributions(self) -> dict[str, StanceDistribution]:
         return {}
 
     def stance(self, leg: str, swings: Swings | None = None) -> PhaseResult:
