@@ -162,13 +162,10 @@ class EnergyPipeline:
 
     def stance_distribution(self, leg: str) -> StanceDistribution:
         """How ``leg``'s stance feet share a wrench, per sample (built once per gait)."""
-        if leg not in self._distributions:
-            self._distributions[leg] = stance_distribution(self, leg)
-        return self._distributions[leg]
-
-    @cached_property
-    def _distributions(self) -> dict[str, StanceDistribution]:
-        return {}
+        cache = self.robot_physics.distributions
+        if (self.gait, leg) not in cache:
+            cache[(self.gait, leg)] = stance_distribution(self, leg)
+        return cache[(self.gait, leg)]
 
     def stance(self, leg: str, swings: Swings | None = None) -> PhaseResult:
         """Evaluate ``leg``'s stance phase.

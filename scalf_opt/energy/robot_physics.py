@@ -16,7 +16,9 @@ from types import MappingProxyType
 
 from scalf_opt.actuators.drive import Drive
 from scalf_opt.actuators.sidecar import drives_for, leg_drives
+from scalf_opt.energy.loads import StanceDistribution
 from scalf_opt.energy.physics import LegPhysics
+from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.kinematics import LegKinematics
 from scalf_opt.model.robot import Robot
 
@@ -36,6 +38,9 @@ class RobotPhysics:
             dict(drives_for(robot) if drives is None else drives)
         )
         self._legs: dict[str, LegPhysics] = {}
+        self.distributions: dict[tuple[Gait, str], StanceDistribution] = {}
+        """How each gait's stance feet share a wrench (:mod:`scalf_opt.energy.loads`), kept
+        across the pipelines of one gait (the optimizers make many)."""
 
     def leg(self, name: str) -> LegPhysics:
         """The leg's :class:`LegPhysics` (built once: the one cache of this object)."""

@@ -266,7 +266,7 @@ def reference_swing_energy_j(pipeline: EnergyPipeline, leg: str) -> float:
         return math.nan
 
 
-ALTERNATION_RTOL = 1e-6
+ALTERNATION_RTOL = 1e-5
 """The coupled legs' alternation stops when a round changes their energy by less than this."""
 
 MAX_ALTERNATIONS = 8

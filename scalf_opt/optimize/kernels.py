@@ -161,3 +161,46 @@ def kernel_for(physics: LegPhysics, space: Space) -> Kernel:
             rows = (*rows, REACH)
         per_leg[space] = Kernel(physics, space, bounds, rows)
     return per_leg[space]
+
+
+STANCE_INPUTS = 18
+"""Inputs per stance leg and sample of the stance kernel: q (2), qd (2), tau0 (2), gain (12)."""
+
+_STANCE_KERNELS: weakref.WeakKeyDictionary[LegPhysics, dict[object, ca.Function]] = (
+    weakref.WeakKeyDictionary()
+)
+
+
+def stance_kernel(varying: LegPhysics, space: Space, stance: tuple[LegPhysics, ...]) -> ca.Function:
+    """The pair's stance at one sample under whole-body loads, for the NLP (compiled once).
+
+    ``(y (6), d (18 k)) -> (p_mech (2 k), loss (1))``: the varying leg's sample ``y`` in
+    ``space``, and per stance leg its joint angles, rates, fixed torques and the 2 x 6 gain of
+    its torques on the varying leg's wrench (row-major); out come the stance joints' signed
+    powers ``tau qd`` and their drives' summed losses with the smooth max
+    (:data:`HEAT_SMOOTHING_EPS_M_S`). See :mod:`scalf_opt.energy.coupling`.
+    """
+    key = (space, tuple(id(s) for s in stance))
+    per_leg = _STANCE_KERNELS.setdefault(varying, {})
+    if key not in per_leg:
+        y = ca.SX.sym("y", 6)
+        d = ca.SX.sym("d", STANCE_INPUTS * len(stance))
+        wrench = varying.wrench_function(space)(y[0:2], y[2:4], y[4:6])
+        powers, losses = [], []
+        for k, physics in enumerate(stance):
+            block = d[STANCE_INPUTS * k : STANCE_INPUTS * (k + 1)]
+            q, qd, tau0 = block[0:2], block[2:4], block[4:6]
+            gain = ca.reshape(block[6:18], 6, 2).T  # row-major 2 x 6
+            tau = tau0 + ca.mtimes(gain, wrench)
+            powers.append(tau * qd)
+            _, loss = physics.power_expr(q, qd, tau, heat_eps=HEAT_SMOOTHING_EPS_M_S)
+            losses.append(ca.sum1(loss))
+        names = [varying.leg.name, space, *(s.leg.name for s in stance), "stance_sample"]
+        name = casadi_name(*names)
+        fn = ca.Function(name, [y, d], [ca.vertcat(*powers), ca.sum1(ca.vertcat(*losses))])
+        adjoint = fn.reverse(1)
+        library = compile_library(
+            name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian()]
+        )
+        per_leg[key] = load_external(name, library) or fn
+    return per_leg[key]

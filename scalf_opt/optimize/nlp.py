@@ -45,9 +45,8 @@ import casadi as ca
 import numpy as np
 
 from scalf_opt.energy.accounting import accounting as power_accounting
-from scalf_opt.energy.physics import LegPhysics
 from scalf_opt.interrupts import interruptible
-from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S, casadi_name
+from scalf_opt.optimize.kernels import STANCE_INPUTS, casadi_name, stance_kernel
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.types import Accounting, Space
 
@@ -182,19 +181,15 @@ def _stance_parameters(problem: SwingProblem) -> list[np.ndarray]:
     assert coupling is not None
     n = coupling.weights.size
     motion = coupling.motion
-    out = [
+    data = np.vstack(
+        [np.vstack([t.q, t.qd, t.tau_fixed_nm, t.gain.reshape(n, 12).T]) for t in coupling.terms]
+    )
+    return [
         motion.base.reshape(6, n).ravel(order="F"),
         motion.basis.reshape(6, n, -1).transpose(1, 0, 2).reshape(6 * n, -1).ravel(order="F"),
         coupling.weights,
+        data.ravel(order="F"),
     ]
-    for term in coupling.terms:
-        out += [
-            term.q.ravel(order="F"),
-            term.qd.ravel(order="F"),
-            term.tau_fixed_nm.ravel(order="F"),
-            term.gain.reshape(n, 12).T.ravel(order="F"),
-        ]
-    return out
 
 
 def _stance_cost(
@@ -206,39 +201,31 @@ def _stance_cost(
     base = ca.MX.sym("twin_base", 6 * n)
     basis = ca.MX.sym("twin_basis", 6 * n * n_theta)
     weights = ca.MX.sym("stance_weights", n)
-    parameters = [base, basis, weights]
+    rows_per_sample = STANCE_INPUTS * len(shape.stance_legs)
+    data = ca.MX.sym("stance_data", rows_per_sample * n)
+    parameters = [base, basis, weights, data]
     y = base + ca.mtimes(ca.reshape(basis, 6 * n, n_theta), theta) if n_theta else base
-    y = ca.reshape(y, 6, n)
-    wrench_fn = pipeline.physics(shape.varying).wrench_function(shape.space)
-    wrench = wrench_fn.map(n, "serial")(y[0:2, :], y[2:4, :], y[4:6, :])
+    kernel = stance_kernel(
+        pipeline.physics(shape.varying),
+        shape.space,
+        tuple(pipeline.physics(s) for s in shape.stance_legs),
+    )
+    power, loss = kernel.map(n, "serial")(ca.reshape(y, 6, n), ca.reshape(data, -1, n))
+    cost: ca.MX = ca.mtimes(loss, weights)
     rule = power_accounting(accounting)
-    cost: ca.MX = ca.MX(0)
     slack_vars: list[ca.MX] = []
     rows: list[ca.MX] = []
-    for leg, charged in zip(shape.stance_legs, shape.charged, strict=True):
-        q, qd, tau0 = (ca.MX.sym(f"{leg}_{name}", 2 * n) for name in ("q", "qd", "tau0"))
-        gain = ca.MX.sym(f"{leg}_gain", 12 * n)
-        parameters += [q, qd, tau0, gain]
-        q, qd, tau0 = (ca.reshape(x, 2, n) for x in (q, qd, tau0))
-        g = ca.reshape(gain, 12, n)
-        tau = tau0 + ca.vertcat(ca.sum1(g[0:6, :] * wrench), ca.sum1(g[6:12, :] * wrench))
-        cost += ca.mtimes(_smooth_loss(pipeline.physics(leg)).map(n, "serial")(q, qd, tau), weights)
-        if charged:
-            power = ca.vertcat(*(tau[i, :] * qd[i, :] for i in charged))
-            slacks = [ca.MX.sym(f"{leg}_slack{j}", len(charged), n) for j in range(rule.slacks)]
-            slack_vars += [ca.vec(sl) for sl in slacks]
-            slack_rows = rule.slack_rows(power, slacks)
-            if slack_rows is not None:
-                rows.append(ca.vec(ca.MX(slack_rows)))
-            cost += ca.sum2(ca.sum1(rule.smooth_cost(power, slacks)) * weights.T)
+    for k, (leg, charged) in enumerate(zip(shape.stance_legs, shape.charged, strict=True)):
+        if not charged:
+            continue
+        p = ca.vertcat(*(power[2 * k + i, :] for i in charged))
+        slacks = [ca.MX.sym(f"{leg}_slack{j}", len(charged), n) for j in range(rule.slacks)]
+        slack_vars += [ca.vec(sl) for sl in slacks]
+        slack_rows = rule.slack_rows(p, slacks)
+        if slack_rows is not None:
+            rows.append(ca.vec(ca.MX(slack_rows)))
+        cost += ca.sum2(ca.sum1(rule.smooth_cost(p, slacks)) * weights.T)
     return cost, parameters, slack_vars, rows
-
-
-def _smooth_loss(physics: LegPhysics) -> ca.Function:
-    """``(q, qd, tau) -> summed drive losses`` with the NLP's smooth max [W]."""
-    q, qd, tau = (ca.SX.sym(name, 2) for name in ("q", "qd", "tau"))
-    _, loss = physics.power_expr(q, qd, tau, heat_eps=HEAT_SMOOTHING_EPS_M_S)
-    return ca.Function("stance_loss", [q, qd, tau], [ca.sum1(loss)])
 
 
 def _basis_matrix(problem: SwingProblem) -> np.ndarray:
