@@ -69,6 +69,7 @@ def robot_row(name: str, optimize: bool) -> dict[str, float | str]:
         row.update(
             {
                 "solved": str(run_trunk.success and run_whole.success),
+                "alternation_rounds": run_whole.rounds,
                 "trunk_optimum_under_whole_body_pct": change_percent(e_trunk, ref),
                 "whole_body_optimum_pct": change_percent(e_whole, ref),
                 "optimization_trunk_s": trunk_s,
@@ -107,7 +108,7 @@ def markdown(rows: list[dict[str, float | str]]) -> str:
     return "\n".join(lines)
 
 
-def main(argv: list[str] | None = None) -> int:  # noqa: D103
+def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="the reference swings only")
     parser.add_argument("--robot", nargs="+", default=list(robot_names()), metavar="NAME")
@@ -115,6 +116,12 @@ def main(argv: list[str] | None = None) -> int:  # noqa: D103
     args = parser.parse_args(argv)
     rows = [robot_row(name, not args.quick) for name in args.robot]
     print(markdown(rows))
+    for r in rows if not args.quick else []:
+        print(
+            f"\n{r['robot']}: the trunk-only optimization took {r['optimization_trunk_s']:.1f} s, "
+            f"the whole-body one took {r['optimization_whole_body_s']:.1f} s "
+            f"({r['alternation_rounds']} rounds of the alternation)"
+        )
     args.out.parent.mkdir(parents=True, exist_ok=True)
     write_atomic(args.out, rows_csv_text(rows))
     return 0

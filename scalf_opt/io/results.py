@@ -137,6 +137,8 @@ def optimization_record(run: SwingOptimization) -> dict[str, Any]:
         "success": run.success,
         "any_worse_than_reference": any(r.worse_than_reference for r in run.legs.values()),
         "wall_time_s": run.wall_time_s,
+        "loads": run.pipeline.loads,
+        "alternation_rounds": run.rounds,
     }
 
 

@@ -191,6 +191,8 @@ class SwingOptimization:
         rates_hz: Every rate tried, the last one the rate of the results.
         converged_sampling: The energies converged within the tolerance.
         wall_time_s: Time of the whole optimization [s].
+        rounds: Rounds of the coupled legs' alternation at the final rate (1 when the legs are
+            independent: trunk-only loads, or one leg).
     """
 
     family: SwingFamily
@@ -200,6 +202,7 @@ class SwingOptimization:
     rates_hz: list[float]
     converged_sampling: bool
     wall_time_s: float = 0.0
+    rounds: int = 1
 
     @property
     def rate_hz(self) -> float:
@@ -398,13 +401,14 @@ def optimize_swings(
         first[leg] = (label, theta)
         current[leg] = theta
     answers: dict[str, tuple[SwingOptimum, float]] = {}
+    rounds = 1
     converged = False
     while True:
         rates.append(rate)
         if progress is not None:
             progress(f"{family.name} at {rate:g} Hz")
         at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
-        answers, _ = _solve_legs(at_rate, legs, family, settings, current)
+        answers, rounds = _solve_legs(at_rate, legs, family, settings, current)
         solved = all(o.success for o, _ in answers.values())
         errors = [relative_difference(o.objective_j, c) for o, c in answers.values()]
         if not solved:
@@ -446,5 +450,12 @@ def optimize_swings(
             sampling_error=relative_difference(best.optimum.objective_j, best.check_energy_j),
         )
     return SwingOptimization(
-        family, settings, at_rate, results, rates, converged, time.perf_counter() - start
+        family,
+        settings,
+        at_rate,
+        results,
+        rates,
+        converged,
+        time.perf_counter() - start,
+        rounds,
     )
