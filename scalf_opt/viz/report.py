@@ -112,8 +112,8 @@ def evaluate_report(
         f"cost of transport            {cycle.cost_of_transport:10.4f}     "
         f"(m = {cycle.total_mass_kg:.2f} kg)",
         f"symmetry check |E_LF - E_RF|, |E_RH - E_LH| relative: {cycle.symmetry_error:.1e}",
-        f"stance feet: mean force {cycle.mean_stance_force_n:.1f} N "
-        f"({stance_loads(cycle.loads).description})",
+        f"stance feet: mean force {cycle.mean_stance_force_n:.1f} N; {cycle.loads} loads: "
+        f"{stance_loads(cycle.loads).description}",
     ]
     if stance_loads(cycle.loads).couples_legs:
         lines.append(
