@@ -119,10 +119,18 @@ def _leg_lines(result: LegResult, method: str, family: str) -> list[str]:
         )
     else:
         against = "(the reference swing leaves the joint range at this gait)"
-    lines.append(
-        f"  swing energy {o.swing_energy_j:.4f} J {against}; at {CHECK_FACTOR}x the rate "
-        f"{result.check_energy_j:.4f} J ({100 * result.sampling_error:.3f} % apart)"
-    )
+    if o.objective_j == o.swing_energy_j:
+        lines.append(
+            f"  swing energy {o.swing_energy_j:.4f} J {against}; at {CHECK_FACTOR}x the rate "
+            f"{result.check_energy_j:.4f} J ({100 * result.sampling_error:.3f} % apart)"
+        )
+    else:  # whole-body loads: the swing pays for the stance it loads
+        lines += [
+            f"  swing energy {o.swing_energy_j:.4f} J {against}",
+            f"  objective (its swing and the pair's stance it loads) {o.objective_j:.4f} J; at "
+            f"{CHECK_FACTOR}x the rate {result.check_energy_j:.4f} J "
+            f"({100 * result.sampling_error:.3f} % apart)",
+        ]
     gap = result.gap_to_bound_percent
     if gap is not None and result.bound_check_energy_j is not None:
         lines.append(
