@@ -26,7 +26,7 @@ from scalf_opt.optimize.sampling import SAMPLING_TOLERANCE, with_rate
 
 @pytest.fixture(scope="module")
 def model(scalf):
-    return EnergyPipeline(scalf, Gait())
+    return EnergyPipeline(scalf, Gait(), loads="trunk")
 
 
 @pytest.fixture(scope="module")

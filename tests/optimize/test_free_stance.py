@@ -16,7 +16,7 @@ from scalf_opt.optimize.free_stance import optimize_stance, stance_gait, stance_
 
 @pytest.fixture(scope="module")
 def result(scalf):
-    return optimize_stance(EnergyPipeline(scalf, Gait()), make_family("paper"))
+    return optimize_stance(EnergyPipeline(scalf, Gait(), loads="trunk"), make_family("paper"))
 
 
 def test_the_free_stance_saves_energy_within_every_limit(result, scalf):
@@ -53,7 +53,7 @@ def test_stance_variables_round_trip():
 
 def test_offset_stance_forces_still_balance_the_trunk(scalf):
     gait = replace(Gait(), stance_x_offset_front_m=0.08, stance_x_offset_hind_m=-0.06)
-    pipeline = EnergyPipeline(scalf, gait)
+    pipeline = EnergyPipeline(scalf, gait, loads="trunk")
     com = scalf.trunk_com_m
     feet = {}
     for leg in ("RF", "LH"):
@@ -71,6 +71,6 @@ def test_offset_stance_forces_still_balance_the_trunk(scalf):
 
 
 def test_an_impossible_stance_names_the_offset_fields(scalf):
-    pipeline = EnergyPipeline(scalf, replace(Gait(), stance_x_offset_front_m=0.5))
+    pipeline = EnergyPipeline(scalf, replace(Gait(), stance_x_offset_front_m=0.5), loads="trunk")
     with pytest.raises(GaitError, match=r"stance_x_offset_front_m = 0\.5"):
         pipeline.stance("RF")

@@ -20,7 +20,7 @@ from scalf_opt.optimize.sampling import with_rate
 
 @pytest.fixture(scope="module")
 def model(scalf):
-    return EnergyPipeline(scalf, Gait())
+    return EnergyPipeline(scalf, Gait(), loads="trunk")
 
 
 def by_name(bounds):
@@ -41,12 +41,14 @@ def test_scalf_bounds_come_from_the_urdf_and_the_actuator_file(model):
 
 
 def test_ideal_drives_bound_only_the_urdf_limits(hyq):
-    pipeline = EnergyPipeline(hyq, Gait(stance_height_m=0.55), drives={})
+    pipeline = EnergyPipeline(hyq, Gait(stance_height_m=0.55), drives={}, loads="trunk")
     bounds = by_name(leg_bounds(pipeline.physics("RF")))
     assert set(bounds) == {"q_hip", "qd_hip", "tau_hip", "q_knee", "qd_knee", "tau_knee"}
     assert bounds["tau_hip"].upper == 150.0 and bounds["qd_knee"].upper == 12.0
     # HyQ's own valve-fed cylinders add their stroke and the force the supply can exert
-    cylinders = by_name(leg_bounds(EnergyPipeline(hyq, Gait(stance_height_m=0.55)).physics("RF")))
+    cylinders = by_name(
+        leg_bounds(EnergyPipeline(hyq, Gait(stance_height_m=0.55), loads="trunk").physics("RF"))
+    )
     assert {"cyl_len_hip", "cyl_force_hip", "cyl_len_knee", "cyl_force_knee"} <= set(cylinders)
 
 
@@ -78,10 +80,12 @@ def test_an_optimum_never_exceeds_a_limit_and_the_reference_neither(model):
 def test_a_tighter_limit_binds_and_the_optimum_respects_it(scalf):
     # the free joint-6 optimum pulls up to ~6 kN in the hip cylinders; allow 4 kN
     tight = {}
-    for joint, drive in EnergyPipeline(scalf, Gait()).drives.items():
+    for joint, drive in EnergyPipeline(scalf, Gait(), loads="trunk").drives.items():
         tight[joint] = dataclasses.replace(drive, max_force_n=4000.0)
-    pipeline = EnergyPipeline(scalf, Gait(), drives=tight)
-    free = optimize_swings(EnergyPipeline(scalf, Gait()), ("RF",), make_family("joint-6"))
+    pipeline = EnergyPipeline(scalf, Gait(), drives=tight, loads="trunk")
+    free = optimize_swings(
+        EnergyPipeline(scalf, Gait(), loads="trunk"), ("RF",), make_family("joint-6")
+    )
     bound = optimize_swings(pipeline, ("RF",), make_family("joint-6"))
     assert bound.success
     swing = bound.pipeline.swing("RF", bound.family, bound.legs["RF"].best.theta)
@@ -93,9 +97,9 @@ def test_a_tighter_limit_binds_and_the_optimum_respects_it(scalf):
 
 def test_an_exceeded_limit_is_flagged(scalf):
     weak = {}
-    for joint, drive in EnergyPipeline(scalf, Gait()).drives.items():
+    for joint, drive in EnergyPipeline(scalf, Gait(), loads="trunk").drives.items():
         weak[joint] = dataclasses.replace(drive, max_force_n=3000.0)
-    pipeline = EnergyPipeline(scalf, Gait(), drives=weak)
+    pipeline = EnergyPipeline(scalf, Gait(), drives=weak, loads="trunk")
     cycle = pipeline.robot_cycle(make_family("reference"))
     physics = {leg: pipeline.physics(leg) for leg in cycle.legs}
     found = cycle_violations(cycle, physics)
@@ -105,7 +109,9 @@ def test_an_exceeded_limit_is_flagged(scalf):
 
 
 def test_regenerative_is_refused_where_every_swing_costs_the_same(hyq):
-    pipeline = EnergyPipeline(hyq, Gait(stance_height_m=0.55), "regenerative", drives={})
+    pipeline = EnergyPipeline(
+        hyq, Gait(stance_height_m=0.55), "regenerative", drives={}, loads="trunk"
+    )
     with pytest.raises(ConfigError, match=r"regenerative.*nothing to optimize"):
         optimize_swings(pipeline, ("RF",), make_family("joint-4"))
 
@@ -120,7 +126,7 @@ def test_regenerative_is_bounded_on_scalf_by_the_work_energy_theorem(scalf):
     # the charged joint power integrates to the change of the leg's mechanical energy (the
     # same for every swing), so the optimum only lowers the friction heat: checked against
     # Pinocchio's kinetic and potential energies at lift-off and touch-down
-    pipeline = EnergyPipeline(scalf, Gait(), "regenerative")
+    pipeline = EnergyPipeline(scalf, Gait(), "regenerative", loads="trunk")
     run = optimize_swings(pipeline, ("RF",), make_family("joint-3"))
     assert run.success
     result = run.legs["RF"]
@@ -220,7 +226,7 @@ def test_a_one_sided_drive_limit_is_in_the_peaks_with_its_side(hyq):
     from scalf_opt.locomotion.scaling import default_gait_for
     from scalf_opt.viz.optimization_report import peaks_table
 
-    pipeline = EnergyPipeline(hyq, default_gait_for(hyq))
+    pipeline = EnergyPipeline(hyq, default_gait_for(hyq), loads="trunk")
     cycle = pipeline.robot_cycle(make_family("reference"))
     physics = {leg: pipeline.physics(leg) for leg in cycle.legs}
     forces = [p for p in cycle_peaks(cycle, physics) if p.quantity == "cyl_force"]

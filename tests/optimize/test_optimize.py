@@ -24,7 +24,9 @@ SMOOTHING_BOUND_J = 2 * 50.0 * HEAT_SMOOTHING_EPS_M_S / 2 * 0.25
 
 @pytest.fixture(scope="module")
 def model(scalf):
-    return EnergyPipeline(scalf, Gait())
+    # the one-leg swing NLP and its optimizers (the paper's trunk-only loads); the whole-body
+    # objective is test_whole_body_objective.py's
+    return EnergyPipeline(scalf, Gait(), loads="trunk")
 
 
 @pytest.fixture(scope="module")
@@ -208,7 +210,7 @@ def test_feasible_points_have_zero_violation(paper_optima, model):
 
 def test_pattern_search_on_another_robot(hyq):
     gait = Gait(stance_height_m=hyq.nominal_stance_height_m)
-    hyq_model = EnergyPipeline(hyq, gait)
+    hyq_model = EnergyPipeline(hyq, gait, loads="trunk")
     reference = hyq_model.robot_cycle(make_family("reference"), legs=("RF", "LH"))
     for leg in ("RF", "LH"):
         optimum = run_pattern_search(SwingProblem(hyq_model, leg, make_family("paper")))
