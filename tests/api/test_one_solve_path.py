@@ -28,8 +28,8 @@ def legend(text: str) -> dict[str, str]:
     return {m["label"]: m["energy"] for m in ENERGY_LINE.finditer(text)}
 
 
-def optimize_numbers(family, capsys):
-    assert main(["optimize", "--family", family, "--json"]) == 0
+def optimize_numbers(family, capsys, *options):
+    assert main(["optimize", "--family", family, "--json", *options]) == 0
     summary = json.loads(capsys.readouterr().out)
     return (
         printed(summary["total_energy_per_cycle_j"]),
@@ -69,16 +69,21 @@ def test_view_figures_and_paper_print_the_optimize_numbers(tmp_path, capsys):
     figures = tmp_path / "figures"
     assert main(["figures", "--format", "png", "--grid", "3", "--out", str(figures)]) == 0
     assert legend(capsys.readouterr().out) == shown
+    # paper's tables use the trunk-only loads: optimize's numbers under them; its one line
+    # under whole-body loads: optimize's default numbers
+    trunk_optimized, trunk_reference = optimize_numbers("joint-6", capsys, "--loads", "trunk")
     assert main(["paper", "--quick", "--out", str(tmp_path / "paper")]) == 0
     capsys.readouterr()
     table6 = json.loads((tmp_path / "paper" / "paper.json").read_text())["table6"]
     (row,) = [r for r in table6 if r["trajectory"] == "Ipopt, joint-6 family"]
     assert (printed(row["total_energy_j"]), printed(row["reference_total_energy_j"])) == (
-        optimized,
-        reference,
+        trunk_optimized,
+        trunk_reference,
     )
     report = (tmp_path / "paper" / "report.md").read_text()
-    assert f"| {optimized} | {reference} |" in report
+    assert f"| {trunk_optimized} | {trunk_reference} |" in report
+    assert f"the reference takes {reference} J per cycle" in report
+    assert f"takes {optimized} J" in report
 
 
 def test_view_of_a_saved_joint_12_optimum_prints_its_numbers(tmp_path, capsys):
