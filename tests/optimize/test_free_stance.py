@@ -60,7 +60,7 @@ def test_offset_stance_forces_still_balance_the_trunk(scalf):
         hip = scalf.leg(leg).hip_origin_m - com
         feet[leg] = pipeline.stance_paths[leg][0] + np.array([[hip[0]], [hip[2]]])
     weight = scalf.trunk_mass_kg * 9.81
-    forces = pipeline.stance_forces
+    forces = pipeline.trunk_stance_forces
     for j in range(forces["RF"].shape[1]):
         a = balance_matrix(np.column_stack([feet["RF"][:, j], feet["LH"][:, j]]))
         f = np.concatenate([forces["RF"][:, j], forces["LH"][:, j]])
