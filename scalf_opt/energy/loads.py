@@ -22,7 +22,7 @@ scalf-opt asks which one it has:
     and ``W_leg`` the force the trunk supplies to the leg's moving links
     (:meth:`~scalf_opt.energy.physics.LegPhysics.wrench_function`, one CasADi function per leg
     for the numeric evaluator and the NLP alike). The wrench is shared by the stance feet with
-    the 3-D minimum-norm distribution (:func:`~scalf_opt.locomotion.forces.contact_distribution`:
+    the 3-D minimum-norm distribution (:func:`~scalf_opt.locomotion.forces.contact_maps`:
     no internal force between the feet); what two diagonal feet cannot supply (the moment about
     the line joining them) is reported per sample, not hidden. Each leg's joints then see the
     sagittal part ``(F_x, F_z)`` of its foot force; the lateral part loads only the locked roll
@@ -44,7 +44,7 @@ from typing import TYPE_CHECKING, ClassVar
 import numpy as np
 
 from scalf_opt.errors import ConfigError
-from scalf_opt.locomotion.forces import contact_distribution, shift_wrench
+from scalf_opt.locomotion.forces import contact_maps
 from scalf_opt.locomotion.stance import stance_path
 from scalf_opt.locomotion.trot import (
     DIAGONAL_PARTNER,
@@ -143,7 +143,7 @@ class StanceDistribution:
     The wrench ``W`` (6: force, then moment about the trunk origin, trunk axes) at stance
     sample ``j`` gives foot force ``force[leg][j] @ W`` (3) on each leg of the diagonal pair
     and the moment the feet cannot supply ``unbalanced[j] @ W`` (3)
-    (:func:`~scalf_opt.locomotion.forces.contact_distribution`). The maps depend only on where
+    (:func:`~scalf_opt.locomotion.forces.contact_maps`). The maps depend only on where
     the feet stand: computed once per gait and pair.
 
     Attributes:
@@ -166,23 +166,11 @@ def stance_distribution(pipeline: EnergyPipeline, leg: str) -> StanceDistributio
     for j, time_s in enumerate(cycle_times):
         feet_legs = support_legs(gait, float(time_s), leg)
         feet = np.column_stack([foot_position_m(pipeline, o, float(time_s)) for o in feet_legs])
-        p, centroid = contact_distribution(feet)
-        shift = shift_wrench(np.eye(6), centroid)  # W -> W about the centroid
-        stacked = p @ shift
+        forces, unbalanced[j] = contact_maps(feet)
         for s in pair:
             k = feet_legs.index(s)
-            force[s][j] = stacked[3 * k : 3 * k + 3]
-        r = feet - centroid[:, None]
-        supplied = sum(
-            _cross_matrix(r[:, k]) @ stacked[3 * k : 3 * k + 3] for k in range(len(feet_legs))
-        )
-        unbalanced[j] = shift[3:6] - supplied
+            force[s][j] = forces[3 * k : 3 * k + 3]
     return StanceDistribution(force, unbalanced)
-
-
-def _cross_matrix(r: np.ndarray) -> np.ndarray:
-    """``[r]_x``: ``r x f = [r]_x f``."""
-    return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
 
 
 LOAD_MODELS: dict[str, StanceLoads] = {m.name: m for m in (WholeBodyLoads(), TrunkLoads())}

@@ -56,8 +56,13 @@ def min_norm_foot_forces(
     return forces.reshape(-1, 2).T
 
 
-def contact_distribution(feet_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """The minimum-norm map from a required wrench to point-foot forces, in 3-D.
+def cross_matrix(r: np.ndarray) -> np.ndarray:
+    """``[r]_x`` (3 x 3): ``r x f = [r]_x f``."""
+    return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+
+
+def contact_maps(feet_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The minimum-norm maps from a required wrench to point-foot forces, in 3-D.
 
     With ``p_k`` the stance feet's positions in the trunk frame and ``c`` their centroid, the
     feet supply the wrench ``W_c = (sum F_k, sum (p_k - c) x F_k)`` about ``c``: ``W_c = A F``.
@@ -69,31 +74,26 @@ def contact_distribution(feet_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     centroid lies on that line, so the least-squares residual ``W_c - A F`` is exactly that
     moment (a pure moment, the same about any point): what this stance cannot balance.
 
+    Both maps are linear in the wrench ``W`` (force, then moment about the trunk origin):
+
     Args:
         feet_m: Stance-foot positions in the trunk frame, shape (3, k) [m], k >= 2.
 
     Returns:
-        ``(P, c)``: ``P`` of shape (3k, 6) maps ``W_c`` to the stacked forces
-        ``(F_1, ..., F_k)``; ``c`` the centroid (3,) [m].
+        ``(forces, unbalanced)``: ``forces`` (3k, 6) maps ``W`` to the stacked foot forces
+        ``(F_1, ..., F_k)``; ``unbalanced`` (3, 6) maps it to the moment the feet cannot supply.
     """
     feet = np.asarray(feet_m, dtype=float)
     centroid = feet.mean(axis=1)
     k = feet.shape[1]
     a = np.zeros((6, 3 * k))
     for j in range(k):
-        r = feet[:, j] - centroid
         a[0:3, 3 * j : 3 * j + 3] = np.eye(3)
-        a[3:6, 3 * j : 3 * j + 3] = np.array(
-            [[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]]
-        )
-    return np.linalg.pinv(a, rcond=1e-10), centroid
-
-
-def shift_wrench(wrench: np.ndarray, point_m: np.ndarray) -> np.ndarray:
-    """A wrench (6, ...) about the trunk origin, taken about ``point_m`` (3,): ``M - p x F``."""
-    w = np.array(wrench, dtype=float)
-    w[3:6] = w[3:6] - np.cross(point_m, w[0:3], axis=0)
-    return w
+        a[3:6, 3 * j : 3 * j + 3] = cross_matrix(feet[:, j] - centroid)
+    shift = np.eye(6)  # W about the trunk origin -> about the centroid: M - c x F
+    shift[3:6, 0:3] = -cross_matrix(centroid)
+    forces = np.linalg.pinv(a, rcond=1e-10) @ shift
+    return forces, shift[3:6] - a[3:6] @ forces
 
 
 def min_norm_contact_forces(
@@ -108,12 +108,8 @@ def min_norm_contact_forces(
 
     Returns:
         ``(forces, unbalanced)``: forces on the feet (3, k) [N]; the unbalanced moment (3,)
-        [N m] (zero with three or more feet not in a line). See :func:`contact_distribution`.
+        [N m] (zero with three or more feet not in a line). See :func:`contact_maps`.
     """
-    p, centroid = contact_distribution(feet_m)
-    w_c = shift_wrench(np.asarray(wrench, dtype=float).reshape(6, 1), centroid)[:, 0]
-    stacked = p @ w_c
-    forces = stacked.reshape(-1, 3).T
-    r = np.asarray(feet_m, dtype=float) - centroid[:, None]
-    supplied = np.sum(np.cross(r, forces, axis=0), axis=1)
-    return forces, w_c[3:6] - supplied
+    forces, unbalanced = contact_maps(feet_m)
+    w = np.asarray(wrench, dtype=float)
+    return (forces @ w).reshape(-1, 3).T, unbalanced @ w
