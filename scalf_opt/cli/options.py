@@ -117,13 +117,12 @@ def add_loads(parser: argparse.ArgumentParser, saved: bool = False) -> None:
 
     With ``saved`` the default is ``None``: a saved result's own model, else the default.
     """
-    default = "the saved result's, else whole-body" if saved else "whole-body"
     parser.add_argument(
         "--loads",
         choices=tuple(LOAD_MODELS),
         default=None if saved else DEFAULT_LOADS,
         help="stance loads: the whole robot's dynamics (trunk and all four legs) or the trunk's "
-        f"weight only (the paper's model); default: {default}",
+        f"weight only (the paper's model); default: a saved result's own, else {DEFAULT_LOADS}",
     )
 
 

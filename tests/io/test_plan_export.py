@@ -110,11 +110,11 @@ def test_the_csv_at_1000_hz_gives_back_the_plans_energy(optimum, tmp_path, capsy
     result = analyze_log(path, plan=optimum)
     comparison = result.to_dict()["plan_comparison"]
     assert result.measured.velocity_source == "measured"
-    # measured 1e-6 for the robot; per leg the one sample at touch-down (the force's jump)
-    # moves 0.2 % between stance and the leg's neighbour windows
-    assert abs(comparison["change_percent"]) < 0.5
+    # measured 3e-5 for the robot; per leg the one sample at touch-down (the force's jump,
+    # larger under the whole-body loads) moves 0.6 % between stance and the leg's neighbours
+    assert abs(comparison["change_percent"]) < 0.01
     for leg in LEG_NAMES:
-        assert abs(comparison["legs"][leg]["change_percent"]) < 0.5
+        assert abs(comparison["legs"][leg]["change_percent"]) < 1.0
     # docs/plan-to-robot.md quotes it
     page = (Path(__file__).parents[2] / "docs" / "plan-to-robot.md").read_text()
     watts = (comparison["measured_average_power_w"], comparison["planned_average_power_w"])
