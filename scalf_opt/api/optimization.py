@@ -207,13 +207,6 @@ def optimize_swing(
         raise ConfigError(f"the precision must be > 0, got {precision}", field="precision")
     pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting, loads=loads)
     cmd = command_tuple(command)
-    if (family == FREE_FAMILY or bound) and pipeline.load_model.couples_legs:
-        raise ConfigError(
-            "the free-trajectory bound (--bound, --family free) bounds the swing energy alone; "
-            f"under --loads {loads} a swing's cost includes the stance it loads: give --loads "
-            "trunk",
-            field="loads",
-        )
     if family == FREE_FAMILY:
         if bound or free_stance or starts != 1 or method != DEFAULT_SOLVER:
             raise ConfigError(

@@ -44,6 +44,7 @@ from typing import Any
 
 import numpy as np
 
+from scalf_opt.energy.loads import PAPER_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.interrupts import raise_if_stopped
 from scalf_opt.locomotion.gait import Gait
@@ -211,6 +212,9 @@ def bound_for(
         spans: The refinement levels.
         progress: Called with a label as each level starts.
     """
+    # the bound is on the swing energy alone, which the stance loads do not change (no foot
+    # force in swing): the swing problem without a stance term is exactly that
+    pipeline = pipeline.with_loads(PAPER_LOADS)
     levels: list[BoundLevel] = []
     previous: tuple[SwingFamily, np.ndarray] | None = None
     result: tuple[SwingFamily, LegResult] | None = None
