@@ -120,8 +120,37 @@ class BuiltNlp:
 
 
 def _basis_matrix(problem: SwingProblem) -> np.ndarray:
-    """``B``, shape (6n, n_theta): row ``6 k + i`` is kernel input ``i`` of sample ``k``."""
-    return problem.samples_basis.transpose(1, 0, 2).reshape(6 * problem.n_samples, -1)
+    """``B``, dense, shape (6n, n_theta): row ``6 k + i`` is kernel input ``i`` of sample ``k``."""
+    basis = problem.path.dense_basis().reshape(6, problem.n_samples, problem.n_params)
+    return basis.transpose(1, 0, 2).reshape(6 * problem.n_samples, -1)
+
+
+def _sparse_basis(problem: SwingProblem) -> ca.DM | None:
+    """``B`` as a sparse constant when the family's basis is sparse (else ``None``).
+
+    A dense basis with fewer nonzeros than :data:`SPARSE_BASIS_DENSITY` counts as sparse.
+    """
+    from scipy.sparse import csc_array
+
+    path = problem.path
+    n = problem.n_samples
+    if path.sparse:
+        rows = path.basis_rows()
+    else:
+        if not path.basis.size or np.count_nonzero(path.basis) >= (
+            SPARSE_BASIS_DENSITY * path.basis.size
+        ):
+            return None
+        rows = path.basis.reshape(-1, problem.n_params)
+    # the path's rows are (input i, sample k) in C order: sample-major is row 6 k + i
+    order = np.arange(6 * n).reshape(6, n).T.ravel()
+    matrix = csc_array(csc_array(rows)[order])
+    matrix.eliminate_zeros()  # the pattern is the true one: each sample's four control points
+    matrix.sort_indices()
+    sparsity = ca.Sparsity(
+        matrix.shape[0], matrix.shape[1], matrix.indptr.tolist(), matrix.indices.tolist()
+    )
+    return ca.DM(sparsity, matrix.data)
 
 
 def constraint_index(problem: SwingProblem, lifted: bool) -> np.ndarray:
@@ -146,10 +175,7 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
     )
     accounting = problem.pipeline.accounting
     index = constraint_index(problem, lifted)
-    basis = _basis_matrix(problem)
-    constant = bool(basis.size) and bool(
-        np.count_nonzero(basis) < SPARSE_BASIS_DENSITY * basis.size
-    )
+    constant = _sparse_basis(problem)
     key = (
         lifted,
         problem.n_samples,
@@ -157,14 +183,12 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
         charged,
         accounting,
         hashlib.sha256(index.tobytes()).hexdigest(),
-        hashlib.sha256(basis.tobytes()).hexdigest() if constant else None,
+        None if constant is None else _digest(constant),
         tuple(sorted(options.items())),
     )
     if key not in kernel.nlps:
         start = time.perf_counter()
-        solver = _build(
-            problem, lifted, index, charged, accounting, basis if constant else None, options
-        )
+        solver = _build(problem, lifted, index, charged, accounting, constant, options)
         kernel.nlps[key] = BuiltNlp(
             solver,
             lifted,
@@ -172,12 +196,24 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
             problem.n_samples,
             charged,
             accounting,
-            constant,
+            constant is not None,
             time.perf_counter() - start,
         )
     built = kernel.nlps[key]
     assert isinstance(built, BuiltNlp)
     return built
+
+
+def _digest(matrix: ca.DM) -> str:
+    """A hash of a sparse constant's pattern and values."""
+    sparsity = matrix.sparsity()
+    parts = (
+        np.array(sparsity.shape, dtype=np.int64),
+        np.array(sparsity.colind(), dtype=np.int64),
+        np.array(sparsity.row(), dtype=np.int64),
+        np.array(matrix.nonzeros(), dtype=float),
+    )
+    return hashlib.sha256(b"".join(p.tobytes() for p in parts)).hexdigest()
 
 
 def _build(
@@ -186,7 +222,7 @@ def _build(
     index: np.ndarray,
     charged: tuple[int, ...],
     accounting: Accounting,
-    constant_basis: np.ndarray | None,
+    constant_basis: ca.DM | None,
     options: dict[str, Any],
 ) -> ca.Function:
     kernel = problem.kernel
@@ -196,7 +232,7 @@ def _build(
     weights = ca.MX.sym("weights", n)
     parameters = [base]
     if constant_basis is not None:
-        affine = base + ca.mtimes(ca.DM(ca.sparsify(ca.DM(constant_basis))), theta)
+        affine = base + ca.mtimes(constant_basis, theta)
     else:
         basis = ca.MX.sym("basis", 6 * n * n_theta)
         parameters.append(basis)

@@ -45,8 +45,18 @@ def closest_member(problem: SwingProblem, path: np.ndarray) -> np.ndarray:
     duration = problem.pipeline.gait.swing_duration_s
     scale = np.array([1.0, duration, duration**2])[:, None, None]
     target = ((path - problem.path.base) * scale).reshape(-1)
-    design = (problem.path.basis * scale[..., None]).reshape(-1, problem.n_params)
-    theta, *_ = np.linalg.lstsq(design, target, rcond=FIT_RCOND)
+    if not problem.path.sparse:
+        design = (problem.path.basis * scale[..., None]).reshape(-1, problem.n_params)
+        theta, *_ = np.linalg.lstsq(design, target, rcond=FIT_RCOND)
+        return theta
+    # a sparse basis (B-splines): the normal equations, a small banded system; their singular
+    # values are the squares of the design's, so the same directions are cut off
+    from scipy.sparse import diags_array
+
+    rows = np.broadcast_to(scale, problem.path.base.shape).reshape(-1)
+    design = diags_array(rows) @ problem.path.basis_rows()
+    normal = (design.T @ design).toarray()
+    theta, *_ = np.linalg.lstsq(normal, design.T @ target, rcond=FIT_RCOND**2)
     return theta
 
 
