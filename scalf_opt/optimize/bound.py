@@ -37,15 +37,16 @@ their optimization rates (the converged energies), so that neither grid's error 
 from __future__ import annotations
 
 import math
+import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
 from scalf_opt.energy.pipeline import EnergyPipeline
-from scalf_opt.interrupts import raise_if_stopped
+from scalf_opt.interrupts import map_in_threads, raise_if_stopped
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.bspline import BSplineFamily
 from scalf_opt.locomotion.swing.family import SwingFamily
@@ -261,6 +262,40 @@ def bound_for(
         assert best is not None
         return FreeBound(leg, BSplineFamily(spans[0]), best, levels, False)
     return FreeBound(leg, result[0], result[1], levels, converged, remaining_estimate(solved))
+
+
+def bounds_for(
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    seeds: Mapping[str, list[tuple[SwingFamily, np.ndarray]]] | None = None,
+    progress: Callable[[str], None] | None = None,
+    threads: int | None = None,
+    spans: tuple[int, ...] = SPANS,
+) -> dict[str, FreeBound]:
+    """The bound of each leg (:func:`bound_for`), the legs on parallel threads.
+
+    The legs' solves are independent (each leg has its own kernel and NLPs) and CasADi releases
+    the GIL while Ipopt runs, so two legs take about the time of one on two cores; the answers
+    are the same as one after the other. Ctrl-C or SIGTERM stops every leg's solve at its next
+    iteration (:func:`~scalf_opt.interrupts.map_in_threads`).
+
+    Args:
+        pipeline: Robot, gait, accounting.
+        legs: The legs.
+        seeds: Per leg, the swings to start the first level from besides the reference.
+        progress: Called with a label as each level of each leg starts.
+        threads: Threads to use; default one per core, at most one per leg.
+        spans: The refinement levels.
+    """
+    workers = (os.cpu_count() or 1) if threads is None else threads
+    found = map_in_threads(
+        lambda leg: bound_for(
+            pipeline, leg, (seeds or {}).get(leg), spans=spans, progress=progress
+        ),
+        legs,
+        workers,
+    )
+    return dict(zip(legs, found, strict=True))
 
 
 def level_rate_hz(gait: Gait, spans: int) -> float:
