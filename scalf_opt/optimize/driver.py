@@ -5,15 +5,18 @@ start and options whoever calls it, refines the sampling until the optimum's ene
 converged (:mod:`scalf_opt.optimize.sampling`), runs the extra starts asked for
 (:mod:`scalf_opt.optimize.starts`), and sets every optimum beside the reference swing at the same
 rate. A failed start is reported, not fatal; a leg is solved when its best start converged to
-a feasible point whose energy has converged in the sampling.
+a feasible point whose energy has converged in the sampling. With Ipopt the legs are solved on
+parallel threads (:data:`LEG_THREADS`); their answers do not depend on it.
 """
 
 from __future__ import annotations
 
 import math
+import os
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import casadi as ca
@@ -23,7 +26,7 @@ from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError, GaitError, InfeasibleError
-from scalf_opt.interrupts import raise_if_stopped
+from scalf_opt.interrupts import map_in_threads, raise_if_stopped
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
@@ -42,6 +45,10 @@ from scalf_opt.optimize.solve import SwingOptimum
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SolverOptions, solver
 from scalf_opt.optimize.starts import starts
 from scalf_opt.types import Method
+
+LEG_THREADS = os.cpu_count() or 1
+"""Legs solved at once on parallel threads (a solver that releases the GIL: Ipopt). The legs'
+problems are independent, so the answers are those of one leg after the other."""
 
 
 @dataclass(frozen=True)
@@ -293,6 +300,16 @@ def _solve_leg(
     return optimum, check
 
 
+def _solve_one(
+    pipeline: EnergyPipeline,
+    family: SwingFamily,
+    settings: Settings,
+    theta0: Mapping[str, np.ndarray | None],
+    leg: str,
+) -> tuple[SwingOptimum, float]:
+    return _solve_leg(pipeline, leg, family, settings, theta0[leg])
+
+
 def optimize_swings(
     pipeline: EnergyPipeline,
     legs: tuple[str, ...],
@@ -337,12 +354,16 @@ def optimize_swings(
         current[leg] = theta
     answers: dict[str, tuple[SwingOptimum, float]] = {}
     converged = False
+    workers = LEG_THREADS if solver(settings.method).releases_gil else 1
     while True:
         rates.append(rate)
         if progress is not None:
             progress(f"{family.name} at {rate:g} Hz")
         at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
-        answers = {leg: _solve_leg(at_rate, leg, family, settings, current[leg]) for leg in legs}
+        solved_legs = map_in_threads(
+            partial(_solve_one, at_rate, family, settings, current), legs, workers
+        )
+        answers = dict(zip(legs, solved_legs, strict=True))
         solved = all(o.success for o, _ in answers.values())
         errors = [relative_difference(o.swing_energy_j, c) for o, c in answers.values()]
         if not solved:
