@@ -22,8 +22,12 @@ and level) and stated as a multiple of the last family's Ipopt solve in the same
 
 * ``bound RF``: the free-trajectory bound of the RF leg (``--family free``), its levels, and the
   energy still to gain;
+* ``bounds RF + LH``: the bounds of both legs as ``scalf-opt paper`` computes them, on parallel
+  threads (one per core), against the RF bound alone (on a machine whose cores are free, about
+  1x: the two legs' solves run at once);
 * ``free stance``: the stance height and x-offsets optimized with the ``joint-6`` swings of RF
-  and LH (``--free-stance``), and how many stances it tried.
+  and LH (``--free-stance``; the two legs' swings on parallel threads), and how many stances it
+  tried.
 
     python benchmarks/bench_optimize.py [FAMILY ...]
 """
@@ -42,13 +46,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
-from scalf_opt.optimize.bound import bound_for
-from scalf_opt.optimize.driver import optimize_swings
+from scalf_opt.optimize.bound import bound_for, bounds_for
+from scalf_opt.optimize.driver import LEG_THREADS, optimize_swings
 from scalf_opt.optimize.free_stance import optimize_stance
 from scalf_opt.optimize.nlp import build_nlp
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import run_ipopt
 from scalf_opt.robots.loading import load_robot
+from scalf_opt.types import FIRST_PAIR
 
 LEG = "RF"
 EQUAL = 1e-6  # J: optima closer than this count as equal
@@ -127,6 +132,12 @@ def main() -> None:
     lines.append(
         f"bound {LEG}: {t_bound:.1f} s ({t_bound / t_ipopt:.0f}x the {families[-1]} Ipopt solve; "
         f"levels {levels}), {bound.status_text()}"
+    )
+    pair, t_pair = timed(lambda: bounds_for(pipeline, FIRST_PAIR))
+    lines.append(
+        f"bounds {' + '.join(FIRST_PAIR)} on {min(LEG_THREADS, len(FIRST_PAIR))} threads "
+        f"(paper): {t_pair:.1f} s ({t_pair / t_bound:.2f}x the {LEG} bound alone), "
+        + "; ".join(f"{leg} {b.status_text()}" for leg, b in pair.items())
     )
     stance, t_stance = timed(lambda: optimize_stance(pipeline, make_family("joint-6")))
     lines.append(

@@ -317,6 +317,7 @@ def optimize_swings(
     settings: Settings | None = None,
     theta0: Mapping[str, np.ndarray] | None = None,
     progress: Callable[[str], None] | None = None,
+    stance_checked: bool = False,
 ) -> SwingOptimization:
     """Optimize ``family``'s parameters for each leg (see the module docstring).
 
@@ -327,6 +328,8 @@ def optimize_swings(
         settings: Method, starts, options (default: ``scalf-opt optimize``'s).
         theta0: A first start per leg instead of the default start (label ``given``).
         progress: Called with a label as each rate and each extra start begins.
+        stance_checked: The caller has already checked this gait's stance (at another rate:
+            the free-trajectory bound's levels), so it is not evaluated again here.
 
     Raises:
         ConfigError: The family has no free parameter, or the accounting cannot be optimized.
@@ -336,7 +339,7 @@ def optimize_swings(
     if family.n_params == 0:
         raise ConfigError(f"--family {family.name}: has no free parameter to optimize")
     check_bounded(pipeline, legs)
-    for leg in legs:  # a stance the gait makes impossible is the gait's error: name its fields
+    for leg in () if stance_checked else legs:  # an impossible stance is the gait's error
         pipeline.stance(leg)
     start = time.perf_counter()
     rate = initial_rate_hz(pipeline.gait, family)
