@@ -109,7 +109,10 @@ class SwingProblem:
         """Kernel inputs (6, n) of a family member."""
         if self.n_params == 0:
             return self.samples_base
-        return self.path.values(theta).reshape(6, -1)
+        if self.path.sparse:
+            return self.path.values(theta).reshape(6, -1)
+        basis = self.path.basis.reshape(6, self.n_samples, self.n_params)
+        return self.samples_base + basis @ np.asarray(theta, dtype=float)
 
     @cached_property
     def mid_index(self) -> int:
