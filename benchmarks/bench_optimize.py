@@ -17,13 +17,19 @@ ratio is SLSQP's time over Ipopt's, measured in the same run (wall-clock times v
 machine's load; ratios are what to compare). The last lines, one per family, are
 ``FAMILY: Ipopt T s, SLSQP-FD T s, ratio Rx``.
 
-Then the two drivers on top of the families, each timed whole (its every solve, sampling check
-and level) and stated as a multiple of the last family's Ipopt solve in the same run:
+Then the drivers on top of the families, each timed whole (its every solve, sampling check
+and level) and stated as a multiple of the last family's Ipopt solve in the same run, with the
+CPU time it took (every thread's; on a loaded machine the wall-clock time grows with the load,
+the CPU time much less):
 
 * ``bound RF``: the free-trajectory bound of the RF leg (``--family free``), its levels, and the
   energy still to gain;
+* ``bounds RF + LH``: the bounds of both legs as ``scalf-opt paper`` computes them, on parallel
+  threads (one per core), against the RF bound alone (with two free cores it should take about
+  the slower leg's time: the two legs' solves run at once);
 * ``free stance``: the stance height and x-offsets optimized with the ``joint-6`` swings of RF
-  and LH (``--free-stance``), and how many stances it tried.
+  and LH (``--free-stance``; the two legs' swings on parallel threads), and how many stances it
+  tried.
 
     python benchmarks/bench_optimize.py [FAMILY ...]
 """
@@ -42,13 +48,14 @@ sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
-from scalf_opt.optimize.bound import bound_for
-from scalf_opt.optimize.driver import optimize_swings
+from scalf_opt.optimize.bound import bound_for, bounds_for
+from scalf_opt.optimize.driver import LEG_THREADS, optimize_swings
 from scalf_opt.optimize.free_stance import optimize_stance
 from scalf_opt.optimize.nlp import build_nlp
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import run_ipopt
 from scalf_opt.robots.loading import load_robot
+from scalf_opt.types import FIRST_PAIR
 
 LEG = "RF"
 EQUAL = 1e-6  # J: optima closer than this count as equal
@@ -66,6 +73,13 @@ def timed(fn):
     start = time.perf_counter()
     out = fn()
     return out, time.perf_counter() - start
+
+
+def timed_cpu(fn):
+    """``fn()``, its wall-clock time and the process's CPU time over it (every thread's) [s]."""
+    cpu = time.process_time()
+    out, wall = timed(fn)
+    return out, wall, time.process_time() - cpu
 
 
 def compare(pipeline: EnergyPipeline, name: str) -> tuple[float, float, bool]:
@@ -122,15 +136,24 @@ def main() -> None:
             f"{name}: Ipopt {t_ipopt:.3f} s, SLSQP-FD {t_slsqp:.3f} s, "
             f"ratio {t_slsqp / t_ipopt:.1f}x{note}"
         )
-    bound, t_bound = timed(lambda: bound_for(pipeline, LEG))
+    bound, t_bound, cpu_bound = timed_cpu(lambda: bound_for(pipeline, LEG))
     levels = ", ".join(f"{lv.spans}: {lv.wall_time_s:.1f} s" for lv in bound.levels)
     lines.append(
-        f"bound {LEG}: {t_bound:.1f} s ({t_bound / t_ipopt:.0f}x the {families[-1]} Ipopt solve; "
-        f"levels {levels}), {bound.status_text()}"
+        f"bound {LEG}: {t_bound:.1f} s, CPU {cpu_bound:.1f} s ({t_bound / t_ipopt:.0f}x the "
+        f"{families[-1]} Ipopt solve; levels {levels}), {bound.status_text()}"
     )
-    stance, t_stance = timed(lambda: optimize_stance(pipeline, make_family("joint-6")))
+    pair, t_pair, cpu_pair = timed_cpu(lambda: bounds_for(pipeline, FIRST_PAIR))
     lines.append(
-        f"free stance: {t_stance:.1f} s ({t_stance / t_ipopt:.0f}x the {families[-1]} Ipopt "
+        f"bounds {' + '.join(FIRST_PAIR)} on {min(LEG_THREADS, len(FIRST_PAIR))} threads "
+        f"(paper): {t_pair:.1f} s, CPU {cpu_pair:.1f} s ({t_pair / t_bound:.2f}x the {LEG} "
+        "bound alone), " + "; ".join(f"{leg} {b.status_text()}" for leg, b in pair.items())
+    )
+    stance, t_stance, cpu_stance = timed_cpu(
+        lambda: optimize_stance(pipeline, make_family("joint-6"))
+    )
+    lines.append(
+        f"free stance: {t_stance:.1f} s, CPU {cpu_stance:.1f} s ({t_stance / t_ipopt:.0f}x the "
+        f"{families[-1]} Ipopt "
         f"solve), {stance.evaluations} stances tried, "
         f"{'converged' if stance.success else 'NOT CONVERGED'}"
     )

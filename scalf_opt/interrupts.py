@@ -10,6 +10,10 @@ So the command line's handlers (:func:`stop_on_signals`) also remember the signa
 long-running loops call :func:`raise_if_stopped` between steps; :func:`interruptible` wraps a
 native solve, and raises the swallowed signal's exception once the solve has returned. From the
 Python API (no handlers installed), Ctrl-C during an Ipopt solve is raised the same way.
+
+Signals reach only the main thread. Solves running in worker threads (:func:`map_in_threads`)
+are stopped by their iteration callback, which asks :func:`stop_requested` (a signal the
+handlers received, or the main thread unwinding from an exception) and ends the solve.
 """
 
 from __future__ import annotations
@@ -18,10 +22,15 @@ import contextlib
 import signal
 import sys
 import threading
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
 from types import FrameType
+from typing import TypeVar
 
 from scalf_opt.files import captured_native_output
+
+T = TypeVar("T")
+R = TypeVar("R")
 
 _received: list[int] = []
 """Signals the command line's handlers received (cleared when the command ends)."""
@@ -40,10 +49,53 @@ def stop_code() -> int | None:
     return 128 + (signal.SIGINT if _received[0] == signal.SIGINT else _received[0])
 
 
+_cancelled = threading.Event()
+"""Set while :func:`map_in_threads` unwinds: its workers stop at their next step."""
+
+
+def stop_requested() -> bool:
+    """A signal was received or the running workers are being cancelled.
+
+    Thread-safe and cheap: what a native solver's iteration callback asks (in any thread).
+    """
+    return bool(_received) or _cancelled.is_set()
+
+
 def raise_if_stopped() -> None:
-    """Raise again a signal that a library swallowed (``KeyboardInterrupt`` or ``SystemExit``)."""
+    """Raise again a signal that a library swallowed (``KeyboardInterrupt`` or ``SystemExit``).
+
+    In a worker of :func:`map_in_threads` being cancelled, ``KeyboardInterrupt``.
+    """
     if _received:
         _raise_for(_received[0])
+    if _cancelled.is_set() and threading.current_thread() is not threading.main_thread():
+        raise KeyboardInterrupt
+
+
+def map_in_threads(fn: Callable[[T], R], items: Sequence[T], workers: int) -> list[R]:
+    """``[fn(item) for item in items]``, on up to ``workers`` threads, results in order.
+
+    For native solvers that release the GIL (CasADi's). The first exception is raised once
+    every worker has stopped; so is a signal (Ctrl-C, SIGTERM) received meanwhile by the main
+    thread: the workers' solvers then end at their next iteration (:func:`stop_requested`)
+    instead of running to the end. One worker, or one item: a plain loop in this thread.
+    """
+    if workers <= 1 or len(items) <= 1:
+        return [fn(item) for item in items]
+    pool = ThreadPoolExecutor(max_workers=min(workers, len(items)))
+    try:
+        futures = [pool.submit(fn, item) for item in items]
+        wait(futures, return_when=FIRST_EXCEPTION)
+        for future in futures:  # the first item that failed, not the first to finish
+            if future.done() and future.exception() is not None:
+                return [future.result()]  # raises it
+        return [future.result() for future in futures]
+    except BaseException:
+        _cancelled.set()
+        raise
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
+        _cancelled.clear()
 
 
 @contextlib.contextmanager
@@ -87,7 +139,8 @@ def interruptible() -> Iterator[None]:
     the command then ends with its one line.
     """
     if threading.current_thread() is not threading.main_thread():
-        yield
+        yield  # signals reach the main thread; the solver stops on stop_requested()
+        raise_if_stopped()
         return
     previous = signal.getsignal(signal.SIGINT)
     received: list[int] = []

@@ -32,7 +32,7 @@ from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY, parse_bspline_name
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.robot import Robot
-from scalf_opt.optimize.bound import FreeBound, bound_cycle_inputs, bound_for
+from scalf_opt.optimize.bound import FreeBound, bound_cycle_inputs, bounds_for
 from scalf_opt.optimize.driver import Settings, SwingOptimization, check_bounded, optimize_swings
 from scalf_opt.optimize.free_stance import FreeStance, optimize_stance
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
@@ -274,10 +274,9 @@ def optimize_swing(
     }
     bounds: dict[str, FreeBound] = {}
     if bound and run.success:
+        seeds = {leg: [(swing_family, r.best.theta)] for leg, r in run.legs.items()}
+        bounds = bounds_for(pipeline, tuple(run.legs), seeds, progress=progress)
         for leg, result in run.legs.items():
-            bounds[leg] = bound_for(
-                pipeline, leg, [(swing_family, result.best.theta)], progress=progress
-            )
             result.bound_check_energy_j = bounds[leg].check_energy_j
         records["optimization"] = {leg: r.as_dict() for leg, r in run.legs.items()}
         records["free_bound"] = {leg: b.as_dict() for leg, b in bounds.items()}
@@ -304,9 +303,7 @@ def _free_method(
 ) -> OptimizationResult:
     """The free-trajectory bound of each leg, reported as an optimum."""
     check_bounded(pipeline, legs)
-    bounds = {}
-    for leg in legs:
-        bounds[leg] = bound_for(pipeline, leg, progress=progress)
+    bounds = bounds_for(pipeline, legs, progress=progress)
     records: dict[str, Any] = {"free_bound": {leg: b.as_dict() for leg, b in bounds.items()}}
     if not all(b.result.success for b in bounds.values()):  # not even a level solved
         reference = pipeline.robot_cycle(make_family("reference"))

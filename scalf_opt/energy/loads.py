@@ -302,5 +302,5 @@ def affine_leg_motion(
         swing.space,
         times,
         np.where(mask, stance, swing.base),
-        np.where(mask[..., None], 0.0, swing.basis),
+        np.where(mask[..., None], 0.0, swing.dense_basis()),
     )

@@ -37,8 +37,9 @@ their optimization rates (the converged energies), so that neither grid's error 
 from __future__ import annotations
 
 import math
+import os
 import time
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
@@ -46,7 +47,7 @@ import numpy as np
 
 from scalf_opt.energy.loads import PAPER_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
-from scalf_opt.interrupts import raise_if_stopped
+from scalf_opt.interrupts import map_in_threads, raise_if_stopped
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.bspline import BSplineFamily
 from scalf_opt.locomotion.swing.family import SwingFamily
@@ -70,12 +71,23 @@ WARM_START_OPTIONS: dict[str, Any] = {
     "warm_start_bound_push": 1e-9,
     "warm_start_slack_bound_push": 1e-9,
     "warm_start_mult_bound_push": 1e-9,
+    "acceptable_iter": 3,
+    "acceptable_obj_change_tol": 1e-9,
 }
 """Ipopt's options on a level after the first, which starts at the previous level's optimum (an
 exact member of the finer family): a small, monotone barrier parameter and the start kept close
 to its active bounds, instead of Ipopt's default of pushing it back into the interior. Measured
 on SCalf's RF leg, 128 spans from the 64-span optimum: 92 iterations and 4.3 s of CPU instead of
-139 and 8.1 s, and a lower optimum (11.293 J instead of 11.300 J)."""
+139 and 8.1 s, and a lower optimum (11.293 J instead of 11.300 J).
+
+The finest levels end "solved to an acceptable level": the constraint violation stalls at
+round-off (1e-9 on accelerations of 1e4 rad/s^2) above the 1e-10 asked, and Ipopt waited 15
+such iterations (its default) with the energy unchanged to 1e-9 J. Three, with the energy's
+change below 1e-9 relative: 256 spans from the 128-span optimum in 72 iterations instead of 84,
+the same optimum to the printed 1e-6 J. Warm starting the multipliers too (the coarser level's,
+interpolated in time and halved with the weights) saved 7 more and was left out; so was MUMPS
+without its scaling (20 % less time per iteration, but on RF the 256-span level then took 145
+iterations instead of 73: the levels' paths depend on round-off)."""
 
 SLOWEST_RATIO = 0.5
 """The least ratio of successive savings the remainder estimate assumes (first order)."""
@@ -215,6 +227,7 @@ def bound_for(
     # the bound is on the swing energy alone, which the stance loads do not change (no foot
     # force in swing): the swing problem without a stance term is exactly that
     pipeline = pipeline.with_loads(PAPER_LOADS)
+    pipeline.stance(leg)  # an impossible stance is the gait's error: once, at the gait's rate
     levels: list[BoundLevel] = []
     previous: tuple[SwingFamily, np.ndarray] | None = None
     result: tuple[SwingFamily, LegResult] | None = None
@@ -234,7 +247,9 @@ def bound_for(
         rate = 0.0
         for theta0 in candidates:
             settings = Settings() if previous is None else Settings(ipopt=WARM_START_OPTIONS)
-            run = optimize_swings(level, (leg,), family, settings, {leg: theta0})
+            run = optimize_swings(
+                level, (leg,), family, settings, {leg: theta0}, stance_checked=True
+            )
             leg_result = run.legs[leg]
             if best is None or (
                 leg_result.success
@@ -265,6 +280,40 @@ def bound_for(
         assert best is not None
         return FreeBound(leg, BSplineFamily(spans[0]), best, levels, False)
     return FreeBound(leg, result[0], result[1], levels, converged, remaining_estimate(solved))
+
+
+def bounds_for(
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    seeds: Mapping[str, list[tuple[SwingFamily, np.ndarray]]] | None = None,
+    progress: Callable[[str], None] | None = None,
+    threads: int | None = None,
+    spans: tuple[int, ...] = SPANS,
+) -> dict[str, FreeBound]:
+    """The bound of each leg (:func:`bound_for`), the legs on parallel threads.
+
+    The legs' solves are independent (each leg has its own kernel and NLPs) and CasADi releases
+    the GIL while Ipopt runs, so two legs take about the time of one on two cores; the answers
+    are the same as one after the other. Ctrl-C or SIGTERM stops every leg's solve at its next
+    iteration (:func:`~scalf_opt.interrupts.map_in_threads`).
+
+    Args:
+        pipeline: Robot, gait, accounting.
+        legs: The legs.
+        seeds: Per leg, the swings to start the first level from besides the reference.
+        progress: Called with a label as each level of each leg starts.
+        threads: Threads to use; default one per core, at most one per leg.
+        spans: The refinement levels.
+    """
+    workers = (os.cpu_count() or 1) if threads is None else threads
+    found = map_in_threads(
+        lambda leg: bound_for(
+            pipeline, leg, (seeds or {}).get(leg), spans=spans, progress=progress
+        ),
+        legs,
+        workers,
+    )
+    return dict(zip(legs, found, strict=True))
 
 
 def level_rate_hz(gait: Gait, spans: int) -> float:

@@ -5,15 +5,18 @@ start and options whoever calls it, refines the sampling until the optimum's ene
 converged (:mod:`scalf_opt.optimize.sampling`), runs the extra starts asked for
 (:mod:`scalf_opt.optimize.starts`), and sets every optimum beside the reference swing at the same
 rate. A failed start is reported, not fatal; a leg is solved when its best start converged to
-a feasible point whose energy has converged in the sampling.
+a feasible point whose energy has converged in the sampling. With Ipopt the legs are solved on
+parallel threads (:data:`LEG_THREADS`); their answers do not depend on it.
 """
 
 from __future__ import annotations
 
 import math
+import os
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from functools import partial
 from typing import Any
 
 import casadi as ca
@@ -23,7 +26,7 @@ from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError, GaitError, InfeasibleError
-from scalf_opt.interrupts import raise_if_stopped
+from scalf_opt.interrupts import map_in_threads, raise_if_stopped
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
@@ -42,6 +45,10 @@ from scalf_opt.optimize.solve import SwingOptimum
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SolverOptions, solver
 from scalf_opt.optimize.starts import starts
 from scalf_opt.types import Method
+
+LEG_THREADS = os.cpu_count() or 1
+"""Legs solved at once on parallel threads (a solver that releases the GIL: Ipopt). The legs'
+problems are independent, so the answers are those of one leg after the other."""
 
 
 @dataclass(frozen=True)
@@ -314,12 +321,23 @@ def _solve_leg(
     return optimum, check
 
 
+def _solve_one(
+    pipeline: EnergyPipeline,
+    family: SwingFamily,
+    settings: Settings,
+    theta0: Mapping[str, np.ndarray | None],
+    leg: str,
+) -> tuple[SwingOptimum, float]:
+    return _solve_leg(pipeline, leg, family, settings, theta0[leg])
+
+
 def _solve_legs(
     pipeline: EnergyPipeline,
     legs: tuple[str, ...],
     family: SwingFamily,
     settings: Settings,
     current: Mapping[str, np.ndarray | None],
+    workers: int = 1,
 ) -> tuple[dict[str, tuple[SwingOptimum, float]], int]:
     """Optimize every leg at the pipeline's rate; also return the rounds it took.
 
@@ -332,6 +350,11 @@ def _solve_legs(
     """
     thetas = {leg: current[leg] for leg in legs}
     coupled = pipeline.load_model.couples_legs and len(legs) > 1
+    if not coupled:  # independent problems: on parallel threads when the solver allows it
+        solved = map_in_threads(
+            partial(_solve_one, pipeline, family, settings, current), legs, workers
+        )
+        return dict(zip(legs, solved, strict=True)), 1
     answers: dict[str, tuple[SwingOptimum, float]] = {}
     previous = math.inf
     for round_ in range(1, MAX_ALTERNATIONS + 1):
@@ -373,6 +396,7 @@ def optimize_swings(
     settings: Settings | None = None,
     theta0: Mapping[str, np.ndarray] | None = None,
     progress: Callable[[str], None] | None = None,
+    stance_checked: bool = False,
 ) -> SwingOptimization:
     """Optimize ``family``'s parameters for each leg (see the module docstring).
 
@@ -383,6 +407,8 @@ def optimize_swings(
         settings: Method, starts, options (default: ``scalf-opt optimize``'s).
         theta0: A first start per leg instead of the default start (label ``given``).
         progress: Called with a label as each rate and each extra start begins.
+        stance_checked: The caller has already checked this gait's stance (at another rate:
+            the free-trajectory bound's levels), so it is not evaluated again here.
 
     Raises:
         ConfigError: The family has no free parameter, or the accounting cannot be optimized.
@@ -392,7 +418,7 @@ def optimize_swings(
     if family.n_params == 0:
         raise ConfigError(f"--family {family.name}: has no free parameter to optimize")
     check_bounded(pipeline, legs)
-    for leg in legs:  # a stance the gait makes impossible is the gait's error: name its fields
+    for leg in () if stance_checked else legs:  # an impossible stance is the gait's error
         pipeline.stance(leg)
     start = time.perf_counter()
     rate = initial_rate_hz(pipeline.gait, family)
@@ -411,12 +437,13 @@ def optimize_swings(
     answers: dict[str, tuple[SwingOptimum, float]] = {}
     rounds = 1
     converged = False
+    workers = LEG_THREADS if solver(settings.method).releases_gil else 1
     while True:
         rates.append(rate)
         if progress is not None:
             progress(f"{family.name} at {rate:g} Hz")
         at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
-        answers, rounds = _solve_legs(at_rate, legs, family, settings, current)
+        answers, rounds = _solve_legs(at_rate, legs, family, settings, current, workers)
         solved = all(o.success for o, _ in answers.values())
         errors = [relative_difference(o.objective_j, c) for o, c in answers.values()]
         if not solved:

@@ -136,16 +136,14 @@ class SwingProblem:
         """The path at theta = 0 as kernel inputs, shape (6, n): y, y', y'' (two rows each)."""
         return self.path.base.reshape(6, -1)
 
-    @cached_property
-    def samples_basis(self) -> np.ndarray:
-        """Change of the kernel inputs per unit parameter, shape (6, n, n_params)."""
-        return self.path.basis.reshape(6, self.n_samples, self.n_params)
-
     def samples(self, theta: np.ndarray) -> np.ndarray:
         """Kernel inputs (6, n) of a family member."""
         if self.n_params == 0:
             return self.samples_base
-        return self.samples_base + self.samples_basis @ np.asarray(theta, dtype=float)
+        if self.path.sparse:
+            return self.path.values(theta).reshape(6, -1)
+        basis = self.path.basis.reshape(6, self.n_samples, self.n_params)
+        return self.samples_base + basis @ np.asarray(theta, dtype=float)
 
     @cached_property
     def mid_index(self) -> int:

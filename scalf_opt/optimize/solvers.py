@@ -45,6 +45,9 @@ class SwingSolver(ABC):
 
     name: ClassVar[str]
     description: ClassVar[str]
+    releases_gil: ClassVar[bool] = False
+    """It spends its time in native code that releases Python's GIL: legs solved on parallel
+    threads then take about the time of one each."""
 
     @abstractmethod
     def solve(
@@ -97,6 +100,7 @@ class IpoptSolver(SwingSolver):
 
     name = "ipopt"
     description = "the smooth NLP solved by Ipopt (exact derivatives)"
+    releases_gil = True  # CasADi releases it while Ipopt runs
 
     def solve(  # noqa: D102
         self, problem: SwingProblem, theta0: np.ndarray, options: SolverOptions

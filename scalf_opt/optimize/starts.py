@@ -45,9 +45,18 @@ def closest_member(problem: SwingProblem, path: np.ndarray) -> np.ndarray:
     duration = problem.pipeline.gait.swing_duration_s
     scale = np.array([1.0, duration, duration**2])[:, None, None]
     target = ((path - problem.path.base) * scale).reshape(-1)
-    design = (problem.path.basis * scale[..., None]).reshape(-1, problem.n_params)
-    theta, *_ = np.linalg.lstsq(design, target, rcond=FIT_RCOND)
-    return theta
+    if not problem.path.sparse:
+        design = (problem.path.basis * scale[..., None]).reshape(-1, problem.n_params)
+        theta, *_ = np.linalg.lstsq(design, target, rcond=FIT_RCOND)
+        return theta
+    # a sparse basis (B-splines, each parameter with its own short support: well conditioned):
+    # the normal equations, a banded system solved sparse
+    from scipy.sparse import csc_array, diags_array
+    from scipy.sparse.linalg import spsolve
+
+    rows = np.broadcast_to(scale, problem.path.base.shape).reshape(-1)
+    design = diags_array(rows) @ problem.path.basis_rows()
+    return np.asarray(spsolve(csc_array(design.T @ design), design.T @ target), dtype=float)
 
 
 def reference_path(problem: SwingProblem) -> np.ndarray:

@@ -31,7 +31,7 @@ from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.robot import Robot
-from scalf_opt.optimize.bound import FreeBound, bound_for
+from scalf_opt.optimize.bound import FreeBound, bounds_for
 from scalf_opt.optimize.driver import Settings, SwingOptimization, optimize_swings
 from scalf_opt.optimize.free_stance import FreeStance, optimize_stance
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
@@ -212,12 +212,15 @@ def reproduce(
         )
         out.whole_body = WholeBody(trunk_reference, whole)
     if beyond and all(out.runs[k].success for k in ("ipopt", "ipopt_rich")):
-        for leg in PAIR:
-            seeds = [
+        seeds = {
+            leg: [
                 (out.runs[k].family, out.runs[k].legs[leg].best.theta)
                 for k in ("ipopt", "ipopt_rich")
             ]
-            out.bounds[leg] = bound_for(pipeline, leg, seeds, progress=progress)
+            for leg in PAIR
+        }
+        out.bounds.update(bounds_for(pipeline, PAIR, seeds, progress=progress))
+        for leg in PAIR:
             for run in out.runs.values():
                 run.legs[leg].bound_check_energy_j = out.bounds[leg].check_energy_j
         step("the free stance")

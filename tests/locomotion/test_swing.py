@@ -177,6 +177,32 @@ def test_bspline_design_matrix_derivatives_against_finite_differences():
     np.testing.assert_allclose(ends[1], np.eye(11)[-1], atol=1e-14)
 
 
+def test_sparse_bspline_design_matrices_match_scipys_splines():
+    # the sparse derivative chain against SciPy's BSpline with identity coefficients, on and
+    # between knots, at both ends
+    from scipy.interpolate import BSpline
+
+    from scalf_opt.locomotion.swing.bspline import knots, sparse_design_matrices
+
+    for spans in (2, 3, 16):
+        s = np.concatenate([np.linspace(0.0, 1.0, 8 * spans + 1), [0.123, 0.871]])
+        spline = BSpline(knots(spans), np.eye(spans + 3), 3, extrapolate=True)
+        for d, matrix in enumerate(sparse_design_matrices(spans, s)):
+            expected = spline.derivative(d)(s) if d else spline(s)
+            np.testing.assert_allclose(matrix.toarray(), expected, rtol=0, atol=1e-9 * spans**d)
+
+
+def test_a_sparse_path_gives_the_dense_paths_samples(kinematics):
+    from scalf_opt.locomotion.swing.family import AffinePath
+
+    path = make_family("bspline-8").path(GAIT, kinematics["RF"])
+    assert path.sparse
+    dense = AffinePath(path.space, path.t_s, path.base, path.dense_basis())
+    theta = np.random.default_rng(5).normal(scale=10.0, size=path.n_params)
+    np.testing.assert_allclose(path.values(theta), dense.values(theta), rtol=1e-13, atol=1e-9)
+    np.testing.assert_array_equal(path.basis_rows().toarray(), dense.basis_rows())
+
+
 def test_bspline_families_are_nested(kinematics):
     # knot insertion: every member of bspline-K is a member of bspline-2K (exact fit)
     kin = kinematics["RF"]
@@ -184,7 +210,7 @@ def test_bspline_families_are_nested(kinematics):
     theta = np.random.default_rng(2).normal(scale=15.0, size=coarse.n_params)
     target = coarse.path(GAIT, kin).values(theta)
     fine_path = fine.path(GAIT, kin)
-    design = fine_path.basis.reshape(-1, fine.n_params)
+    design = fine_path.dense_basis().reshape(-1, fine.n_params)
     fit, *_ = np.linalg.lstsq(design, (target - fine_path.base).ravel(), rcond=None)
     np.testing.assert_allclose(fine_path.values(fit), target, atol=1e-9)
 

@@ -20,12 +20,17 @@ the NLP exploits.
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.family import PARAMETER_SCALE, AffinePath, SwingFamily
 from scalf_opt.model.kinematics import LegKinematics
+
+if TYPE_CHECKING:
+    from scipy.sparse import csr_array
 
 DEGREE = 3
 """Cubic splines: C2 joint motion."""
@@ -39,21 +44,40 @@ def knots(spans: int) -> np.ndarray:
     return np.concatenate([np.zeros(DEGREE), inner, np.ones(DEGREE)])
 
 
-def design_matrices(spans: int, s: np.ndarray) -> np.ndarray:
-    """Values and first two derivatives (in ``s``) of every basis function at ``s``.
+def sparse_design_matrices(spans: int, s: np.ndarray) -> list[csr_array]:
+    """Values and first two derivatives (in ``s``) of every basis function at ``s``, sparse.
+
+    The derivative of a spline of degree ``p`` on knots ``t`` is a spline of degree ``p - 1`` on
+    ``t[1:-1]`` whose coefficients are the scaled differences ``p (c_i - c_(i-1)) /
+    (t_(i+p) - t_i)`` (what SciPy's ``BSpline.derivative`` does): each matrix is SciPy's
+    sparse design matrix of the lower degree times those difference matrices.
 
     Returns:
-        Shape (3, n, spans + 3): ``[d, i, j]`` is the d-th derivative of basis function ``j`` at
-        ``s[i]``.
+        Three matrices of shape (n, spans + 3): entry ``[i, j]`` of the d-th is the d-th
+        derivative of basis function ``j`` at ``s[i]``.
     """
     from scipy.interpolate import BSpline  # imported here: scipy.interpolate is slow to load
+    from scipy.sparse import csr_array, diags_array
 
-    count = spans + DEGREE
-    # one spline per basis function (identity coefficients); on [0, 1] the polynomial pieces
-    # extend to the closed interval, so s = 1 gets the last span's one-sided limit
-    spline = BSpline(knots(spans), np.eye(count), DEGREE, extrapolate=True)
+    t = knots(spans)
     s = np.clip(np.asarray(s, dtype=float), 0.0, 1.0)
-    return np.array([spline(s), spline.derivative(1)(s), spline.derivative(2)(s)])
+    out = []
+    chain = None  # the difference matrices of the derivatives taken so far
+    for d in range(3):
+        degree = DEGREE - d
+        inner = t[d : t.size - d]
+        design = BSpline.design_matrix(s, inner, degree)
+        out.append(csr_array(design if chain is None else design @ chain))
+        count = inner.size - degree - 1  # basis functions of this degree
+        rate = degree / (inner[degree + 1 : degree + count] - inner[1:count])
+        step = diags_array([-rate, rate], offsets=[0, 1], shape=(count - 1, count))
+        chain = step if chain is None else step @ chain
+    return out
+
+
+def design_matrices(spans: int, s: np.ndarray) -> np.ndarray:
+    """:func:`sparse_design_matrices` as one dense array of shape (3, n, spans + 3)."""
+    return np.array([m.toarray() for m in sparse_design_matrices(spans, s)])
 
 
 class BSplineFamily(SwingFamily):
@@ -84,20 +108,22 @@ class BSplineFamily(SwingFamily):
     def path(  # noqa: D102
         self, gait: Gait, kin: LegKinematics, t_s: np.ndarray | None = None
     ) -> AffinePath:
+        from scipy.sparse import block_diag, csr_array, vstack
+
         b = self.boundary(gait, kin)
         t = gait.phase_times_s("swing") if t_s is None else np.asarray(t_s, dtype=float)
         k = self.spans
-        basis_s = design_matrices(k, t / b.duration_s)
-        time_scale = np.array([1.0, 1.0 / b.duration_s, 1.0 / b.duration_s**2])[:, None, None]
-        phi = basis_s * time_scale  # d/dt = (1/T_sw) d/ds
+        phi = [
+            m * b.duration_s**-d  # d/dt = (1/T_sw) d/ds
+            for d, m in enumerate(sparse_design_matrices(k, t / b.duration_s))
+        ]
         free = np.arange(2, k + 1)
         fixed = np.array([0, 1, k + 1, k + 2])
         scale = PARAMETER_SCALE["joint"]
         base = np.zeros((3, 2, t.size))
-        basis = np.zeros((3, 2, t.size, self.n_params))
-        for c in range(2):
-            step = b.duration_s / (3 * k)
-            end_points = np.array(
+        step = b.duration_s / (3 * k)
+        ends = [
+            np.array(
                 [
                     b.start[c],
                     b.start[c] + step * b.start_rate[c],
@@ -105,7 +131,11 @@ class BSplineFamily(SwingFamily):
                     b.end[c],
                 ]
             )
-            base[:, c] = phi[:, :, fixed] @ end_points
-            columns = slice(c * (k - 1), (c + 1) * (k - 1))
-            basis[:, c, :, columns] = scale * phi[:, :, free]
-        return AffinePath(self.space, t, base, basis)
+            for c in range(2)
+        ]
+        for d in range(3):
+            for c in range(2):
+                base[d, c] = phi[d][:, fixed] @ ends[c]
+        # rows (d, c, sample) in C order; the two joints' parameters in two column blocks
+        blocks = [block_diag([scale * phi[d][:, free]] * 2, format="csr") for d in range(3)]
+        return AffinePath(self.space, t, base, csr_array(vstack(blocks, format="csr")))

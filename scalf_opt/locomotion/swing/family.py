@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -22,6 +23,9 @@ from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.boundary import SwingBoundary, foot_boundary, joint_boundary
 from scalf_opt.model.kinematics import LegKinematics
 from scalf_opt.types import Space
+
+if TYPE_CHECKING:  # SciPy's sparse matrices load only with the families that use them
+    from scipy.sparse import csr_array
 
 DEG = math.pi / 180.0
 PARAMETER_SCALE = {"joint": DEG, "foot": 0.01}
@@ -43,24 +47,46 @@ class AffinePath:
         space: ``foot`` or ``joint``.
         t_s: Sample times since lift-off, shape (n,) [s].
         base: Path at theta = 0, shape (3, 2, n).
-        basis: Change per unit parameter, shape (3, 2, n, n_params).
+        basis: Change per unit parameter: dense, shape (3, 2, n, n_params); or, for a family
+            whose every sample depends on a few parameters (the B-splines), a SciPy sparse
+            matrix of shape (6 n, n_params) whose rows are ``base``'s entries in C order.
     """
 
     space: Space
     t_s: np.ndarray
     base: np.ndarray
-    basis: np.ndarray
+    basis: np.ndarray | csr_array
 
     @property
     def n_params(self) -> int:
         """Number of free parameters."""
         return int(self.basis.shape[-1])
 
+    @property
+    def sparse(self) -> bool:
+        """The basis is a sparse matrix."""
+        return not isinstance(self.basis, np.ndarray)
+
+    def basis_rows(self) -> np.ndarray | csr_array:
+        """The basis as a matrix of shape (6 n, n_params), rows in ``base``'s C order."""
+        if isinstance(self.basis, np.ndarray):
+            return self.basis.reshape(-1, self.n_params)
+        return self.basis
+
+    def dense_basis(self) -> np.ndarray:
+        """The basis as a dense array of shape (3, 2, n, n_params)."""
+        if isinstance(self.basis, np.ndarray):
+            return self.basis
+        return np.asarray(self.basis.toarray()).reshape(*self.base.shape, self.n_params)
+
     def values(self, theta: np.ndarray | None = None) -> np.ndarray:
         """Position, velocity, acceleration samples, shape (3, 2, n)."""
         if theta is None or self.n_params == 0:
             return self.base.copy()
-        return self.base + self.basis @ np.asarray(theta, dtype=float)
+        theta = np.asarray(theta, dtype=float)
+        if isinstance(self.basis, np.ndarray):
+            return self.base + self.basis @ theta
+        return self.base + np.asarray(self.basis @ theta).reshape(self.base.shape)
 
 
 class SwingFamily(ABC):
