@@ -222,7 +222,11 @@ def _stance_parameters(problem: SwingProblem) -> list[np.ndarray]:
     )
     return [
         motion.base.reshape(6, n).ravel(order="F"),
-        motion.dense_basis().reshape(6, n, -1).transpose(1, 0, 2).reshape(6 * n, -1).ravel(order="F"),
+        motion.dense_basis()
+        .reshape(6, n, -1)
+        .transpose(1, 0, 2)
+        .reshape(6 * n, -1)
+        .ravel(order="F"),
         coupling.weights,
         data.ravel(order="F"),
     ]
