@@ -202,7 +202,7 @@ def simulate(
     title = (
         f"MuJoCo {data['mujoco_version']} simulation of {robot.name}, {families} swing: trot "
         f"T={gait.period_s:g} s, S={gait.step_length_m:g} m, z0={gait.stance_height_m:g} m, "
-        f"{cycles} cycles, dt={1e3 * settings.timestep_s:g} ms, servo "
-        f"{settings.servo_bandwidth_hz:g} Hz"
+        f"{cycles} cycles, dt={1e3 * data['settings']['timestep_s']:g} ms, servo "
+        f"{data['settings']['servo_bandwidth_hz']:.3g} Hz"
     )
     return SimulationResult(robot, data, run.record, title)

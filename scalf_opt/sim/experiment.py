@@ -45,12 +45,16 @@ def run_trot(
         ConfigError, GaitError, InfeasibleError: A swing or gait the pipeline refuses.
         ModelError: MuJoCo cannot build the robot.
     """
+    settings, derivation = settings.for_leg_length(robot.leg_length_m)
     model_cycle = planned_cycle(pipeline, swings)
     plan = TrotPlan.build(pipeline, swings, 1.0 / settings.timestep_s)
     sim = build_sim_model(robot, settings)
     gains = servo_gains(robot, plan, settings)
     record = simulate(sim, plan, gains, cycles)
     result = summarize(sim, record, plan, model_cycle, pipeline)
+    result["settings"] = settings.to_dict()
+    result["settings_derivation"] = derivation
+    result["model_repairs"] = list(sim.repairs)
     result["servo_gains"] = {
         leg: {"kp_nm_per_rad": g.kp_nm_per_rad, "kd_nms_per_rad": g.kd_nms_per_rad}
         for leg, g in gains.items()
@@ -83,7 +87,6 @@ def simulation_file(
         "mujoco_version": mujoco.__version__,
         "gait": {**gait.to_dict(), "speed_m_s": gait.speed_m_s},
         "accounting": pipeline.accounting,
-        "settings": settings.to_dict(),
         **run.result,
     }
     if any(family != "reference" for family, _ in swings.values()):

@@ -55,12 +55,36 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
         f"goal: joint energy within {100 * goals['joint_energy_relative_difference_at_most']:.0f}"
         f" % of the model's on every leg: {_met(goals['joint_energy_met'])}",
         "",
+        "servo: leg   joints' work net / gross [J]   of it the PD feedback's net / gross [J]   "
+        "feedback torque rms / torque rms",
+        *(
+            f"       {leg:4s}  {w['joints_net']:+10.3f} / {w['joints_gross']:9.3f}"
+            f"   {w['feedback_net']:+23.3f} / {w['feedback_gross']:9.3f}"
+            f"   {w['feedback_torque_rms_over_torque_rms']:10.3f}"
+            for leg, w in result["servo_work_per_cycle_j"].items()
+        ),
+        f"contacts and joint limits: {result['constraint_work_per_cycle_j']:+.3f} J per cycle; "
+        "stance feet pushing against each other along x: "
+        + ", ".join(
+            f"{pair} peak {f['peak']:.1f} N, mean {f['mean']:.1f} N"
+            for pair, f in result["internal_horizontal_force_n"].items()
+        ),
+        "",
         "checks: mean vertical ground force / weight "
         f"{result['checks']['mean_vertical_ground_force_over_weight']:.5f}; "
         "energy balance error / gross joint work "
         f"{result['checks']['energy_balance_error_over_gross_work']:+.1e}; "
         "torque saturation "
         f"{100 * max(result['torque_saturation_fraction'].values()):.2f} % of steps",
+    ]
+    settings = result["settings"]
+    lines += [
+        f"referee: servo {settings['servo_bandwidth_hz']:.2f} Hz (damping ratio "
+        f"{settings['servo_damping_ratio']:g}), contact time constant "
+        f"{1e3 * settings['contact_time_constant_s']:.3f} ms, feet "
+        f"{1e3 * settings['foot_radius_m']:.2f} mm, step {1e3 * settings['timestep_s']:g} ms"
+        + (" (derived from the leg length L)" if result.get("settings_derivation") else ""),
+        *(f"MuJoCo model repair: {repair}" for repair in result.get("model_repairs", [])),
     ]
     saving = result.get("saving_vs_reference")
     if saving is not None:
