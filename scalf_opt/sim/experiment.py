@@ -9,6 +9,7 @@ from typing import Any
 import mujoco
 
 from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import GaitError, InfeasibleError
 from scalf_opt.model.robot import Robot
 from scalf_opt.sim.control import servo_gains
 from scalf_opt.sim.metrics import saving_comparison, summarize
@@ -76,9 +77,12 @@ def simulation_file(
 ) -> tuple[dict[str, Any], TrotRun]:
     """The content of ``simulation.json``, and the run it describes.
 
-    A plan that is not the reference is simulated beside the reference, and the file holds the
-    reference's figures (``reference``) and the saving, simulated and modelled
-    (``saving_vs_reference``).
+    ``swings`` are simulated at the pipeline's gait as it is (a saved free stance included). A plan
+    that is not the reference is simulated beside the reference at the same gait, and the file
+    holds the reference's figures (``reference``) and the saving, simulated and modelled
+    (``saving_vs_reference``); when the reference swing is impossible at that gait (a free
+    stance that puts its path outside the joint range), the reference is not simulated and
+    ``reference_skipped`` says why.
     """
     run = run_trot(robot, pipeline, swings, settings, cycles)
     gait = pipeline.gait
@@ -90,7 +94,11 @@ def simulation_file(
         **run.result,
     }
     if any(family != "reference" for family, _ in swings.values()):
-        reference = run_trot(robot, pipeline, REFERENCE_SWINGS, settings, cycles).result
-        data["reference"] = reference
-        data["saving_vs_reference"] = saving_comparison(run.result, reference)
+        try:
+            reference = run_trot(robot, pipeline, REFERENCE_SWINGS, settings, cycles).result
+        except (GaitError, InfeasibleError) as exc:
+            data["reference_skipped"] = f"the reference swing is impossible at this gait: {exc}"
+        else:
+            data["reference"] = reference
+            data["saving_vs_reference"] = saving_comparison(run.result, reference)
     return data, run

@@ -24,6 +24,9 @@ Every figure is taken after the first gait cycle (the start-up transient), over 
   at a plan physics cannot follow), not at the joints;
 * ``constraint_work_per_cycle_j``: the work of the contacts and joint limits (negative:
   dissipated), which the model has none of;
+* ``joint_stop_clearance_rad``: per leg and joint (hip pitch, knee), the smallest distance of
+  the joint from either end of its range, planned and simulated (negative: beyond the stop,
+  where MuJoCo's joint limit pushes back): how much of the plan's margin the servo used up;
 * ``internal_horizontal_force_n``: per stance pair (the diagonals), where the two stance feet
   push along x against each other, the part that cancels (``min |F_x|`` of the two), peak and
   mean over the pair's stance: the model's minimum-norm distribution has none.
@@ -149,6 +152,25 @@ def servo_work_j(
     return out
 
 
+def stop_clearance_rad(
+    pipeline: EnergyPipeline, record: SimRecord, plan: TrotPlan, steps: np.ndarray
+) -> dict[str, dict[str, list[float]]]:
+    """Per leg, the joints' smallest distance to their range ends, planned and simulated [rad]."""
+    out = {}
+    for leg in LEG_NAMES:
+        model = pipeline.physics(leg).leg
+        lower, upper = model.lower_limits_rad[:, None], model.upper_limits_rad[:, None]
+
+        def clearance(q: np.ndarray) -> list[float]:
+            return [float(v) for v in np.minimum(q - lower, upper - q).min(axis=1)]  # noqa: B023
+
+        out[leg] = {
+            "planned": clearance(plan.sample(leg, record.t_s[steps])["q"]),
+            "simulated": clearance(record.q_rad[leg][:, steps]),
+        }
+    return out
+
+
 def internal_force_n(
     record: SimRecord, plan: TrotPlan, steps: np.ndarray
 ) -> dict[str, dict[str, float]]:
@@ -238,6 +260,7 @@ def summarize(
         "servo_work_per_cycle_j": servo_work_j(record, plan, steps, cycles),
         "constraint_work_per_cycle_j": float(record.constraint_power_w[steps].sum() * dt / cycles),
         "internal_horizontal_force_n": internal_force_n(record, plan, steps),
+        "joint_stop_clearance_rad": stop_clearance_rad(pipeline, record, plan, steps),
         "torque_saturation_fraction": {
             leg: float(record.saturated[leg][:, steps].mean()) for leg in LEG_NAMES
         },

@@ -69,6 +69,15 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
             f"{pair} peak {f['peak']:.1f} N, mean {f['mean']:.1f} N"
             for pair, f in result["internal_horizontal_force_n"].items()
         ),
+        "closest approach to a joint stop, planned / simulated [mrad] (negative: beyond): "
+        + ", ".join(
+            f"{leg} "
+            + " ".join(
+                f"{1e3 * p:.1f}/{1e3 * q:.1f}"
+                for p, q in zip(c["planned"], c["simulated"], strict=True)
+            )
+            for leg, c in result["joint_stop_clearance_rad"].items()
+        ),
         "",
         "checks: mean vertical ground force / weight "
         f"{result['checks']['mean_vertical_ground_force_over_weight']:.5f}; "
@@ -86,6 +95,8 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
         + (" (derived from the leg length L)" if result.get("settings_derivation") else ""),
         *(f"MuJoCo model repair: {repair}" for repair in result.get("model_repairs", [])),
     ]
+    if "reference_skipped" in result:
+        lines += ["", f"reference not simulated: {result['reference_skipped']}"]
     saving = result.get("saving_vs_reference")
     if saving is not None:
         reference = result["reference"]["total_energy_per_cycle_j"]
