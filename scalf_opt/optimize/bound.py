@@ -44,6 +44,7 @@ from typing import Any
 
 import numpy as np
 
+from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.interrupts import raise_if_stopped
 from scalf_opt.locomotion.gait import Gait
@@ -199,6 +200,7 @@ def bound_for(
     tolerance: float = BOUND_TOLERANCE,
     spans: tuple[int, ...] = SPANS,
     progress: Callable[[str], None] | None = None,
+    margins: LimitMargins = DEFAULT_MARGINS,
 ) -> FreeBound:
     """The free-trajectory bound of ``leg``, its first level started from each seed swing.
 
@@ -210,6 +212,7 @@ def bound_for(
         tolerance: Energy still to gain, relative, that counts as converged.
         spans: The refinement levels.
         progress: Called with a label as each level starts.
+        margins: How far inside the joint range and the cylinder stroke the swing stays.
     """
     levels: list[BoundLevel] = []
     previous: tuple[SwingFamily, np.ndarray] | None = None
@@ -229,7 +232,8 @@ def bound_for(
         best: LegResult | None = None
         rate = 0.0
         for theta0 in candidates:
-            settings = Settings() if previous is None else Settings(ipopt=WARM_START_OPTIONS)
+            ipopt = None if previous is None else WARM_START_OPTIONS
+            settings = Settings(ipopt=ipopt, margins=margins)
             run = optimize_swings(level, (leg,), family, settings, {leg: theta0})
             leg_result = run.legs[leg]
             if best is None or (
