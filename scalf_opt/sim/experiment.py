@@ -11,7 +11,7 @@ import mujoco
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import GaitError, InfeasibleError
 from scalf_opt.model.robot import Robot
-from scalf_opt.sim.control import servo_gains
+from scalf_opt.sim.control import servo_gains, trunk_gains
 from scalf_opt.sim.metrics import saving_comparison, summarize
 from scalf_opt.sim.mujoco_model import build_sim_model
 from scalf_opt.sim.plan import REFERENCE_SWINGS, SwingChoice, TrotPlan, planned_cycle
@@ -51,7 +51,8 @@ def run_trot(
     plan = TrotPlan.build(pipeline, swings, 1.0 / settings.timestep_s)
     sim = build_sim_model(robot, settings)
     gains = servo_gains(robot, plan, settings)
-    record = simulate(sim, plan, gains, cycles)
+    trunk = trunk_gains(settings) if settings.stance_control == "trunk" else None
+    record = simulate(sim, plan, gains, cycles, trunk)
     result = summarize(sim, record, plan, model_cycle, pipeline)
     result["settings"] = settings.to_dict()
     result["settings_derivation"] = derivation

@@ -116,9 +116,9 @@ def test_settings_refuse_an_unstable_servo_and_a_too_soft_step():
     from scalf_opt.errors import ConfigError
 
     with pytest.raises(ConfigError, match="servo_bandwidth_hz"):
-        SimSettings(servo_bandwidth_hz=100.0)
+        SimSettings(timestep_s=0.0005, servo_bandwidth_hz=100.0)
     with pytest.raises(ConfigError, match="contact_time_constant_s"):
-        SimSettings(contact_time_constant_s=0.0005)
+        SimSettings(timestep_s=0.0005, contact_time_constant_s=0.0005)
     with pytest.raises(ConfigError, match="foot_friction"):
         SimSettings(foot_friction=-1.0)
 
@@ -148,6 +148,11 @@ def test_the_referee_is_scaled_to_the_robot():
     assert set(how) == {"servo_bandwidth_hz", "contact_time_constant_s", "foot_radius_m"}
     given, how = SimSettings(servo_bandwidth_hz=20.0).for_leg_length(scalf)
     assert given.servo_bandwidth_hz == 20.0 and "servo_bandwidth_hz" not in how
-    tiny, how = SimSettings().for_leg_length(0.02)  # limited by the time step, and says so
+    # a given time step limits the servo and the contact, and the derivation says so
+    tiny, how = SimSettings(timestep_s=0.0005).for_leg_length(0.02)
     assert tiny.contact_time_constant_s == 2 * tiny.timestep_s
     assert "raised" in how["contact_time_constant_s"] and "lowered" in how["servo_bandwidth_hz"]
+    # else the step follows them: 0.5 ms on SCalf, finer for a fast servo
+    assert s.timestep_s == 0.0005
+    fast, how = SimSettings(servo_bandwidth_hz=200.0).for_leg_length(scalf)
+    assert 2 * np.pi * 200.0 * fast.timestep_s == pytest.approx(0.2, rel=1e-12)
