@@ -12,6 +12,7 @@ from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import GaitError, InfeasibleError
 from scalf_opt.model.robot import Robot
 from scalf_opt.sim.control import servo_gains, trunk_gains
+from scalf_opt.sim.inverse import plan_inverse_dynamics
 from scalf_opt.sim.metrics import saving_comparison, summarize
 from scalf_opt.sim.mujoco_model import build_sim_model
 from scalf_opt.sim.plan import REFERENCE_SWINGS, SwingChoice, TrotPlan, planned_cycle
@@ -54,6 +55,9 @@ def run_trot(
     trunk = trunk_gains(settings) if settings.stance_control == "trunk" else None
     record = simulate(sim, plan, gains, cycles, trunk)
     result = summarize(sim, record, plan, model_cycle, pipeline)
+    result["plan_inverse_dynamics"] = plan_inverse_dynamics(
+        sim, plan, pipeline, record.timestep_s, record.start_trunk_height_m
+    )
     result["settings"] = settings.to_dict()
     result["settings_derivation"] = derivation
     result["model_repairs"] = list(sim.repairs)

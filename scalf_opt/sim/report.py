@@ -11,6 +11,27 @@ def _met(flag: bool) -> str:
     return "met" if flag else "NOT met"
 
 
+def _change(value: float, base: float) -> str:
+    return f"{100 * (value / base - 1):+7.2f} %" if base else "    n/a"
+
+
+def _inverse_dynamics_rows(result: dict[str, Any]) -> list[str]:
+    """Per leg: the plan's own energy and force, and the model's and the simulation's gaps."""
+    plan = result["plan_inverse_dynamics"]
+    rows = []
+    for leg in LEG_NAMES:
+        e, p = plan["joint_energy_per_phase_j"][leg], result["joint_energy_per_phase_j"][leg]
+        rows.append(
+            f"{leg:4s}  {e['stance']:10.3f}  {e['swing']:9.3f}  "
+            f"{plan['stance_force_mean_n'][leg]:14.1f}   "
+            f"{_change(p['stance']['model'], e['stance'])} / "
+            f"{_change(p['swing']['model'], e['swing'])}        "
+            f"{_change(p['stance']['simulated'], e['stance'])} / "
+            f"{_change(p['swing']['simulated'], e['swing'])}"
+        )
+    return rows
+
+
 def simulation_report(result: dict[str, Any], title: str) -> str:
     """Trunk motion, foot forces and slip, joint energy against the model, checks and goals."""
     goals = result["goals"]
@@ -54,6 +75,12 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
         ),
         f"goal: joint energy within {100 * goals['joint_energy_relative_difference_at_most']:.0f}"
         f" % of the model's on every leg: {_met(goals['joint_energy_met'])}",
+        "",
+        "the plan followed exactly (MuJoCo's inverse dynamics of the whole robot on the plan, "
+        "minimum-norm foot forces):",
+        "leg   stance [J]  swing [J]  mean force [N]   model vs it: stance / swing   "
+        "simulation vs it: stance / swing",
+        *_inverse_dynamics_rows(result),
         "",
         "servo: leg   joints' work net / gross [J]   of it the PD feedback's net / gross [J]   "
         "feedback torque rms / torque rms",

@@ -145,7 +145,12 @@ def test_the_referee_is_scaled_to_the_robot():
     assert g.contact_time_constant_s / s.contact_time_constant_s == pytest.approx(
         (go1 / scalf) ** 0.5
     )
-    assert set(how) == {"servo_bandwidth_hz", "contact_time_constant_s", "foot_radius_m"}
+    assert set(how) == {
+        "timestep_s",
+        "servo_bandwidth_hz",
+        "contact_time_constant_s",
+        "foot_radius_m",
+    }
     given, how = SimSettings(servo_bandwidth_hz=20.0).for_leg_length(scalf)
     assert given.servo_bandwidth_hz == 20.0 and "servo_bandwidth_hz" not in how
     # a given time step limits the servo and the contact, and the derivation says so
