@@ -161,3 +161,46 @@ def test_a_simulation_is_deterministic(robot, pipeline):
     second = run_trot(robot, pipeline, REFERENCE_SWINGS, SimSettings(), cycles=2).result
     assert first["joint_energy_per_cycle_j"] == second["joint_energy_per_cycle_j"]
     assert first["trunk_height_fluctuation_m"] == second["trunk_height_fluctuation_m"]
+
+
+def test_a_reference_impossible_at_the_saved_stance_is_skipped_with_a_note(
+    robot, pipeline, monkeypatch
+):
+    """``simulate --from`` a free stance: the reference is simulated only where it exists.
+
+    At the free stance ``optimize --free-stance`` finds on SCalf (z0 = 0.8 m, feet +93.75 and
+    -95 mm) the reference swing takes LH's knee out of its range: planning it is a GaitError.
+    The optimum is still simulated, and the file says in one line why there is no reference.
+    """
+    from scalf_opt.errors import GaitError
+    from scalf_opt.sim import experiment
+    from scalf_opt.sim.report import simulation_report
+
+    free = replace(
+        pipeline.gait,
+        stance_height_m=0.8,
+        stance_x_offset_front_m=0.09375,
+        stance_x_offset_hind_m=-0.095,
+    )
+    with pytest.raises(GaitError, match="LH_knee"):
+        planned_cycle(replace(pipeline, gait=free), REFERENCE_SWINGS)
+
+    real = experiment.run_trot
+    refused = []
+
+    def run_trot_at_free_stance(robot, pipeline, swings, settings, cycles):
+        if swings is REFERENCE_SWINGS:  # as at the free stance, without its 40 s optimization
+            refused.append(True)
+            planned_cycle(replace(pipeline, gait=free), swings)
+        return real(robot, pipeline, swings, settings, cycles)
+
+    monkeypatch.setattr(experiment, "run_trot", run_trot_at_free_stance)
+    swings = {leg: ("joint-6", np.zeros(18)) for leg in LEG_NAMES}
+    data, run = experiment.simulation_file(robot, pipeline, swings, SimSettings(), 2)
+    assert refused and "reference" not in data and "saving_vs_reference" not in data
+    assert data["reference_skipped"].startswith(
+        "the reference swing is impossible at this gait: gait fields"
+    )
+    report = simulation_report(data, "title")
+    assert "\nreference not simulated: the reference swing is impossible" in report
+    assert run.result["joint_energy_per_cycle_j"]["RF"]["simulated"] > 0
