@@ -61,7 +61,7 @@ class JointGains:
 
 def servo_gains(robot: Robot, plan: TrotPlan, settings: SimSettings) -> dict[str, JointGains]:
     """Each leg's PD gains from its joint inertias at touch-down (module docstring)."""
-    omega = 2 * math.pi * settings.servo_bandwidth_hz
+    omega = 2 * math.pi * settings.value("servo_bandwidth_hz")
     gains = {}
     for name in LEG_NAMES:
         leg = robot.leg(name)
@@ -89,8 +89,9 @@ class TrunkGains:
 
 def trunk_gains(settings: SimSettings) -> TrunkGains:
     """The trunk loop's frequency and damping: the servo's."""
-    assert settings.servo_bandwidth_hz is not None
-    return TrunkGains(2 * math.pi * settings.servo_bandwidth_hz, settings.servo_damping_ratio)
+    return TrunkGains(
+        2 * math.pi * settings.value("servo_bandwidth_hz"), settings.servo_damping_ratio
+    )
 
 
 def stance_feedback_nm(

@@ -49,7 +49,7 @@ def run_trot(
     """
     settings, derivation = settings.for_leg_length(robot.leg_length_m)
     model_cycle = planned_cycle(pipeline, swings)
-    plan = TrotPlan.build(pipeline, swings, 1.0 / settings.timestep_s)
+    plan = TrotPlan.build(pipeline, swings, 1.0 / settings.value("timestep_s"))
     sim = build_sim_model(robot, settings)
     gains = servo_gains(robot, plan, settings)
     trunk = trunk_gains(settings) if settings.stance_control == "trunk" else None

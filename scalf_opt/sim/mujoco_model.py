@@ -178,7 +178,7 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
     legs = {leg: robot.leg(leg) for leg in LEG_NAMES}
     sagittal = {name for leg in legs.values() for name in leg.joint_names}
     settings, _ = settings.for_leg_length(robot.leg_length_m)
-    radius = settings.foot_radius_m
+    radius = settings.value("foot_radius_m")
     trunk_link = _root_link(root, path)
     shank_links = {name: _child_link(root, leg.joint_names[1]) for name, leg in legs.items()}
     for link in root.iter("link"):
@@ -200,7 +200,7 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
     trunk.add_joint(name=TRUNK_JOINTS[1], type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1])
     trunk.add_joint(name=TRUNK_JOINTS[2], type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0])
     friction = [settings.foot_friction, _TORSIONAL_FRICTION, _ROLLING_FRICTION]
-    solref = [settings.contact_time_constant_s, settings.contact_damping_ratio]
+    solref = [settings.value("contact_time_constant_s"), settings.contact_damping_ratio]
     spec.worldbody.add_geom(
         name="ground",
         type=mujoco.mjtGeom.mjGEOM_PLANE,
@@ -231,7 +231,7 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
                 trntype=mujoco.mjtTrn.mjTRN_JOINT,
                 gear=[1, 0, 0, 0, 0, 0],
             )
-    spec.option.timestep = settings.timestep_s
+    spec.option.timestep = settings.value("timestep_s")
     spec.option.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
     try:
         model = spec.compile()
@@ -253,7 +253,7 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
         },
         foot_geom={n: model.geom(f"{n}_foot_contact").id for n in legs},
         foot_body={n: int(model.geom_bodyid[model.geom(f"{n}_foot_contact").id]) for n in legs},
-        foot_radius_m=float(radius),
+        foot_radius_m=radius,
         effort_limit_nm={n: leg.effort_limits_nm for n, leg in legs.items()},
         repairs=tuple(repairs),
     )

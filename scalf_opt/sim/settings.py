@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, fields, replace
+from typing import Any
 
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.forces import GRAVITY_M_S2
@@ -89,6 +90,17 @@ class SimSettings:
                 f"steps ({2 * dt} s)"
             )
 
+    def value(self, name: str) -> float:
+        """A numeric setting, which must be set (:meth:`for_leg_length` sets the derived ones).
+
+        Raises:
+            ValueError: The setting is still ``None`` (a programming error).
+        """
+        value = getattr(self, name)
+        if value is None:
+            raise ValueError(f"simulation setting {name} is derived: call for_leg_length first")
+        return float(value)
+
     def to_dict(self) -> dict[str, float | str | None]:
         """The settings as plain data."""
         return {f.name: getattr(self, f.name) for f in fields(self)}
@@ -105,7 +117,7 @@ class SimSettings:
         """
         length = float(leg_length_m)
         root_g_over_l = math.sqrt(GRAVITY_M_S2 / length)
-        values: dict[str, float] = {}
+        values: dict[str, Any] = {}
         how: dict[str, str] = {}
         f = self.servo_bandwidth_hz
         if f is None:
