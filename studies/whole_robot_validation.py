@@ -11,7 +11,10 @@ fluctuation (absolute and over the stance height), pitch and speed; the mean sta
 the model does not balance and the referee had to (the PD feedback's share of the joints' gross
 work, the feet pushing against each other, the work of contacts and joint stops); the joints'
 closest approach to their stops; and how far the verdict (the total's difference) moves between
-half and double the servo bandwidth. --quick leaves out that sensitivity.
+half and double the servo bandwidth. Beside model and simulation, "plan": MuJoCo's inverse
+dynamics of the whole robot on the plan (``simulate``'s ``plan_inverse_dynamics``), so each gap
+splits into the model's (model vs plan) and the referee's (simulation vs plan). --quick leaves out
+the sensitivity.
 
 Writes DIR/whole_robot_validation.json, every optimum's summary.json and every simulation.json
 and simulation.png under DIR/<robot>/ (default results/whole_robot_validation).
@@ -46,6 +49,8 @@ SENSITIVITY_GOAL_POINTS = 2.0
 def figures(data: dict[str, Any], stance_height_m: float) -> dict[str, Any]:
     """The row of one simulated trajectory (``simulation.json``'s figures, condensed)."""
     phases = data["joint_energy_per_phase_j"]
+    plan = data["plan_inverse_dynamics"]["joint_energy_per_phase_j"]
+    plan_total = sum(e["stance"] + e["swing"] for e in plan.values())
     servo = data["servo_work_per_cycle_j"]
     force_sim = np.mean(list(data["stance_force_mean_n"].values()))
     force_model = np.mean(list(data["model_stance_force_mean_n"].values()))
@@ -56,6 +61,7 @@ def figures(data: dict[str, Any], stance_height_m: float) -> dict[str, Any]:
                 phase: {
                     "model_j": phases[leg][phase]["model"],
                     "simulated_j": phases[leg][phase]["simulated"],
+                    "plan_inverse_dynamics_j": plan[leg][phase],
                     "difference_pct": 100 * phases[leg][phase]["relative_difference"],
                 }
                 for phase in ("stance", "swing")
@@ -69,6 +75,10 @@ def figures(data: dict[str, Any], stance_height_m: float) -> dict[str, Any]:
         "total_model_j": data["total_energy_per_cycle_j"]["model"],
         "total_simulated_j": data["total_energy_per_cycle_j"]["simulated"],
         "total_difference_pct": 100 * data["total_energy_per_cycle_j"]["relative_difference"],
+        "total_plan_inverse_dynamics_j": plan_total,
+        "model_vs_plan_pct": 100 * (data["total_energy_per_cycle_j"]["model"] / plan_total - 1),
+        "simulated_vs_plan_pct": 100
+        * (data["total_energy_per_cycle_j"]["simulated"] / plan_total - 1),
         "trunk_height_fluctuation_mm": 1e3 * data["trunk_height_fluctuation_m"],
         "trunk_height_fluctuation_over_stance_height_pct": 100
         * data["trunk_height_fluctuation_m"]
@@ -134,6 +144,7 @@ def run_robot(name: str, out: Path, cycles: int, sensitivity: bool) -> dict[str,
     if sensitivity:
         bandwidth = data["settings"]["servo_bandwidth_hz"]
         verdicts: dict[str, dict[str, float]] = {"reference": {}, "optimum": {}}
+        simulated: dict[str, dict[str, float]] = {"reference": {}, "optimum": {}}
         for factor in (0.5, 1.0, 2.0):
             if factor == 1.0:
                 other = data
@@ -151,11 +162,19 @@ def run_robot(name: str, out: Path, cycles: int, sensitivity: bool) -> dict[str,
             verdicts["reference"][key] = (
                 100 * other["reference"]["total_energy_per_cycle_j"]["relative_difference"]
             )
+            simulated["optimum"][key] = other["total_energy_per_cycle_j"]["simulated"]
+            simulated["reference"][key] = other["reference"]["total_energy_per_cycle_j"][
+                "simulated"
+            ]
         result["bandwidth_sensitivity"] = {
             label: {
                 "total_difference_pct": v,
                 "spread_points": max(v.values()) - min(v.values()),
                 "met": max(v.values()) - min(v.values()) < SENSITIVITY_GOAL_POINTS,
+                "simulated_j": simulated[label],
+                "simulated_spread_pct": 100
+                * (max(simulated[label].values()) - min(simulated[label].values()))
+                / simulated[label]["1x"],
             }
             for label, v in verdicts.items()
         }
@@ -165,42 +184,44 @@ def run_robot(name: str, out: Path, cycles: int, sensitivity: bool) -> dict[str,
 
 def print_tables(results: list[dict[str, Any]], cycles: int) -> None:
     """The Markdown tables of the module docstring."""
-    print(f"\n## Joint energy per cycle, model vs MuJoCo ({cycles} cycles, the first excluded)\n")
-    print(
-        "| robot | trajectory | leg | stance model / sim [J] | stance diff | swing model / sim "
-        "[J] | swing diff | cycle diff |"
-    )
-    print("|---|---|---|---|---|---|---|---|")
+    ok = [r for r in results if "failure" not in r]
     for r in results:
         if "failure" in r:
-            print(f"| {r['robot']} | {r['failure']} | | | | | | |")
-            continue
+            print(f"\n{r['robot']}: {r['failure']}")
+    print(f"\n## Joint energy per cycle: model, plan, MuJoCo ({cycles} cycles, first excluded)\n")
+    print(
+        "| robot | trajectory | leg | stance model / plan / sim [J] | stance sim vs model | "
+        "swing model / plan / sim [J] | swing sim vs model | cycle sim vs model |"
+    )
+    print("|---|---|---|---|---|---|---|---|")
+    for r in ok:
         for label, row in r["trajectories"].items():
             for leg, e in row["legs"].items():
                 st, sw = e["stance"], e["swing"]
                 print(
                     f"| {r['robot']} | {label} | {leg} | {st['model_j']:.2f} / "
-                    f"{st['simulated_j']:.2f} | {st['difference_pct']:+.1f} % | "
-                    f"{sw['model_j']:.2f} / {sw['simulated_j']:.2f} | "
+                    f"{st['plan_inverse_dynamics_j']:.2f} / {st['simulated_j']:.2f} | "
+                    f"{st['difference_pct']:+.1f} % | {sw['model_j']:.2f} / "
+                    f"{sw['plan_inverse_dynamics_j']:.2f} / {sw['simulated_j']:.2f} | "
                     f"{sw['difference_pct']:+.1f} % | {e['cycle_difference_pct']:+.1f} % |"
                 )
-    print("\n## Trunk, forces and what the referee had to supply\n")
+    print("\n## Whole robot: the gap split, the trunk, the forces, what the referee supplied\n")
     print(
-        "| robot | trajectory | total model / sim [J] | diff | height p-p [mm] (of z0) | "
-        "pitch [mrad] | speed sim / plan [m/s] | stance force model / sim [N] | PD share "
-        "of gross work | feet push [N] | contacts+stops [J] | stop clearance plan / sim "
-        "[mrad] | goals leg / force / height |"
+        "| robot | trajectory | total model / plan / sim [J] | sim vs model | model vs plan | "
+        "sim vs plan | height p-p [mm] (of z0) | pitch [mrad] | speed sim / plan [m/s] | "
+        "stance force model / sim [N] | PD share of gross work | feet push [N] | "
+        "contacts+stops [J] | stop clearance plan / sim [mrad] | goals leg / force / height |"
     )
-    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|")
-    for r in results:
-        if "failure" in r:
-            continue
+    print("|---|---|---|---|---|---|---|---|---|---|---|---|---|---|---|")
+    for r in ok:
         for label, row in r["trajectories"].items():
             g = r["goals"][label]
             met = " / ".join("met" if g[k] else "NOT" for k in g)
             print(
                 f"| {r['robot']} | {label} | {row['total_model_j']:.2f} / "
-                f"{row['total_simulated_j']:.2f} | {row['total_difference_pct']:+.1f} % | "
+                f"{row['total_plan_inverse_dynamics_j']:.2f} / {row['total_simulated_j']:.2f} | "
+                f"{row['total_difference_pct']:+.1f} % | {row['model_vs_plan_pct']:+.1f} % | "
+                f"{row['simulated_vs_plan_pct']:+.1f} % | "
                 f"{row['trunk_height_fluctuation_mm']:.2f} "
                 f"({row['trunk_height_fluctuation_over_stance_height_pct']:.2f} %) | "
                 f"{row['trunk_pitch_peak_mrad']:.1f} | {row['speed_m_s']:.3f} / "
@@ -211,32 +232,33 @@ def print_tables(results: list[dict[str, Any]], cycles: int) -> None:
                 f"{row['stop_clearance_planned_mrad']:.0f} / "
                 f"{row['stop_clearance_simulated_mrad']:.0f} | {met} |"
             )
-    if any("bandwidth_sensitivity" in r for r in results):
+    sensitive = [r for r in ok if "bandwidth_sensitivity" in r]
+    if sensitive:
+        print("\n## The verdict (sim vs model) at half, the derived and double servo bandwidth\n")
         print(
-            "\n## The verdict (total difference) at half, the derived and double servo bandwidth\n"
+            "| robot | servo [Hz] | trajectory | 0.5x | 1x | 2x | spread [points] | < 2 points | "
+            "simulated energy 0.5x / 1x / 2x [J] | its spread |"
         )
-        print("| robot | servo [Hz] | trajectory | 0.5x | 1x | 2x | spread [points] | < 2 points |")
-        print("|---|---|---|---|---|---|---|---|")
-        for r in results:
-            if "bandwidth_sensitivity" not in r:
-                continue
+        print("|---|---|---|---|---|---|---|---|---|---|")
+        for r in sensitive:
             f = r["trajectories"]["reference"]["settings"]["servo_bandwidth_hz"]
             for label, s in r["bandwidth_sensitivity"].items():
                 v = s["total_difference_pct"]
+                energies = " / ".join(f"{s['simulated_j'][k]:.2f}" for k in ("0.5x", "1x", "2x"))
                 print(
                     f"| {r['robot']} | {f:.1f} | {label} | {v['0.5x']:+.1f} % | {v['1x']:+.1f} % "
                     f"| {v['2x']:+.1f} % | {s['spread_points']:.1f} | "
-                    f"{'met' if s['met'] else 'NOT met'} |"
+                    f"{'met' if s['met'] else 'NOT met'} | {energies} | "
+                    f"{s['simulated_spread_pct']:.1f} % |"
                 )
     print("\n## Savings of the default optimum over the reference\n")
     print("| robot | family | model | simulated |")
     print("|---|---|---|---|")
-    for r in results:
-        if "failure" not in r:
-            print(
-                f"| {r['robot']} | {r['optimum_family']} | {r['saving_model_pct']:+.1f} % | "
-                f"{r['saving_simulated_pct']:+.1f} % |"
-            )
+    for r in ok:
+        print(
+            f"| {r['robot']} | {r['optimum_family']} | {r['saving_model_pct']:+.1f} % | "
+            f"{r['saving_simulated_pct']:+.1f} % |"
+        )
 
 
 def main(argv: list[str] | None = None) -> int:
