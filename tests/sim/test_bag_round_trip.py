@@ -44,8 +44,9 @@ def test_export_simulate_and_analyze_the_bag(optimum, scalf, tmp_path):
         assert comparison["measured_average_power_w"] == pytest.approx(
             reference["measured_average_power_w"], rel=rtol
         )
-    assert joints["plan_comparison"]["measured_average_power_w"] > (
-        reference["measured_average_power_w"]
+    assert (
+        joints["plan_comparison"]["measured_average_power_w"]
+        > (reference["measured_average_power_w"])
     )
     # the simulation's own mechanical joint energy over the bag's windows: the joint states
     # hold the step's own torque and rate, so only the 1 kHz trapezoid differs
