@@ -13,8 +13,10 @@ from scalf_opt.io.ros_bag import read_joint_states
 from scalf_opt.sim.metrics import windowed_mechanical_energy_j
 from scalf_opt.types import LEG_NAMES
 
-TRAPEZOID_RTOL = 0.005
-"""The 1 kHz trapezoid of the 2 kHz steps' power: measured 0.03 to 0.2 % per leg."""
+TRAPEZOID_RTOL = 0.01
+"""The 1 kHz trapezoid of the 2 kHz steps' power: measured 0.03 to 0.2 % per leg with a joint
+servo in stance, up to 0.57 % with the stance loop on the trunk (its torques carry more above
+500 Hz: 0.1 to 0.2 % of their power, against 0.02 to 0.13 %)."""
 
 pytestmark = pytest.mark.slow  # an optimization and two 3-cycle simulations: about 10 s
 
