@@ -28,6 +28,9 @@ The trot simulation's servo (:mod:`scalf_opt.sim`) tracks the reference swing wi
 on SCalf and within 2.1 degrees on every robot (ANYmal C's knee) with the trunk-only loads,
 ``docs/simulation-referee.md``."""
 
+FULL_TURN_RAD = 2 * math.pi
+"""A joint range at least this wide has no end stop to keep a margin from [rad]."""
+
 DEFAULT_STROKE_MARGIN_M = 0.002
 """Default margin of a planned cylinder length to either end of its stroke [m]: 2 mm (about
 2 degrees of SCalf's knee)."""
@@ -53,9 +56,13 @@ class LimitMargins:
                 raise ConfigError(f"limit margin {name} = {value!r} must be >= 0", field=name)
 
     def margin(self, bound: Bound) -> float:
-        """The margin this bound gets (SI, the bound's unit): 0 for a rate, torque or force."""
+        """The margin this bound gets (SI, the bound's unit).
+
+        0 for a rate, torque or force, and for a joint range of a full turn or more: that is no
+        end stop a joint can ride but a URDF's placeholder (Solo12's and ANYmal C's +-10 rad).
+        """
         if bound.output == "q":
-            return self.stop_rad
+            return self.stop_rad if bound.upper - bound.lower < FULL_TURN_RAD else 0.0
         if bound.row is None and bound.unit == "m":  # a drive's length: the stroke
             return self.stroke_m
         return 0.0

@@ -91,3 +91,9 @@ def test_optimize_refuses_a_margin_that_leaves_no_range(capsys):
 def test_a_margin_wider_than_the_range_is_refused(pipeline):
     with pytest.raises(ConfigError, match="stop_rad = 10 leaves no room in q_hip"):
         LimitMargins(stop_rad=10.0).apply(leg_bounds(pipeline.physics("RF")))
+
+
+def test_a_range_of_a_full_turn_has_no_stop_to_keep_clear_of(solo12):
+    """Solo12's +-10 rad is a URDF placeholder, not an end stop: no margin (and the same optima)."""
+    bounds = leg_bounds(EnergyPipeline(solo12, Gait()).physics("RF"))
+    assert DEFAULT_MARGINS.apply(bounds) == bounds
