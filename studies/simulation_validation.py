@@ -58,6 +58,15 @@ def results_row(label: str, data: dict[str, Any]) -> dict[str, Any]:
         "energy_difference_pct": 100 * data["total_energy_per_cycle_j"]["relative_difference"],
         "largest_leg_difference_pct": 100 * energy[worst]["relative_difference"],
         "largest_leg": worst,
+        "sim_vs_plan_pct": 100
+        * (
+            data["total_energy_per_cycle_j"]["simulated"]
+            / sum(
+                e["stance"] + e["swing"]
+                for e in data["plan_inverse_dynamics"]["joint_energy_per_phase_j"].values()
+            )
+            - 1
+        ),
     }
     if "saving_vs_reference" in data:
         row["saving_model_pct"] = data["saving_vs_reference"]["model_percent"]

@@ -16,7 +16,13 @@ from typing import Any
 
 from scalf_opt.api.gaits import VERBOSE_IPOPT, command_tuple, read_gait
 from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.limits import leg_bounds, violations
 from scalf_opt.energy.loads import DEFAULT_LOADS
+from scalf_opt.energy.margins import (
+    DEFAULT_STOP_MARGIN_RAD,
+    DEFAULT_STROKE_MARGIN_M,
+    LimitMargins,
+)
 from scalf_opt.energy.peaks import CycleViolation, Peak, cycle_peaks, cycle_violations
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
@@ -166,6 +172,8 @@ def optimize_swing(
     progress: Progress | None = None,
     command: Sequence[str] | None = None,
     loads: str = DEFAULT_LOADS,
+    stop_margin_rad: float = DEFAULT_STOP_MARGIN_RAD,
+    stroke_margin_m: float = DEFAULT_STROKE_MARGIN_M,
 ) -> OptimizationResult:
     """Optimize the swing of ``legs`` (LF and RH repeat RF and LH: the paper's symmetry).
 
@@ -191,10 +199,14 @@ def optimize_swing(
         command: The command line, recorded in the result's provenance.
         loads: The stance load model: ``whole-body`` (a swing pays for the loads it puts on
             the stance legs) or ``trunk`` (the paper's).
+        stop_margin_rad: Every optimized joint angle (and the free stance's) stays this far
+            inside its range [rad] (default 2 degrees: what the simulated servo needs).
+        stroke_margin_m: Every cylinder length stays this far inside its stroke [m] (2 mm).
 
     Raises:
-        ConfigError: A family without parameters, a precision with Ipopt or not > 0, an
-            accounting with nothing to optimize, options that do not go together.
+        ConfigError: A margin < 0 or one that leaves no range; a family without parameters, a
+            precision with Ipopt or not > 0, an accounting with nothing to optimize, options
+            that do not go together.
     """
     chosen = solver(method)
     legs = tuple(legs)
@@ -205,7 +217,10 @@ def optimize_swing(
         )
     if precision is not None and not precision > 0:
         raise ConfigError(f"the precision must be > 0, got {precision}", field="precision")
+    margins = LimitMargins(stop_margin_rad, stroke_margin_m)
     pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting, loads=loads)
+    if not free_stance:  # the free stance searches stances that keep the margins
+        _check_stance_margins(pipeline, legs, margins)
     cmd = command_tuple(command)
     if family == FREE_FAMILY:
         if bound or free_stance or starts != 1 or method != DEFAULT_SOLVER:
@@ -214,7 +229,7 @@ def optimize_swing(
                 "no --bound, --free-stance, --starts or --method with it",
                 field="family",
             )
-        return _free_method(robot, pipeline, legs, progress, cmd)
+        return _free_method(robot, pipeline, legs, progress, cmd, margins)
     if parse_bspline_name(family) is not None:
         raise ConfigError(
             f"family {family}: B-splines are the free-trajectory bound's: family 'free'",
@@ -228,6 +243,7 @@ def optimize_swing(
         starts=starts,
         pattern=PatternSearchOptions(precision=precision or PatternSearchOptions().precision),
         ipopt=VERBOSE_IPOPT if verbose else None,
+        margins=margins,
     )
     if free_stance:
         if legs != FIRST_PAIR:
@@ -239,7 +255,10 @@ def optimize_swing(
             progress(f"the stance and the {family} swings")
         stance = optimize_stance(pipeline, swing_family, settings)
         run = stance.best.run
-        records: dict[str, Any] = {"free_stance": stance.as_dict()}
+        records: dict[str, Any] = {
+            "limit_margins": margins.to_dict(),
+            "free_stance": stance.as_dict(),
+        }
         if run is None or not run.success:
             return OptimizationResult(
                 robot,
@@ -269,13 +288,14 @@ def optimize_swing(
         )
     run = optimize_swings(pipeline, legs, swing_family, settings, progress=progress)
     records = {
+        "limit_margins": margins.to_dict(),
         "optimization": {leg: r.as_dict() for leg, r in run.legs.items()},
         "optimization_run": optimization_record(run),
     }
     bounds: dict[str, FreeBound] = {}
     if bound and run.success:
         seeds = {leg: [(swing_family, r.best.theta)] for leg, r in run.legs.items()}
-        bounds = bounds_for(pipeline, tuple(run.legs), seeds, progress=progress)
+        bounds = bounds_for(pipeline, tuple(run.legs), seeds, progress=progress, margins=margins)
         for leg, result in run.legs.items():
             result.bound_check_energy_j = bounds[leg].check_energy_j
         records["optimization"] = {leg: r.as_dict() for leg, r in run.legs.items()}
@@ -294,17 +314,45 @@ def optimize_swing(
     )
 
 
+def _check_stance_margins(
+    pipeline: EnergyPipeline, legs: tuple[str, ...], margins: LimitMargins
+) -> None:
+    """Refuse margins the gait's own stance does not keep: no swing could then keep them.
+
+    Raises:
+        ConfigError: A stance sample lies inside a margin (the message names the leg, the
+            quantity and the option).
+    """
+    for leg in legs:
+        phase = pipeline.stance(leg)
+        beyond = violations(phase.values, margins.apply(leg_bounds(pipeline.physics(leg))))
+        if beyond:
+            bound = beyond[0].bound
+            field = "stop_margin_rad" if bound.output == "q" else "stroke_margin_m"
+            raise ConfigError(
+                f"the stance of {leg} at this gait takes {bound.name} within "
+                f"{margins.margin(bound):g} {bound.unit} of the end of its "
+                f"{bound.source.removesuffix(', less margin')}: no swing can keep that margin "
+                f"({field}); give a smaller one or another stance",
+                field=field,
+            )
+
+
 def _free_method(
     robot: Robot,
     pipeline: EnergyPipeline,
     legs: tuple[str, ...],
     progress: Progress | None,
     command: tuple[str, ...] | None,
+    margins: LimitMargins,
 ) -> OptimizationResult:
     """The free-trajectory bound of each leg, reported as an optimum."""
     check_bounded(pipeline, legs)
-    bounds = bounds_for(pipeline, legs, progress=progress)
-    records: dict[str, Any] = {"free_bound": {leg: b.as_dict() for leg, b in bounds.items()}}
+    bounds = bounds_for(pipeline, legs, progress=progress, margins=margins)
+    records: dict[str, Any] = {
+        "limit_margins": margins.to_dict(),
+        "free_bound": {leg: b.as_dict() for leg, b in bounds.items()},
+    }
     if not all(b.result.success for b in bounds.values()):  # not even a level solved
         reference = pipeline.robot_cycle(make_family("reference"))
         return OptimizationResult(

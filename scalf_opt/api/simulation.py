@@ -160,10 +160,12 @@ def simulate(
         robot: The robot.
         gait: The gait (default: the robot's default trot); not with ``swings_from``.
         swings_from: A folder with the ``summary.json`` of ``optimize_swing(...).write(...)``:
-            its swings and gait are simulated, and the reference beside them.
+            its swings and gait (its stance included) are simulated, and the reference beside
+            them where the reference is possible at that gait (else ``reference_skipped``).
         cycles: Gait cycles to simulate (>= 2; the first is the start-up).
         accounting: Power accounting of the joint energies.
-        servo_bandwidth_hz: Natural frequency of the joints' PD loops (default 30 Hz).
+        servo_bandwidth_hz: Natural frequency of the servo's feedback loops [Hz] (default:
+            derived from the leg length, 30 Hz on SCalf; :mod:`scalf_opt.sim.settings`).
         command: The command line, recorded in the result's provenance.
 
     Raises:
@@ -202,7 +204,7 @@ def simulate(
     title = (
         f"MuJoCo {data['mujoco_version']} simulation of {robot.name}, {families} swing: trot "
         f"T={gait.period_s:g} s, S={gait.step_length_m:g} m, z0={gait.stance_height_m:g} m, "
-        f"{cycles} cycles, dt={1e3 * settings.timestep_s:g} ms, servo "
-        f"{settings.servo_bandwidth_hz:g} Hz"
+        f"{cycles} cycles, dt={1e3 * data['settings']['timestep_s']:g} ms, servo "
+        f"{data['settings']['servo_bandwidth_hz']:.3g} Hz"
     )
     return SimulationResult(robot, data, run.record, title)

@@ -11,6 +11,11 @@ feasibility of a stance, and the peaks and violations the reports print.
   SCalf's cylinder: its stroke on the length, its force and speed limits).
 
 A URDF velocity or effort limit that is not a positive finite number means "no limit".
+
+The optimizers (the NLP, the pattern search, the bound, the free stance) keep a margin inside
+the joint range and the cylinders' stroke (:mod:`scalf_opt.energy.margins`): a plan that rides an
+end stop is one no servo can follow. The reports check the limits themselves (:func:`leg_bounds`
+as it is).
 """
 
 from __future__ import annotations
@@ -21,6 +26,13 @@ from typing import Any
 
 import numpy as np
 
+from scalf_opt.energy.margins import (  # noqa: F401  (the margins live beside the limits)
+    DEFAULT_MARGINS,
+    DEFAULT_STOP_MARGIN_RAD,
+    DEFAULT_STROKE_MARGIN_M,
+    NO_MARGINS,
+    LimitMargins,
+)
 from scalf_opt.energy.physics import LegPhysics
 from scalf_opt.types import JOINT_ROLES
 

@@ -46,6 +46,7 @@ from typing import Any
 import numpy as np
 
 from scalf_opt.energy.loads import PAPER_LOADS
+from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.interrupts import map_in_threads, raise_if_stopped
 from scalf_opt.locomotion.gait import Gait
@@ -212,6 +213,7 @@ def bound_for(
     tolerance: float = BOUND_TOLERANCE,
     spans: tuple[int, ...] = SPANS,
     progress: Callable[[str], None] | None = None,
+    margins: LimitMargins = DEFAULT_MARGINS,
 ) -> FreeBound:
     """The free-trajectory bound of ``leg``, its first level started from each seed swing.
 
@@ -223,6 +225,7 @@ def bound_for(
         tolerance: Energy still to gain, relative, that counts as converged.
         spans: The refinement levels.
         progress: Called with a label as each level starts.
+        margins: How far inside the joint range and the cylinder stroke the swing stays.
     """
     # the bound is on the swing energy alone, which the stance loads do not change (no foot
     # force in swing): the swing problem without a stance term is exactly that
@@ -246,7 +249,8 @@ def bound_for(
         best: LegResult | None = None
         rate = 0.0
         for theta0 in candidates:
-            settings = Settings() if previous is None else Settings(ipopt=WARM_START_OPTIONS)
+            ipopt = None if previous is None else WARM_START_OPTIONS
+            settings = Settings(ipopt=ipopt, margins=margins)
             run = optimize_swings(
                 level, (leg,), family, settings, {leg: theta0}, stance_checked=True
             )
@@ -289,6 +293,7 @@ def bounds_for(
     progress: Callable[[str], None] | None = None,
     threads: int | None = None,
     spans: tuple[int, ...] = SPANS,
+    margins: LimitMargins = DEFAULT_MARGINS,
 ) -> dict[str, FreeBound]:
     """The bound of each leg (:func:`bound_for`), the legs on parallel threads.
 
@@ -304,11 +309,12 @@ def bounds_for(
         progress: Called with a label as each level of each leg starts.
         threads: Threads to use; default one per core, at most one per leg.
         spans: The refinement levels.
+        margins: How far inside the joint range and the cylinder stroke the swings stay.
     """
     workers = (os.cpu_count() or 1) if threads is None else threads
     found = map_in_threads(
         lambda leg: bound_for(
-            pipeline, leg, (seeds or {}).get(leg), spans=spans, progress=progress
+            pipeline, leg, (seeds or {}).get(leg), spans=spans, progress=progress, margins=margins
         ),
         legs,
         workers,

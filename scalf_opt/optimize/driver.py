@@ -24,6 +24,7 @@ import numpy as np
 
 from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError, GaitError, InfeasibleError
 from scalf_opt.interrupts import map_in_threads, raise_if_stopped
@@ -62,6 +63,7 @@ class Settings:
         sampling_tolerance: Largest relative difference between the optimum's energy at its
             rate and at ten times that rate.
         ipopt: Extra Ipopt options (``{"print_level": 5}``: its iteration log), or ``None``.
+        margins: How far inside the joint range and the cylinder stroke every optimum stays.
     """
 
     method: Method = DEFAULT_SOLVER
@@ -69,6 +71,7 @@ class Settings:
     pattern: PatternSearchOptions = field(default_factory=PatternSearchOptions)
     sampling_tolerance: float = SAMPLING_TOLERANCE
     ipopt: dict[str, Any] | None = None
+    margins: LimitMargins = DEFAULT_MARGINS
 
     def __post_init__(self) -> None:
         solver(self.method)  # a name no solver has: ConfigError
@@ -306,16 +309,15 @@ def _solve_leg(
     does not resolve the optimum, exactly as when the energy has not converged.
     """
     raise_if_stopped()
-    problem = SwingProblem(pipeline, leg, family, others)
+    problem = SwingProblem(pipeline, leg, family, others, margins=settings.margins)
     if theta0 is None:
         theta0 = np.zeros(problem.n_params)
     optimum = solver(settings.method).solve(problem, theta0, settings.solver_options)
     check = math.inf
     if optimum.success:
         fine_pipeline = pipeline.with_gait(with_rate(pipeline.gait, check_rate_hz(pipeline.gait)))
-        check, crossed = SwingProblem(fine_pipeline, leg, family, others).energy_and_bound_excess(
-            optimum.theta
-        )
+        fine = SwingProblem(fine_pipeline, leg, family, others, margins=settings.margins)
+        check, crossed = fine.energy_and_bound_excess(optimum.theta)
         if crossed > BETWEEN_SAMPLES_RTOL:
             check = math.inf
     return optimum, check
@@ -429,9 +431,11 @@ def optimize_swings(
         if theta0 is not None and leg in theta0:
             label, theta = "given", np.asarray(theta0[leg], dtype=float)
         else:
-            label, theta = starts(SwingProblem(pipeline, leg, family), solver(settings.method), 1)[
-                0
-            ]
+            label, theta = starts(
+                SwingProblem(pipeline, leg, family, margins=settings.margins),
+                solver(settings.method),
+                1,
+            )[0]
         first[leg] = (label, theta)
         current[leg] = theta
     answers: dict[str, tuple[SwingOptimum, float]] = {}
@@ -463,7 +467,7 @@ def optimize_swings(
         ok = optimum.success and error <= settings.sampling_tolerance
         runs = [StartResult(first[leg][0], optimum, check, ok)]
         others = coupled_others(at_rate, legs, leg, final)
-        problem = SwingProblem(at_rate, leg, family, others)
+        problem = SwingProblem(at_rate, leg, family, others, margins=settings.margins)
         for label, theta in starts(problem, solver(settings.method), settings.starts)[1:]:
             if progress is not None:
                 progress(f"{leg}: start {label}")

@@ -38,6 +38,7 @@ import numpy as np
 
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.limits import leg_bounds, violations
+from scalf_opt.energy.margins import LimitMargins
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ScalfError
 from scalf_opt.locomotion.gait import Gait
@@ -167,15 +168,20 @@ class FreeStance:
         }
 
 
-def _stance_feasible(pipeline: EnergyPipeline, legs: tuple[str, ...]) -> tuple[float, str | None]:
-    """Stance energy of ``legs`` [J], or ``(inf, reason)`` when the stance breaks a limit."""
+def _stance_feasible(
+    pipeline: EnergyPipeline, legs: tuple[str, ...], margins: LimitMargins
+) -> tuple[float, str | None]:
+    """Stance energy of ``legs`` [J], or ``(inf, reason)`` when the stance breaks a limit.
+
+    The joint range and the stroke count less their margins.
+    """
     total = 0.0
     for leg in legs:
         try:
             phase = pipeline.stance(leg)
         except ScalfError as exc:
             return math.inf, str(exc)
-        beyond = violations(phase.values, leg_bounds(pipeline.physics(leg)))
+        beyond = violations(phase.values, margins.apply(leg_bounds(pipeline.physics(leg))))
         if beyond:
             b = beyond[0].bound
             return math.inf, f"stance of {leg}: {b.name} beyond its {b.source}"
@@ -220,7 +226,7 @@ def optimize_stance(
     # the whole search at the rate the nominal optimization converged at, so that every stance
     # is compared on the same grid (a stance that needs a finer one is refined by the driver)
     at_rate = pipeline.with_gait(with_rate(pipeline.gait, nominal_run.rate_hz))
-    _, reason = _stance_feasible(at_rate, legs)
+    _, reason = _stance_feasible(at_rate, legs, settings.margins)
     if reason is not None:
         raise ScalfError(reason)
     nominal_total, reason = pair_energy_j(at_rate, family, nominal_run, legs)
@@ -240,7 +246,7 @@ def optimize_stance(
             seen[key] = StanceEvaluation(at_rate.gait, math.inf, str(exc))
             return seen[key]
         trial = at_rate.with_gait(gait)
-        _, why = _stance_feasible(trial, legs)
+        _, why = _stance_feasible(trial, legs, settings.margins)
         if why is not None:
             seen[key] = StanceEvaluation(gait, math.inf, why)
             return seen[key]

@@ -15,6 +15,8 @@ foot at or above the ground at every interior sample and at least H above it at 
 foot leaving and meeting the ground from above (vertical acceleration >= 0 at lift-off and
 touch-down, where the foot is on the ground at rest vertically: without it the foot could dip
 below the ground between the first samples), and in foot space the target inside the reach.
+The joint range and the cylinder stroke keep the problem's margins
+(:class:`~scalf_opt.energy.limits.LimitMargins`).
 
 The samples are the pipeline's gait's swing grid: the caller chooses the rate
 (:mod:`scalf_opt.optimize.sampling`). The per-sample physics is the leg's kernel
@@ -32,6 +34,7 @@ import numpy as np
 
 from scalf_opt.energy.coupling import StanceCoupling, stance_coupling
 from scalf_opt.energy.limits import Bound
+from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
 from scalf_opt.energy.physics import LegPhysics, trapezoid_weights
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
@@ -70,12 +73,14 @@ class SwingProblem:
         others: Parameters of the other legs optimized with this one (family units): fixed
             here, they set the loads under whole-body loads (``None``: no other leg, the
             rule of :meth:`~scalf_opt.energy.pipeline.EnergyPipeline.swings`).
+        margins: How far inside the joint range and the stroke the swing stays.
     """
 
     pipeline: EnergyPipeline
     leg: str
     family: SwingFamily
     others: Mapping[str, np.ndarray] | None = None
+    margins: LimitMargins = DEFAULT_MARGINS
 
     @cached_property
     def coupling(self) -> StanceCoupling | None:
@@ -111,10 +116,10 @@ class SwingProblem:
         """The leg's per-sample functions in the family's space."""
         return kernel_for(self.physics, self.family.space)
 
-    @property
+    @cached_property
     def bounds(self) -> tuple[Bound, ...]:
-        """The leg's bounds on per-sample quantities."""
-        return self.kernel.bounds
+        """The leg's bounds on per-sample quantities, the range and stroke less the margins."""
+        return self.margins.apply(self.kernel.bounds)
 
     @property
     def n_params(self) -> int:

@@ -9,8 +9,10 @@ from typing import Any
 import mujoco
 
 from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import GaitError, InfeasibleError
 from scalf_opt.model.robot import Robot
-from scalf_opt.sim.control import servo_gains
+from scalf_opt.sim.control import servo_gains, trunk_gains
+from scalf_opt.sim.inverse import plan_inverse_dynamics
 from scalf_opt.sim.metrics import saving_comparison, summarize
 from scalf_opt.sim.mujoco_model import build_sim_model
 from scalf_opt.sim.plan import REFERENCE_SWINGS, SwingChoice, TrotPlan, planned_cycle
@@ -45,12 +47,20 @@ def run_trot(
         ConfigError, GaitError, InfeasibleError: A swing or gait the pipeline refuses.
         ModelError: MuJoCo cannot build the robot.
     """
+    settings, derivation = settings.for_leg_length(robot.leg_length_m)
     model_cycle = planned_cycle(pipeline, swings)
-    plan = TrotPlan.build(pipeline, swings, 1.0 / settings.timestep_s)
+    plan = TrotPlan.build(pipeline, swings, 1.0 / settings.value("timestep_s"))
     sim = build_sim_model(robot, settings)
     gains = servo_gains(robot, plan, settings)
-    record = simulate(sim, plan, gains, cycles)
+    trunk = trunk_gains(settings) if settings.stance_control == "trunk" else None
+    record = simulate(sim, plan, gains, cycles, trunk)
     result = summarize(sim, record, plan, model_cycle, pipeline)
+    result["plan_inverse_dynamics"] = plan_inverse_dynamics(
+        sim, plan, pipeline, record.timestep_s, record.start_trunk_height_m
+    )
+    result["settings"] = settings.to_dict()
+    result["settings_derivation"] = derivation
+    result["model_repairs"] = list(sim.repairs)
     result["servo_gains"] = {
         leg: {"kp_nm_per_rad": g.kp_nm_per_rad, "kd_nms_per_rad": g.kd_nms_per_rad}
         for leg, g in gains.items()
@@ -72,9 +82,12 @@ def simulation_file(
 ) -> tuple[dict[str, Any], TrotRun]:
     """The content of ``simulation.json``, and the run it describes.
 
-    A plan that is not the reference is simulated beside the reference, and the file holds the
-    reference's figures (``reference``) and the saving, simulated and modelled
-    (``saving_vs_reference``).
+    ``swings`` are simulated at the pipeline's gait as it is (a saved free stance included). A plan
+    that is not the reference is simulated beside the reference at the same gait, and the file
+    holds the reference's figures (``reference``) and the saving, simulated and modelled
+    (``saving_vs_reference``); when the reference swing is impossible at that gait (a free
+    stance that puts its path outside the joint range), the reference is not simulated and
+    ``reference_skipped`` says why.
     """
     run = run_trot(robot, pipeline, swings, settings, cycles)
     gait = pipeline.gait
@@ -83,11 +96,14 @@ def simulation_file(
         "mujoco_version": mujoco.__version__,
         "gait": {**gait.to_dict(), "speed_m_s": gait.speed_m_s},
         "accounting": pipeline.accounting,
-        "settings": settings.to_dict(),
         **run.result,
     }
     if any(family != "reference" for family, _ in swings.values()):
-        reference = run_trot(robot, pipeline, REFERENCE_SWINGS, settings, cycles).result
-        data["reference"] = reference
-        data["saving_vs_reference"] = saving_comparison(run.result, reference)
+        try:
+            reference = run_trot(robot, pipeline, REFERENCE_SWINGS, settings, cycles).result
+        except (GaitError, InfeasibleError) as exc:
+            data["reference_skipped"] = f"the reference swing is impossible at this gait: {exc}"
+        else:
+            data["reference"] = reference
+            data["saving_vs_reference"] = saving_comparison(run.result, reference)
     return data, run

@@ -17,6 +17,19 @@ Every figure is taken after the first gait cycle (the start-up transient), over 
   the same power formula as the model (:meth:`~scalf_opt.energy.physics.LegPhysics.power_function`,
   the accounting's mechanical power plus the cylinders' friction heat), beside the model's
   prediction for the same plan and their relative difference.
+* ``servo_work_per_cycle_j``: per leg, the joints' mechanical work split into the feed-forward
+  torque's (the model's inverse dynamics) and the PD feedback's, net and gross (``sum |tau qd|``):
+  the feedback's work is the servo's own, what the referee adds because the model's torques do
+  not carry the robot along its plan on their own. A large feedback share points at the model (or
+  at a plan physics cannot follow), not at the joints;
+* ``constraint_work_per_cycle_j``: the work of the contacts and joint limits (negative:
+  dissipated), which the model has none of;
+* ``joint_stop_clearance_rad``: per leg and joint (hip pitch, knee), the smallest distance of
+  the joint from either end of its range, planned and simulated (negative: beyond the stop,
+  where MuJoCo's joint limit pushes back): how much of the plan's margin the servo used up;
+* ``internal_horizontal_force_n``: per stance pair (the diagonals), where the two stance feet
+  push along x against each other, the part that cancels (``min |F_x|`` of the two), peak and
+  mean over the pair's stance: the model's minimum-norm distribution has none.
 
 Two checks of the record itself: the mean vertical ground force over whole cycles equals the
 robot's weight (momentum balance of a periodic motion), and the work of the joint torques and
@@ -115,6 +128,65 @@ def _touchdown_timing(record: SimRecord, plan: TrotPlan, leg: str, steps: np.nda
     return float(np.mean(delays)) if delays else float("nan")
 
 
+def servo_work_j(
+    record: SimRecord, plan: TrotPlan, steps: np.ndarray, cycles: int
+) -> dict[str, dict[str, float]]:
+    """Per leg, the joints' work per cycle split into feed-forward and feedback (module) [J]."""
+    out = {}
+    dt = record.timestep_s
+    for leg in LEG_NAMES:
+        tau = record.tau_nm[leg][:, steps]
+        qd = record.qd_rad_s[leg][:, steps]
+        feedback = tau - plan.sample(leg, record.t_s[steps])["tau"]
+        p_all, p_fb = (tau * qd).sum(axis=0), (feedback * qd).sum(axis=0)
+        out[leg] = {
+            "joints_net": float(p_all.sum() * dt / cycles),
+            "joints_gross": float(np.abs(p_all).sum() * dt / cycles),
+            "feedforward_net": float((p_all - p_fb).sum() * dt / cycles),
+            "feedback_net": float(p_fb.sum() * dt / cycles),
+            "feedback_gross": float(np.abs(p_fb).sum() * dt / cycles),
+            "feedback_torque_rms_over_torque_rms": float(
+                np.sqrt(np.mean(feedback**2)) / max(np.sqrt(np.mean(tau**2)), 1e-300)
+            ),
+        }
+    return out
+
+
+def stop_clearance_rad(
+    pipeline: EnergyPipeline, record: SimRecord, plan: TrotPlan, steps: np.ndarray
+) -> dict[str, dict[str, list[float]]]:
+    """Per leg, the joints' smallest distance to their range ends, planned and simulated [rad]."""
+    out = {}
+    for leg in LEG_NAMES:
+        model = pipeline.physics(leg).leg
+        lower, upper = model.lower_limits_rad[:, None], model.upper_limits_rad[:, None]
+
+        def clearance(q: np.ndarray) -> list[float]:
+            return [float(v) for v in np.minimum(q - lower, upper - q).min(axis=1)]  # noqa: B023
+
+        out[leg] = {
+            "planned": clearance(plan.sample(leg, record.t_s[steps])["q"]),
+            "simulated": clearance(record.q_rad[leg][:, steps]),
+        }
+    return out
+
+
+def internal_force_n(
+    record: SimRecord, plan: TrotPlan, steps: np.ndarray
+) -> dict[str, dict[str, float]]:
+    """Per diagonal stance pair, the x force its two feet push against each other with [N]."""
+    out = {}
+    for a, b in (LEG_NAMES[0:2], LEG_NAMES[2:4]):
+        shared = steps & plan.in_stance(a, record.t_s) & plan.in_stance(b, record.t_s)
+        fa, fb = record.grf_n[a][0][shared], record.grf_n[b][0][shared]
+        cancel = np.where(np.sign(fa) != np.sign(fb), np.minimum(np.abs(fa), np.abs(fb)), 0.0)
+        out[f"{a}-{b}"] = {
+            "peak": float(cancel.max(initial=0.0)),
+            "mean": float(cancel.mean()) if cancel.size else 0.0,
+        }
+    return out
+
+
 def energy_comparison(simulated_j: float, model_j: float) -> dict[str, float]:
     """``{simulated, model, relative_difference}`` of one energy [J]."""
     return {
@@ -185,6 +257,10 @@ def summarize(
             "simulated": total_sim / gait.period_s,
             "model": model_cycle.average_power_w,
         },
+        "servo_work_per_cycle_j": servo_work_j(record, plan, steps, cycles),
+        "constraint_work_per_cycle_j": float(record.constraint_power_w[steps].sum() * dt / cycles),
+        "internal_horizontal_force_n": internal_force_n(record, plan, steps),
+        "joint_stop_clearance_rad": stop_clearance_rad(pipeline, record, plan, steps),
         "torque_saturation_fraction": {
             leg: float(record.saturated[leg][:, steps].mean()) for leg in LEG_NAMES
         },

@@ -9,7 +9,12 @@ limits), after three edits made here so that it simulates what the energy model 
 * the URDF's visual and collision geometry is dropped (the dynamics need none of it, and meshes
   need not be found); the only contact geometry is a sphere at each foot frame and the ground;
   an inertia tensor that is not positive definite (HyQ's 1e-6 kg placeholder links carry
-  ``ixx = ixy = ... = 1e-6``), which MuJoCo refuses, keeps only its diagonal;
+  ``ixx = ixy = ... = 1e-6``), which MuJoCo refuses, keeps only its diagonal; a tensor whose
+  principal moments break the triangle inequality ``A + B >= C`` (ANYmal C's depth cameras:
+  8.7e-6, 6.7e-4 and 1.4e-3 kg m^2, which no real body has), which MuJoCo also refuses, is
+  repaired as MuJoCo documents: the compiler flag ``balanceinertia`` sets its three principal
+  moments to their mean. Every repair is listed in :attr:`SimModel.repairs` (and so in
+  ``simulation.json`` and the command's report);
 * the trunk (the URDF's root link) gets three joints: slide along x, slide along z and a hinge
   about y, in that order (the paper's assumption (a): the trunk moves in the sagittal plane).
 
@@ -31,7 +36,7 @@ from defusedxml.ElementTree import fromstring
 from scalf_opt.errors import ModelError
 from scalf_opt.model.robot import Robot
 from scalf_opt.model.urdf_file import read_urdf_text
-from scalf_opt.sim.settings import DEFAULT_FOOT_RADIUS_FRACTION, SimSettings
+from scalf_opt.sim.settings import SimSettings
 from scalf_opt.types import LEG_NAMES
 
 TRUNK_JOINTS: tuple[str, str, str] = ("trunk_x", "trunk_z", "trunk_pitch")
@@ -57,6 +62,8 @@ class SimModel:
         foot_body: Per leg, the body the foot sphere belongs to.
         foot_radius_m: Radius of the foot spheres [m].
         effort_limit_nm: Per leg, the (hip pitch, knee) effort limits of the URDF [N m].
+        repairs: One sentence per URDF inertia changed so that MuJoCo accepts it (empty when
+            MuJoCo takes the URDF as it is).
     """
 
     model: mujoco.MjModel
@@ -69,6 +76,7 @@ class SimModel:
     foot_body: dict[str, int]
     foot_radius_m: float
     effort_limit_nm: dict[str, np.ndarray]
+    repairs: tuple[str, ...] = ()
 
     @property
     def total_mass_kg(self) -> float:
@@ -88,29 +96,66 @@ def _root_link(root: ET.Element, path: Path) -> str:
     return str(roots[0])
 
 
-def _foot_sphere_radius(root: ET.Element, foot_link: str) -> float | None:
-    """Radius of a collision sphere centred on the link ``foot_link``, if it has one [m]."""
+_INERTIA_KEYS = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
+
+
+def _link_inertias(root: ET.Element) -> list[tuple[str, float, ET.Element]]:
+    """Every link's name, mass [kg] and ``inertia`` element (links with an inertial block)."""
+    out = []
     for link in root.iter("link"):
-        if link.get("name") != foot_link:
+        inertial = link.find("inertial")
+        if inertial is None or (inertia := inertial.find("inertia")) is None:
             continue
-        for collision in link.findall("collision"):
-            sphere = collision.find("geometry/sphere")
-            origin = collision.find("origin")
-            xyz = origin.get("xyz", "0 0 0") if origin is not None else "0 0 0"
-            if sphere is not None and np.allclose([float(v) for v in xyz.split()], 0.0):
-                return float(sphere.get("radius", "nan"))
-    return None
+        mass = inertial.find("mass")
+        out.append(
+            (
+                str(link.get("name")),
+                float(mass.get("value", "0")) if mass is not None else 0.0,
+                inertia,
+            )
+        )
+    return out
 
 
-def _repair_singular_inertias(root: ET.Element) -> None:
-    """Drop the products of inertia of a tensor that is not positive definite (see module)."""
-    keys = ("ixx", "ixy", "ixz", "iyy", "iyz", "izz")
-    for inertia in root.iter("inertia"):
-        xx, xy, xz, yy, yz, zz = (float(inertia.get(k, "0")) for k in keys)
-        tensor = np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
-        if np.linalg.eigvalsh(tensor).min() <= 0.0:
+def _tensor(inertia: ET.Element) -> np.ndarray:
+    xx, xy, xz, yy, yz, zz = (float(inertia.get(k, "0")) for k in _INERTIA_KEYS)
+    return np.array([[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]])
+
+
+def _repair_singular_inertias(root: ET.Element) -> list[str]:
+    """Drop the products of inertia of a tensor that is not positive definite (see module).
+
+    Returns:
+        One sentence per link repaired.
+    """
+    repairs = []
+    for name, mass, inertia in _link_inertias(root):
+        tensor = _tensor(inertia)
+        if np.linalg.eigvalsh(tensor).min() <= 0.0 and np.any(tensor != np.diag(np.diag(tensor))):
             for key in ("ixy", "ixz", "iyz"):
                 inertia.set(key, "0")
+            repairs.append(
+                f"link {name} ({mass:g} kg): inertia not positive definite, products of inertia "
+                "set to zero"
+            )
+    return repairs
+
+
+def _unbalanced_inertias(root: ET.Element) -> list[str]:
+    """Links with mass whose principal moments break ``A + B >= C`` (see module), as sentences."""
+    repairs = []
+    for name, mass, inertia in _link_inertias(root):
+        if mass <= 0.0:
+            continue
+        moments = np.sort(np.linalg.eigvalsh(_tensor(inertia)))
+        if moments[0] + moments[1] < moments[2]:
+            repairs.append(
+                f"link {name} ({mass:g} kg): principal moments "
+                + ", ".join(f"{m:.3g}" for m in moments)
+                + " kg m^2 break A + B >= C; MuJoCo's balanceinertia set them to their mean "
+                f"{moments.mean():.3g} kg m^2"
+            )
+    return repairs
 
 
 def _child_link(root: ET.Element, joint: str) -> str:
@@ -132,11 +177,8 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
     root = fromstring(read_urdf_text(path).encode("utf-8"), forbid_dtd=True)
     legs = {leg: robot.leg(leg) for leg in LEG_NAMES}
     sagittal = {name for leg in legs.values() for name in leg.joint_names}
-    radius = settings.foot_radius_m
-    if radius is None:
-        found = [_foot_sphere_radius(root, leg.foot_frame) for leg in legs.values()]
-        reach = legs["RF"].thigh_length_m + legs["RF"].shank_length_m
-        radius = found[0] if found[0] is not None else DEFAULT_FOOT_RADIUS_FRACTION * reach
+    settings, _ = settings.for_leg_length(robot.leg_length_m)
+    radius = settings.value("foot_radius_m")
     trunk_link = _root_link(root, path)
     shank_links = {name: _child_link(root, leg.joint_names[1]) for name, leg in legs.items()}
     for link in root.iter("link"):
@@ -146,17 +188,19 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
     for joint in root.iter("joint"):
         if joint.get("name") not in sagittal:
             joint.set("type", "fixed")
-    _repair_singular_inertias(root)
+    repairs = _repair_singular_inertias(root)
+    repairs += _unbalanced_inertias(root)
     try:
         spec = mujoco.MjSpec.from_string(ET.tostring(root, encoding="unicode"))
     except ValueError as exc:
         raise ModelError(f"{path}: MuJoCo cannot read the URDF ({exc})") from exc
+    spec.compiler.balanceinertia = True  # acts only on the tensors _unbalanced_inertias lists
     trunk = spec.body(trunk_link)
     trunk.add_joint(name=TRUNK_JOINTS[0], type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[1, 0, 0])
     trunk.add_joint(name=TRUNK_JOINTS[1], type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1])
     trunk.add_joint(name=TRUNK_JOINTS[2], type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0])
     friction = [settings.foot_friction, _TORSIONAL_FRICTION, _ROLLING_FRICTION]
-    solref = [settings.contact_time_constant_s, settings.contact_damping_ratio]
+    solref = [settings.value("contact_time_constant_s"), settings.contact_damping_ratio]
     spec.worldbody.add_geom(
         name="ground",
         type=mujoco.mjtGeom.mjGEOM_PLANE,
@@ -187,7 +231,7 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
                 trntype=mujoco.mjtTrn.mjTRN_JOINT,
                 gear=[1, 0, 0, 0, 0, 0],
             )
-    spec.option.timestep = settings.timestep_s
+    spec.option.timestep = settings.value("timestep_s")
     spec.option.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
     try:
         model = spec.compile()
@@ -209,6 +253,7 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
         },
         foot_geom={n: model.geom(f"{n}_foot_contact").id for n in legs},
         foot_body={n: int(model.geom_bodyid[model.geom(f"{n}_foot_contact").id]) for n in legs},
-        foot_radius_m=float(radius),
+        foot_radius_m=radius,
         effort_limit_nm={n: leg.effort_limits_nm for n, leg in legs.items()},
+        repairs=tuple(repairs),
     )

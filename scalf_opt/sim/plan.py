@@ -50,17 +50,24 @@ class TrotPlan:
         local = np.mod(np.asarray(t_s, dtype=float) - stance_start_s(gait, leg), gait.period_s)
         return local < gait.stance_duration_s - PHASE_EDGE_S
 
-    def sample(self, leg: str, t_s: np.ndarray) -> dict[str, np.ndarray]:
+    def sample(
+        self, leg: str, t_s: np.ndarray, names: tuple[str, ...] = ("q", "qd", "tau")
+    ) -> dict[str, np.ndarray]:
         """Planned ``q`` [rad], ``qd`` [rad/s] and ``tau`` [N m] of ``leg`` at times ``t_s``.
 
+        Args:
+            leg: The leg.
+            t_s: Times [s].
+            names: The per-sample quantities to give (two-row ones: ``qdd`` too).
+
         Returns:
-            Arrays of shape (2, n), rows (hip pitch, knee), keyed ``q``, ``qd``, ``tau``.
+            Arrays of shape (2, n), rows (hip pitch, knee), keyed by ``names``.
         """
         gait = self.cycle.gait
         t = np.asarray(t_s, dtype=float)
         local = np.mod(t - stance_start_s(gait, leg), gait.period_s)
         stance = self.in_stance(leg, t)
-        out = {name: np.zeros((2, t.size)) for name in ("q", "qd", "tau")}
+        out = {name: np.zeros((2, t.size)) for name in names}
         leg_cycle = self.cycle.legs[leg]
         for phase, mask, offset in (
             (leg_cycle.stance, stance, 0.0),

@@ -11,6 +11,27 @@ def _met(flag: bool) -> str:
     return "met" if flag else "NOT met"
 
 
+def _change(value: float, base: float) -> str:
+    return f"{100 * (value / base - 1):+7.2f} %" if base else "    n/a"
+
+
+def _inverse_dynamics_rows(result: dict[str, Any]) -> list[str]:
+    """Per leg: the plan's own energy and force, and the model's and the simulation's gaps."""
+    plan = result["plan_inverse_dynamics"]
+    rows = []
+    for leg in LEG_NAMES:
+        e, p = plan["joint_energy_per_phase_j"][leg], result["joint_energy_per_phase_j"][leg]
+        rows.append(
+            f"{leg:4s}  {e['stance']:10.3f}  {e['swing']:9.3f}  "
+            f"{plan['stance_force_mean_n'][leg]:14.1f}   "
+            f"{_change(p['stance']['model'], e['stance'])} / "
+            f"{_change(p['swing']['model'], e['swing'])}        "
+            f"{_change(p['stance']['simulated'], e['stance'])} / "
+            f"{_change(p['swing']['simulated'], e['swing'])}"
+        )
+    return rows
+
+
 def simulation_report(result: dict[str, Any], title: str) -> str:
     """Trunk motion, foot forces and slip, joint energy against the model, checks and goals."""
     goals = result["goals"]
@@ -55,6 +76,36 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
         f"goal: joint energy within {100 * goals['joint_energy_relative_difference_at_most']:.0f}"
         f" % of the model's on every leg: {_met(goals['joint_energy_met'])}",
         "",
+        "the plan followed exactly (MuJoCo's inverse dynamics of the whole robot on the plan, "
+        "minimum-norm foot forces):",
+        "leg   stance [J]  swing [J]  mean force [N]   model vs it: stance / swing   "
+        "simulation vs it: stance / swing",
+        *_inverse_dynamics_rows(result),
+        "",
+        "servo: leg   joints' work net / gross [J]   of it the PD feedback's net / gross [J]   "
+        "feedback torque rms / torque rms",
+        *(
+            f"       {leg:4s}  {w['joints_net']:+10.3f} / {w['joints_gross']:9.3f}"
+            f"   {w['feedback_net']:+23.3f} / {w['feedback_gross']:9.3f}"
+            f"   {w['feedback_torque_rms_over_torque_rms']:10.3f}"
+            for leg, w in result["servo_work_per_cycle_j"].items()
+        ),
+        f"contacts and joint limits: {result['constraint_work_per_cycle_j']:+.3f} J per cycle; "
+        "stance feet pushing against each other along x: "
+        + ", ".join(
+            f"{pair} peak {f['peak']:.1f} N, mean {f['mean']:.1f} N"
+            for pair, f in result["internal_horizontal_force_n"].items()
+        ),
+        "closest approach to a joint stop, planned / simulated [mrad] (negative: beyond): "
+        + ", ".join(
+            f"{leg} "
+            + " ".join(
+                f"{1e3 * p:.1f}/{1e3 * q:.1f}"
+                for p, q in zip(c["planned"], c["simulated"], strict=True)
+            )
+            for leg, c in result["joint_stop_clearance_rad"].items()
+        ),
+        "",
         "checks: mean vertical ground force / weight "
         f"{result['checks']['mean_vertical_ground_force_over_weight']:.5f}; "
         "energy balance error / gross joint work "
@@ -62,6 +113,17 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
         "torque saturation "
         f"{100 * max(result['torque_saturation_fraction'].values()):.2f} % of steps",
     ]
+    settings = result["settings"]
+    lines += [
+        f"referee: servo {settings['servo_bandwidth_hz']:.2f} Hz (damping ratio "
+        f"{settings['servo_damping_ratio']:g}), contact time constant "
+        f"{1e3 * settings['contact_time_constant_s']:.3f} ms, feet "
+        f"{1e3 * settings['foot_radius_m']:.2f} mm, step {1e3 * settings['timestep_s']:g} ms"
+        + (" (derived from the leg length L)" if result.get("settings_derivation") else ""),
+        *(f"MuJoCo model repair: {repair}" for repair in result.get("model_repairs", [])),
+    ]
+    if "reference_skipped" in result:
+        lines += ["", f"reference not simulated: {result['reference_skipped']}"]
     saving = result.get("saving_vs_reference")
     if saving is not None:
         reference = result["reference"]["total_energy_per_cycle_j"]

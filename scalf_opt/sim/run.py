@@ -23,7 +23,7 @@ from dataclasses import dataclass
 import mujoco
 import numpy as np
 
-from scalf_opt.sim.control import JointGains
+from scalf_opt.sim.control import JointGains, TrunkGains, stance_feedback_nm
 from scalf_opt.sim.mujoco_model import SimModel
 from scalf_opt.sim.plan import TrotPlan
 from scalf_opt.types import LEG_NAMES
@@ -87,8 +87,51 @@ def _start(sim: SimModel, plan: TrotPlan, data: mujoco.MjData) -> float:
     return height
 
 
-def simulate(sim: SimModel, plan: TrotPlan, gains: dict[str, JointGains], cycles: int) -> SimRecord:
-    """Simulate ``cycles`` gait cycles of the plan with the servo ``gains``."""
+def _stance_feedback(
+    sim: SimModel,
+    data: mujoco.MjData,
+    legs: list[str],
+    jacp: np.ndarray,
+    mass: np.ndarray,
+    gains: TrunkGains,
+    trunk_error: np.ndarray,
+    trunk_rate_error: np.ndarray,
+) -> np.ndarray:
+    """The stance legs' feedback torques (:func:`~scalf_opt.sim.control.stance_feedback_nm`)."""
+    model = sim.model
+    s = len(legs)
+    jac_trunk, jac_joints = np.zeros((2 * s, 3)), np.zeros((2 * s, 2 * s))
+    for i, leg in enumerate(legs):
+        mujoco.mj_jac(
+            model, data, jacp, None, data.geom_xpos[sim.foot_geom[leg]], sim.foot_body[leg]
+        )
+        rows = jacp[[0, 2]]
+        jac_trunk[2 * i : 2 * i + 2] = rows[:, sim.trunk_dof]
+        jac_joints[2 * i : 2 * i + 2, 2 * i : 2 * i + 2] = rows[:, sim.leg_dof[leg]]
+    mujoco.mj_fullM(model, data, mass)
+    dofs = np.concatenate([sim.trunk_dof, *(sim.leg_dof[leg] for leg in legs)])
+    return stance_feedback_nm(
+        jac_trunk, jac_joints, mass[np.ix_(dofs, dofs)], trunk_error, trunk_rate_error, gains
+    )
+
+
+def simulate(
+    sim: SimModel,
+    plan: TrotPlan,
+    gains: dict[str, JointGains],
+    cycles: int,
+    trunk: TrunkGains | None = None,
+) -> SimRecord:
+    """Simulate ``cycles`` gait cycles of the plan with the servo ``gains``.
+
+    Args:
+        sim: The MuJoCo model.
+        plan: The planned trot.
+        gains: Every leg's joint loop.
+        cycles: Gait cycles to simulate.
+        trunk: The stance legs' loop on the trunk, or ``None``: the joint loops in stance too
+            (:mod:`~scalf_opt.sim.control`).
+    """
     model = sim.model
     data = mujoco.MjData(model)
     dt = float(model.opt.timestep)
@@ -103,9 +146,12 @@ def simulate(sim: SimModel, plan: TrotPlan, gains: dict[str, JointGains], cycles
     kd = np.concatenate([gains[leg].kd_nms_per_rad for leg in LEG_NAMES])
     limit = np.concatenate([sim.effort_limit_nm[leg] for leg in LEG_NAMES])
     foot_leg = {geom: leg for leg, geom in sim.foot_geom.items()}
+    stance = np.array([plan.in_stance(leg, t) for leg in LEG_NAMES])  # (4, n)
+    mass = np.zeros((model.nv, model.nv))
+    speed = plan.cycle.gait.speed_m_s
 
     start_height = _start(sim, plan, data)
-    trunk = np.zeros((3, n))
+    trunk_pose = np.zeros((3, n))
     q, qd, tau = (np.zeros((qpos_i.size, n)) for _ in range(3))
     saturated = np.zeros((qpos_i.size, n), dtype=bool)
     grf = {leg: np.zeros((2, n)) for leg in LEG_NAMES}
@@ -115,10 +161,24 @@ def simulate(sim: SimModel, plan: TrotPlan, gains: dict[str, JointGains], cycles
     force6 = np.zeros(6)
     jacp = np.zeros((3, model.nv))
     for k in range(n):
-        trunk[:, k] = data.qpos[sim.trunk_qpos]
+        trunk_pose[:, k] = data.qpos[sim.trunk_qpos]
         q[:, k] = data.qpos[qpos_i]
         v_start = data.qvel.copy()
-        demand = tau_ff[:, k] + kp * (q_ref[:, k] - q[:, k]) + kd * (qd_ref[:, k] - v_start[dof_i])
+        feedback = kp * (q_ref[:, k] - q[:, k]) + kd * (qd_ref[:, k] - v_start[dof_i])
+        if trunk is not None and stance[:, k].any():
+            on_ground = [i for i in range(len(LEG_NAMES)) if stance[i, k]]
+            rows = np.concatenate([np.arange(2 * i, 2 * i + 2) for i in on_ground])
+            feedback[rows] = _stance_feedback(
+                sim,
+                data,
+                [LEG_NAMES[i] for i in on_ground],
+                jacp,
+                mass,
+                trunk,
+                np.array([speed * t[k], start_height, 0.0]) - trunk_pose[:, k],
+                np.array([speed, 0.0, 0.0]) - v_start[sim.trunk_dof],
+            )
+        demand = tau_ff[:, k] + feedback
         saturated[:, k] = np.abs(demand) > limit
         data.ctrl[act_i] = np.clip(demand, -limit, limit)
         mujoco.mj_step(model, data)
@@ -152,7 +212,7 @@ def simulate(sim: SimModel, plan: TrotPlan, gains: dict[str, JointGains], cycles
     return SimRecord(
         t_s=t,
         timestep_s=dt,
-        trunk=trunk,
+        trunk=trunk_pose,
         q_rad=by_leg(q),
         qd_rad_s=by_leg(qd),
         tau_nm=by_leg(tau),

@@ -18,7 +18,8 @@ def run(argv, capsys):
 def simulated(tmp_path_factory):
     out = tmp_path_factory.mktemp("sim")
     assert (
-        main(["simulate", "--cycles", "2", "--out", str(out), "--log", str(out / "log.csv")]) == 0
+        # 3 cycles: the log then holds a complete cycle from a touch-down for every leg
+        main(["simulate", "--cycles", "3", "--out", str(out), "--log", str(out / "log.csv")]) == 0
     )
     return out
 
@@ -36,9 +37,13 @@ def test_simulate_writes_the_result_the_figure_and_a_log(simulated, capsys):
             energy["simulated"] / energy["model"] - 1, rel=1e-12
         )
     assert data["provenance"]["robot"] == "scalf"
-    assert data["provenance"]["command"].startswith("scalf-opt simulate --cycles 2")
-    assert data["cycles"] == 2 and data["cycles_averaged"] == 1
-    assert data["settings"]["servo_bandwidth_hz"] == 30.0
+    assert data["provenance"]["command"].startswith("scalf-opt simulate --cycles 3")
+    assert data["cycles"] == 3 and data["cycles_averaged"] == 2
+    # derived from SCalf's leg length: 30 Hz (settings.py), and said so
+    assert data["settings"]["servo_bandwidth_hz"] == pytest.approx(30.0, rel=1e-3)
+    assert "sqrt(g / L)" in data["settings_derivation"]["servo_bandwidth_hz"]
+    assert data["model_repairs"] == []
+    assert set(data["servo_work_per_cycle_j"]) == set(LEG_NAMES)
     assert data["trajectory"]["RF"]["swing_family"] == "reference"
     assert "reference" not in data  # the reference is not simulated twice
     png = (simulated / "simulation.png").read_bytes()
@@ -103,7 +108,7 @@ def test_simulate_another_robot(tmp_path, capsys):
         (["--from", "nowhere", "--gait", "g.toml"], "with --from DIR the gait is DIR's"),
         (["--from", "nowhere", "--period", "0.6"], "with --from DIR the gait is DIR's"),
         (["--robot", "solo12", "--log", "x.csv"], "has no hydraulic cylinder"),
-        (["--servo-bandwidth", "500"], "servo_bandwidth_hz = 500.0 is too high"),
+        (["--servo-bandwidth", "0"], "servo_bandwidth_hz = 0.0 must be > 0"),
     ],
 )
 def test_simulate_refuses_bad_input_and_writes_nothing(tmp_path, capsys, argv, message):

@@ -13,8 +13,10 @@ from scalf_opt.io.ros_bag import read_joint_states
 from scalf_opt.sim.metrics import windowed_mechanical_energy_j
 from scalf_opt.types import LEG_NAMES
 
-TRAPEZOID_RTOL = 0.005
-"""The 1 kHz trapezoid of the 2 kHz steps' power: measured 0.03 to 0.2 % per leg."""
+TRAPEZOID_RTOL = 0.01
+"""The 1 kHz trapezoid of the 2 kHz steps' power: measured 0.03 to 0.2 % per leg with a joint
+servo in stance, up to 0.57 % with the stance loop on the trunk (its torques carry more above
+500 Hz: 0.1 to 0.2 % of their power, against 0.02 to 0.13 %)."""
 
 pytestmark = pytest.mark.slow  # an optimization and two 3-cycle simulations: about 10 s
 
@@ -35,15 +37,19 @@ def test_export_simulate_and_analyze_the_bag(optimum, scalf, tmp_path):
 
     # the CSV path: SCalf's 80 Hz sensors with their noise, cycles from the contacts
     reference = by_csv["plan_comparison"]
-    for result in (joints, sensors):
+    # the same cylinder readings over other windows: the same energy within 1 % (measured
+    # 0.6 %); the joints they come from, at 1 kHz with their measured rates, 4.2 % more
+    # (measured): the 80 Hz lengths differentiated by the 75 ms cubic smooth the stance's
+    # fast power changes (the stance feedback and the touch-down jumps)
+    for result, rtol in ((sensors, 0.01), (joints, 0.06)):
         comparison = result["plan_comparison"]
-        # the same cylinder readings (or the joints they come from) over other windows: the
-        # same energy within 1 % (measured: 0.3 % and 0.6 %), so the plan within what the
-        # CSV path meets (a simulated run spends 10 to 15 % more than the plan)
         assert comparison["measured_average_power_w"] == pytest.approx(
-            reference["measured_average_power_w"], rel=0.01
+            reference["measured_average_power_w"], rel=rtol
         )
-        assert abs(comparison["change_percent"] - reference["change_percent"]) < 1.0
+    assert (
+        joints["plan_comparison"]["measured_average_power_w"]
+        > (reference["measured_average_power_w"])
+    )
     # the simulation's own mechanical joint energy over the bag's windows: the joint states
     # hold the step's own torque and rate, so only the 1 kHz trapezoid differs
     pipeline = EnergyPipeline(scalf, plan.export.saved.gait)

@@ -89,7 +89,8 @@ def test_the_model_has_the_sagittal_trunk_and_round_feet():
     assert [mj.joint(i).name for i in range(3)] == list(TRUNK_JOINTS)
     assert mj.nq == mj.nv == 3 + 8
     assert sim.total_mass_kg == pytest.approx(robot.total_mass_kg, rel=1e-12)
-    assert sim.foot_radius_m == 0.03  # the URDF's collision sphere
+    # nearly point feet, as the energy model assumes: 0.5 % of the leg length
+    assert sim.foot_radius_m == pytest.approx(0.005 * robot.leg_length_m, rel=1e-12)
     for leg in LEG_NAMES:
         joint_ids = [mj.joint(name).id for name in robot.leg(leg).joint_names]
         np.testing.assert_array_equal(
@@ -115,8 +116,48 @@ def test_settings_refuse_an_unstable_servo_and_a_too_soft_step():
     from scalf_opt.errors import ConfigError
 
     with pytest.raises(ConfigError, match="servo_bandwidth_hz"):
-        SimSettings(servo_bandwidth_hz=100.0)
+        SimSettings(timestep_s=0.0005, servo_bandwidth_hz=100.0)
     with pytest.raises(ConfigError, match="contact_time_constant_s"):
-        SimSettings(contact_time_constant_s=0.0005)
+        SimSettings(timestep_s=0.0005, contact_time_constant_s=0.0005)
     with pytest.raises(ConfigError, match="foot_friction"):
         SimSettings(foot_friction=-1.0)
+
+
+def test_anymal_cs_unphysical_camera_inertias_are_balanced_and_reported():
+    """MuJoCo refuses ANYmal C's depth cameras (A + B < C); balanceinertia repairs them."""
+    robot = load_robot("anymal_c")
+    sim = build_sim_model(robot, SimSettings())
+    cameras = [r for r in sim.repairs if "balanceinertia" in r]
+    assert len(cameras) == 4
+    assert all(r.startswith("link depth_camera_") for r in cameras)
+    assert sim.total_mass_kg == pytest.approx(robot.total_mass_kg, rel=1e-12)
+    assert build_sim_model(load_robot("scalf"), SimSettings()).repairs == ()
+
+
+def test_the_referee_is_scaled_to_the_robot():
+    """Servo frequency ~ sqrt(g / L), contact time ~ sqrt(L / g): SCalf keeps 30 Hz and 2 ms."""
+    scalf, go1 = (load_robot(n).leg_length_m for n in ("scalf", "go1"))
+    s, how = SimSettings().for_leg_length(scalf)
+    g, _ = SimSettings().for_leg_length(go1)
+    assert s.servo_bandwidth_hz == pytest.approx(30.0, rel=1e-3)
+    assert s.contact_time_constant_s == pytest.approx(0.002, rel=1e-3)
+    assert g.servo_bandwidth_hz / s.servo_bandwidth_hz == pytest.approx((scalf / go1) ** 0.5)
+    assert g.contact_time_constant_s / s.contact_time_constant_s == pytest.approx(
+        (go1 / scalf) ** 0.5
+    )
+    assert set(how) == {
+        "timestep_s",
+        "servo_bandwidth_hz",
+        "contact_time_constant_s",
+        "foot_radius_m",
+    }
+    given, how = SimSettings(servo_bandwidth_hz=20.0).for_leg_length(scalf)
+    assert given.servo_bandwidth_hz == 20.0 and "servo_bandwidth_hz" not in how
+    # a given time step limits the servo and the contact, and the derivation says so
+    tiny, how = SimSettings(timestep_s=0.0005).for_leg_length(0.02)
+    assert tiny.contact_time_constant_s == 2 * tiny.timestep_s
+    assert "raised" in how["contact_time_constant_s"] and "lowered" in how["servo_bandwidth_hz"]
+    # else the step follows them: 0.5 ms on SCalf, finer for a fast servo
+    assert s.timestep_s == 0.0005
+    fast, how = SimSettings(servo_bandwidth_hz=200.0).for_leg_length(scalf)
+    assert 2 * np.pi * 200.0 * fast.timestep_s == pytest.approx(0.2, rel=1e-12)

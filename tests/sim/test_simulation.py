@@ -1,6 +1,8 @@
 """The simulated trot: what it measures, checked against independent physics.
 
-Tests run two cycles (the first is the start-up); ``studies/simulation_validation.py`` runs ten.
+Tests run three cycles (the first is the start-up; the log analysis needs a whole cycle from a
+touch-down); ``studies/simulation_validation.py`` and ``studies/whole_robot_validation.py`` run
+ten.
 """
 
 from dataclasses import replace
@@ -33,7 +35,7 @@ def pipeline(robot):
 
 @pytest.fixture(scope="module")
 def reference(robot, pipeline):
-    return run_trot(robot, pipeline, REFERENCE_SWINGS, SimSettings(), cycles=2)
+    return run_trot(robot, pipeline, REFERENCE_SWINGS, SimSettings(), cycles=3)
 
 
 def test_the_plan_is_the_pipelines_samples(pipeline):
@@ -60,12 +62,13 @@ def test_the_plan_is_the_pipelines_samples(pipeline):
 
 def test_the_reference_trot_keeps_the_papers_assumptions(reference, pipeline):
     result = reference.result
-    assert result["cycles_averaged"] == 1
+    assert result["cycles_averaged"] == 2
     assert result["trunk_height_fluctuation_m"] <= 0.004  # the paper's Section 6.3
     assert abs(result["trunk_height_mean_m"] - result["trunk_height_planned_m"]) < 0.002
     assert result["trunk_pitch_peak_rad"] < 0.005
-    # round feet roll: the hip advances r * (change of shank angle) more per stance than a point
-    assert result["forward_speed_m_s"] == pytest.approx(pipeline.gait.speed_m_s, rel=0.05)
+    # nearly point feet and the stance loop on the trunk: the planned speed (30 mm feet rolled
+    # the trunk 3.5 % fast)
+    assert result["forward_speed_m_s"] == pytest.approx(pipeline.gait.speed_m_s, rel=1e-3)
     assert max(result["foot_slip_m"].values()) < 0.002
     assert max(result["torque_saturation_fraction"].values()) == 0.0
     assert result["goals"]["trunk_height_met"]
@@ -92,11 +95,12 @@ def test_the_ground_carries_the_whole_robot(reference, robot):
 def test_the_work_of_the_joints_and_contacts_is_the_change_of_energy(robot, pipeline):
     """Work-energy balance with MuJoCo's own kinetic and potential energy.
 
-    Semi-implicit Euler is first order: the error halves with the step (measured 1.0e-3, 5.3e-4,
-    2.7e-4 of the gross joint work at 1, 0.5, 0.25 ms), and the joint energy does not move.
+    Semi-implicit Euler is first order: the error halves with the step, and the joint energy
+    hardly moves (measured: error 3.2e-4 and 1.6e-4 of the gross joint work, energy 377.82 and
+    378.02 J at 0.5 and 0.25 ms).
     """
     errors, energies = [], []
-    for dt in (0.001, 0.0005):
+    for dt in (0.0005, 0.00025):
         run = run_trot(robot, pipeline, REFERENCE_SWINGS, SimSettings(timestep_s=dt), cycles=2)
         errors.append(run.result["checks"]["energy_balance_error_over_gross_work"])
         energies.append(run.result["total_energy_per_cycle_j"]["simulated"])
@@ -127,16 +131,29 @@ def test_joint_energy_two_ways(reference, pipeline):
         assert np.array(joint_power_w(pipeline, record, leg)).shape == (2, record.t_s.size)
 
 
-def test_the_simulated_joint_energy_is_within_ten_percent_of_the_model(reference):
+def test_the_referee_spends_what_the_plan_needs(reference, robot):
+    """The simulated joint energy is the plan's own, per leg and phase, within 2 %.
+
+    The plan's own: MuJoCo's inverse dynamics of the whole robot put on the plan, no servo, no
+    contact model (:mod:`scalf_opt.sim.inverse`; its dynamics equal Pinocchio's,
+    ``test_mujoco_model.py``). Measured: stance -1.3 %, swing -0.2 to +0.6 %. The servo's
+    feedback supplies what the model's torques lack, and adds no energy of its own.
+    """
     result = reference.result
+    plan = result["plan_inverse_dynamics"]
+    weight = robot.total_mass_kg * GRAVITY_M_S2
+    assert sum(plan["stance_force_mean_n"].values()) / 2 == pytest.approx(weight, rel=1e-3)
     for leg in LEG_NAMES:
-        energy = result["joint_energy_per_cycle_j"][leg]
-        assert energy["model"] > 0
-        assert abs(energy["relative_difference"]) <= 0.10
         phases = result["joint_energy_per_phase_j"][leg]
+        for phase in ("stance", "swing"):
+            own = plan["joint_energy_per_phase_j"][leg][phase]
+            assert phases[phase]["simulated"] == pytest.approx(own, rel=0.02), (leg, phase)
         total = phases["stance"]["simulated"] + phases["swing"]["simulated"]
+        energy = result["joint_energy_per_cycle_j"][leg]
         assert total == pytest.approx(energy["simulated"], rel=1e-12)
-    assert result["goals"]["joint_energy_met"]
+        assert result["stance_force_mean_n"][leg] == pytest.approx(
+            plan["stance_force_mean_n"][leg], rel=0.01
+        )
 
 
 def test_a_simulation_is_deterministic(robot, pipeline):
@@ -144,3 +161,46 @@ def test_a_simulation_is_deterministic(robot, pipeline):
     second = run_trot(robot, pipeline, REFERENCE_SWINGS, SimSettings(), cycles=2).result
     assert first["joint_energy_per_cycle_j"] == second["joint_energy_per_cycle_j"]
     assert first["trunk_height_fluctuation_m"] == second["trunk_height_fluctuation_m"]
+
+
+def test_a_reference_impossible_at_the_saved_stance_is_skipped_with_a_note(
+    robot, pipeline, monkeypatch
+):
+    """``simulate --from`` a free stance: the reference is simulated only where it exists.
+
+    At the free stance ``optimize --free-stance`` finds on SCalf (z0 = 0.8 m, feet +93.75 and
+    -95 mm) the reference swing takes LH's knee out of its range: planning it is a GaitError.
+    The optimum is still simulated, and the file says in one line why there is no reference.
+    """
+    from scalf_opt.errors import GaitError
+    from scalf_opt.sim import experiment
+    from scalf_opt.sim.report import simulation_report
+
+    free = replace(
+        pipeline.gait,
+        stance_height_m=0.8,
+        stance_x_offset_front_m=0.09375,
+        stance_x_offset_hind_m=-0.095,
+    )
+    with pytest.raises(GaitError, match="LH_knee"):
+        planned_cycle(replace(pipeline, gait=free), REFERENCE_SWINGS)
+
+    real = experiment.run_trot
+    refused = []
+
+    def run_trot_at_free_stance(robot, pipeline, swings, settings, cycles):
+        if swings is REFERENCE_SWINGS:  # as at the free stance, without its 40 s optimization
+            refused.append(True)
+            planned_cycle(replace(pipeline, gait=free), swings)
+        return real(robot, pipeline, swings, settings, cycles)
+
+    monkeypatch.setattr(experiment, "run_trot", run_trot_at_free_stance)
+    swings = {leg: ("joint-6", np.zeros(18)) for leg in LEG_NAMES}
+    data, run = experiment.simulation_file(robot, pipeline, swings, SimSettings(), 2)
+    assert refused and "reference" not in data and "saving_vs_reference" not in data
+    assert data["reference_skipped"].startswith(
+        "the reference swing is impossible at this gait: gait fields"
+    )
+    report = simulation_report(data, "title")
+    assert "\nreference not simulated: the reference swing is impossible" in report
+    assert run.result["joint_energy_per_cycle_j"]["RF"]["simulated"] > 0

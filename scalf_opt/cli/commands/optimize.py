@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from scalf_opt.cli.options import (
@@ -18,12 +19,19 @@ from scalf_opt.cli.options import (
     load_robot,
     warn_without_effect,
 )
+from scalf_opt.energy.margins import DEFAULT_STOP_MARGIN_RAD, DEFAULT_STROKE_MARGIN_M
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SOLVERS, solver_help
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
 
 MAX_STARTS = 100
 """Most starts per leg (each is a full solve)."""
+
+MAX_STOP_MARGIN_DEG = 30.0
+"""Largest joint-stop margin an option accepts [deg] (more leaves most joints no range)."""
+
+MAX_STROKE_MARGIN_MM = 50.0
+"""Largest stroke margin an option accepts [mm]."""
 
 NAME = "optimize"
 HELP = "optimize the swing of one or more legs"
@@ -92,6 +100,23 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "much of the saving comes from the stance and how much from the swing",
     )
     parser.add_argument(
+        "--stop-margin",
+        type=bounded(float, MAX_STOP_MARGIN_DEG, 0.0),
+        default=math.degrees(DEFAULT_STOP_MARGIN_RAD),
+        metavar="DEG",
+        help="every optimized joint angle stays this far inside its range, 0..30 degrees "
+        f"(default {math.degrees(DEFAULT_STOP_MARGIN_RAD):g}: the simulated servo tracks within "
+        "it; 0: the limits themselves, as the paper)",
+    )
+    parser.add_argument(
+        "--stroke-margin",
+        type=bounded(float, MAX_STROKE_MARGIN_MM, 0.0),
+        default=1e3 * DEFAULT_STROKE_MARGIN_M,
+        metavar="MM",
+        help="every cylinder length stays this far inside its stroke, 0..50 mm (default "
+        f"{1e3 * DEFAULT_STROKE_MARGIN_M:g})",
+    )
+    parser.add_argument(
         "--out", type=Path, metavar="DIR", help="write summary.json and samples.csv in DIR"
     )
     add_accept_unconverged(parser)
@@ -132,6 +157,8 @@ def run(args: argparse.Namespace) -> int:
             progress=bar.step,
             command=args.argv,
             loads=args.loads,
+            stop_margin_rad=math.radians(args.stop_margin),
+            stroke_margin_m=1e-3 * args.stroke_margin,
         )
     console = args.console
     console.text(gait_origin(args, robot))

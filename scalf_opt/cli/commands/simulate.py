@@ -46,8 +46,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         type=Path,
         metavar="DIR",
         help="simulate the swings and gait of DIR/summary.json (as `optimize --out DIR` "
-        "writes it; give the same --robot or --urdf), and the reference beside them "
-        "(default: the reference swing)",
+        "writes it, a free stance included; give the same --robot or --urdf), and the "
+        "reference beside them where it is possible at that stance (default: the reference "
+        "swing)",
     )
     parser.add_argument(
         "--cycles",
@@ -82,7 +83,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--servo-bandwidth",
         type=bounded(float, MAX_SERVO_BANDWIDTH_HZ),
         metavar="N",
-        help="natural frequency of the joints' PD loops, at most 1000 Hz (default 30 Hz)",
+        help="natural frequency of the servo's feedback loops, at most 1000 Hz (default: from the "
+        "leg length L, 55.7 sqrt(g/L)/(2 pi): 30 Hz on SCalf; the time step follows)",
     )
 
 
