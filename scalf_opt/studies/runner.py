@@ -36,6 +36,7 @@ from scalf_opt.studies.case import (
     check_setup,
     run_case,
 )
+from scalf_opt.studies.gait_case import GAIT_COLUMNS
 from scalf_opt.studies.progress import Progress
 from scalf_opt.studies.study_file import Case, Study
 from scalf_opt.viz.figures import save_atomic
@@ -190,28 +191,28 @@ def check_some_case_runs(study: Study) -> None:
 
 def _columns(study: Study) -> list[str]:
     swept = list(dict.fromkeys(f for case in study.cases for f in case.swept))
-    return ["case", *swept, *[c for c in RESULT_COLUMNS if c not in swept]]
+    columns = ["case", *swept, *[c for c in RESULT_COLUMNS if c not in swept]]
+    if any(case.speed_m_s is not None for case in study.cases):  # the cheapest gaits' too
+        columns += [c for c in GAIT_COLUMNS if c not in columns]
+    return columns
 
 
-def run_study(
+def run_cases(
     study: Study,
     out: str | Path,
     runner: Runner | None = None,
     progress: Progress | None = None,
-) -> StudyRun:
-    """Run every case not yet cached under ``out``, then write ``results.csv`` and the figure.
+) -> tuple[dict[int, dict[str, Any]], int]:
+    """Run every case not yet cached under ``out/cache``: each case's full row, by index.
 
-    Args:
-        study: The study.
-        out: Output folder (the cache lives in ``out/cache``).
-        runner: The backend (:func:`choose_runner`; default: one process per CPU).
-        progress: Progress display (default: a bar on a terminal).
+    A row holds every key its case produced (a cheapest-gait case's ``details`` too), not only
+    the columns of ``results.csv``. Also returns how many rows came from the cache.
 
     Raises:
         ConfigError: The output folder cannot be written; the Dask scheduler cannot be reached.
+        ScalfError: No case can be set up (:func:`check_some_case_runs`).
     """
-    out = Path(out)
-    cache = out / CACHE_DIR
+    cache = Path(out) / CACHE_DIR
     check_some_case_runs(study)
     runner = runner or choose_runner()
     rows: dict[int, dict[str, Any]] = {}
@@ -240,6 +241,28 @@ def run_study(
             progress.update(row["status"] == STATUS_OK)
     finally:
         progress.close()
+    return rows, cached
+
+
+def run_study(
+    study: Study,
+    out: str | Path,
+    runner: Runner | None = None,
+    progress: Progress | None = None,
+) -> StudyRun:
+    """Run every case not yet cached under ``out``, then write ``results.csv`` and the figure.
+
+    Args:
+        study: The study.
+        out: Output folder (the cache lives in ``out/cache``).
+        runner: The backend (:func:`choose_runner`; default: one process per CPU).
+        progress: Progress display (default: a bar on a terminal).
+
+    Raises:
+        ConfigError: The output folder cannot be written; the Dask scheduler cannot be reached.
+    """
+    out = Path(out)
+    rows, cached = run_cases(study, out, runner, progress)
     columns = _columns(study)
     ordered = [{c: rows[i].get(c) for c in columns} for i in sorted(rows)]
     results = write_atomic(out / RESULTS_FILE, rows_csv_text(ordered))
