@@ -135,7 +135,8 @@ class GaitResult:
             ConfigError: No feasible gait was found: there is nothing to write.
         """
         if self.cycle is None:
-            raise ConfigError(f"no feasible gait at {self.row['speed_m_s']:g} m/s: nothing to write")
+            speed = self.row["speed_m_s"]
+            raise ConfigError(f"no feasible gait at {speed:g} m/s: nothing to write")
         out = Path(out_dir)
         return [
             write_atomic(out / GAIT_FILE, gait_toml(self.cycle.gait)),
