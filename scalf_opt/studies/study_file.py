@@ -366,3 +366,47 @@ def read_study(path: str | Path) -> Study:
         raise ConfigError(f"{path}: unknown key plot.{extra[0]} (known: x)")
     name = _text(path, study, "name", "study") or path.stem
     return Study(path, name, tuple(cases), tuple(key for key, _, _ in axes), plot_x)
+
+
+def speed_study(
+    speeds: list[float],
+    robot: str | None = None,
+    urdf: str | None = None,
+    family: str = DEFAULT_FAMILY,
+    method: str = "ipopt",
+    accounting: str = "paper",
+    name: str = "cheapest trot",
+) -> Study:
+    """A study of the cheapest trot at each of ``speeds`` (``scalf-opt gait``'s cases).
+
+    Args:
+        speeds: Target speeds [m/s].
+        robot: A catalog robot, or ``None`` with ``urdf``.
+        urdf: A URDF path, or ``None``.
+        family: Swing family.
+        method: The swings' solver.
+        accounting: Power accounting.
+        name: The study's name (the figure's title).
+
+    Raises:
+        ConfigError: A speed out of range (the family, method and accounting are checked when
+            the cases are set up).
+    """
+    values = [check_speed(v) for v in speeds]
+    cases = tuple(
+        Case(
+            index=i,
+            swept={SPEED: v},
+            robot=robot if urdf is None else None,
+            urdf=str(Path(urdf).resolve()) if urdf is not None else None,
+            legs=None,
+            actuators=None,
+            family=family,
+            method=method,
+            accounting=accounting,
+            optimize="pair",
+            speed_m_s=v,
+        )
+        for i, v in enumerate(values)
+    )
+    return Study(Path("--speed"), name, cases, (SPEED,), SPEED)

@@ -24,6 +24,13 @@ from scalf_opt.types import FIRST_PAIR, LEG_NAMES
 MAX_STARTS = 100
 """Most starts per leg (each is a full solve)."""
 
+FAMILY_HELP = (
+    f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 (default "
+    f"{DEFAULT_FAMILY}); or {FREE_FAMILY}: the free-trajectory bound (dense B-splines refined "
+    "until the energy converges)"
+)
+"""``--family``'s help, the same wherever a command takes it."""
+
 NAME = "optimize"
 HELP = "optimize the swing of one or more legs"
 EXAMPLES = (
@@ -52,9 +59,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--family",
         default=DEFAULT_FAMILY,
         metavar="NAME",
-        help=f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 "
-        f"(default {DEFAULT_FAMILY}); or {FREE_FAMILY}: the free-trajectory bound (dense "
-        "B-splines refined until the energy converges)",
+        help=FAMILY_HELP,
     )
     parser.add_argument(
         "--method",
