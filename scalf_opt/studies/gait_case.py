@@ -97,11 +97,15 @@ def gait_row(search: GaitSearch, robot: str) -> dict[str, Any]:
     row["energy_per_m_j"] = cycle.energy_j / cycle.gait.distance_per_cycle_m
     row["average_power_w"] = cycle.average_power_w
     row["cost_of_transport"] = cycle.cost_of_transport
+    # per metre (the cost of transport at one speed): the gaits' cycles differ in length
     if default is not None:
-        row["saving_vs_default_pct"] = 100.0 * (1 - cycle.energy_j / default.energy_j)
+        row["saving_vs_default_pct"] = 100.0 * (
+            1 - cycle.cost_of_transport / default.cost_of_transport
+        )
     if reference is not None:
-        ref_per_m = reference.energy_j / reference.gait.distance_per_cycle_m
-        row["saving_vs_reference_pct"] = 100.0 * (1 - row["energy_per_m_j"] / ref_per_m)
+        row["saving_vs_reference_pct"] = 100.0 * (
+            1 - cycle.cost_of_transport / reference.cost_of_transport
+        )
     _peaks(row, search, cycle)
     row["pinned_by"] = pinned_text(search)
     row["status"] = "ok" if search.success else "not solved"

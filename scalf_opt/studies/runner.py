@@ -202,11 +202,13 @@ def run_cases(
     out: str | Path,
     runner: Runner | None = None,
     progress: Progress | None = None,
+    label: str = "study",
 ) -> tuple[dict[int, dict[str, Any]], int]:
     """Run every case not yet cached under ``out/cache``: each case's full row, by index.
 
     A row holds every key its case produced (a cheapest-gait case's ``details`` too), not only
-    the columns of ``results.csv``. Also returns how many rows came from the cache.
+    the columns of ``results.csv``. Also returns how many rows came from the cache. ``label``
+    names the command in the progress lines.
 
     Raises:
         ConfigError: The output folder cannot be written; the Dask scheduler cannot be reached.
@@ -231,7 +233,7 @@ def run_cases(
         else:
             rows[case.index] = row
     cached = len(rows)
-    progress = progress or Progress(len(todo))
+    progress = progress or Progress(len(todo), label=label)
     try:
         for case, row in runner(todo):
             key = keys[case.index]

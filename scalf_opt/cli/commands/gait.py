@@ -178,7 +178,7 @@ def run(args: argparse.Namespace) -> int:
         name=f"cheapest trot of {robot.name}",
     )
     out: Path = args.out
-    full, cached = run_cases(study, out, choose_runner(args.workers, args.scheduler))
+    full, cached = run_cases(study, out, choose_runner(args.workers, args.scheduler), label=NAME)
     rows: list[dict[str, Any]] = [{c: full[i].get(c) for c in GAIT_COLUMNS} for i in sorted(full)]
     written = [write_atomic(out / "gaits.csv", rows_csv_text(rows))]
     written.append(save_atomic(gait_figure(rows, study.name), out / "gaits.png"))
