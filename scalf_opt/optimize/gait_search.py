@@ -11,7 +11,9 @@ clearance ``H`` stays the robot's. The search minimizes the cost of transport
     E_\mathrm{cycle} = 2 \sum_{RF, LH} \left(E_\mathrm{stance} + \min_\theta E_\mathrm{swing}\right)
 
 (LF and RH repeat RF and LH half a cycle later), which at a fixed speed is the energy per metre.
-Every gait tried is evaluated as :mod:`~scalf_opt.optimize.free_stance` evaluates a stance
+A gait the reference swing cannot walk (it leaves the joint range) is refused: every command
+compares an optimum with the reference on its gait (``view --from``, ``simulate --from``).
+Every other gait is evaluated as :mod:`~scalf_opt.optimize.free_stance` evaluates a stance
 (:class:`~scalf_opt.optimize.free_stance.GaitTrials`): its stance is checked against the reach,
 the joint range and every limit of every stance sample, and its swings are optimized by the one
 solve path (:func:`~scalf_opt.optimize.driver.optimize_swings`: converged in the sampling,
@@ -55,6 +57,7 @@ from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.driver import Settings
 from scalf_opt.optimize.free_stance import GaitTrials, StanceEvaluation
 from scalf_opt.optimize.pattern_search import PatternSearchOptions, pattern_search
+from scalf_opt.optimize.sampling import check_rate_hz, with_rate
 from scalf_opt.types import FIRST_PAIR
 
 SEARCH_VARIABLES = (
@@ -190,6 +193,14 @@ def gait_at(base: Gait, speed_m_s: float, x: np.ndarray) -> Gait:
 
 
 _LIMIT_PATTERNS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (
+        re.compile(r"^the reference swing of \w+ .* takes joint (\S+) to"),
+        r"\1 joint range under the reference swing",
+    ),
+    (
+        re.compile(r"^the reference swing of (\w+) .* outside the reach"),
+        r"\1 reach, reference swing",
+    ),
     (re.compile(r"takes joint (\S+) to"), r"\1 joint range (URDF)"),
     (re.compile(r"leg (\w+): foot target .* outside the reach"), r"\1 reach"),
     (re.compile(r"stance of (\w+): (\S+) beyond its (.*)$"), r"\1 \2: \3"),
@@ -210,6 +221,22 @@ def limit_name(reason: str) -> str:
         if match:
             return match.expand(name)
     return reason if len(reason) <= 80 else reason[:77] + "..."
+
+
+def reference_unwalkable(pipeline: EnergyPipeline) -> str | None:
+    """Why the reference swing cannot walk the pipeline's gait, or ``None`` when it can.
+
+    Every command compares an optimum with the reference swing on its gait (``view --from``,
+    ``simulate --from``), so a gait it cannot walk is no answer. Checked at ten times the
+    gait's rate, finer than any rate an optimum converges at.
+    """
+    fine = pipeline.with_gait(with_rate(pipeline.gait, check_rate_hz(pipeline.gait)))
+    for leg in FIRST_PAIR:
+        try:
+            fine.swing(leg, make_family("reference"))
+        except ScalfError as exc:
+            return f"the reference swing of {leg} cannot walk it: {exc}"
+    return None
 
 
 def cost_of_transport(evaluation: StanceEvaluation, mass_kg: float, speed_m_s: float) -> float:
@@ -378,6 +405,9 @@ def optimize_gait(
             gait = gait_at(base, speed_m_s, x)
         except ScalfError as exc:
             return StanceEvaluation(base, math.inf, str(exc))
+        why = reference_unwalkable(pipeline.with_gait(gait))
+        if why is not None:
+            return StanceEvaluation(gait, math.inf, why)
         return trials.evaluate(gait)
 
     def objective(x: np.ndarray) -> tuple[float, str | None]:

@@ -69,6 +69,15 @@ def gait_figure(rows: Sequence[dict[str, Any]], title: str) -> Figure:
         xs, ys = _line(source, key)
         if xs:
             top.plot(xs, ys, style, marker=marker, label=label)
+    if any(r.get("pinned_by") for r in ok):
+        top.plot(
+            [],
+            [],
+            "o",
+            mfc="white",
+            color="gray",
+            label="hollow marker: pinned by a limit or the search box (column pinned_by)",
+        )
     if failed:
         top.plot(failed, [0.0] * len(failed), "x", color="tab:red", label="search not solved")
     top.set_xlabel("speed v [m/s]")
@@ -90,13 +99,4 @@ def gait_figure(rows: Sequence[dict[str, Any]], title: str) -> Figure:
         ax.set_ylabel(ylabel)
         ax.set_xlabel("speed v [m/s]")
         ax.grid(True, alpha=0.3)
-    if pinned:
-        fig.text(
-            0.5,
-            -0.01,
-            "hollow markers: the gait is pinned by a limit or the search box (gaits.csv, "
-            "column pinned_by)",
-            ha="center",
-            fontsize=8,
-        )
     return fig
