@@ -230,6 +230,8 @@ class GaitTrials:
             self.seen[key] = StanceEvaluation(gait, math.inf, why, run)
             return self.seen[key]
         self.warm.update(run.thetas)
+        if run.rate_hz != gait.sample_rate_hz:  # the stance at the swings' rate: one cycle's
+            stance = sum(float(run.pipeline.stance(leg).energy_j.sum()) for leg in self.legs)
         total = stance + sum(r.best.swing_energy_j for r in run.legs.values())
         self.seen[key] = StanceEvaluation(gait, total, None, run)
         return self.seen[key]
