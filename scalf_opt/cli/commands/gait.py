@@ -122,7 +122,7 @@ def gait_table(robot: str, rows: list[dict[str, Any]]) -> str:
         lines.append("  ".join(f"{c:>9s}" for c in cells))
     for r in rows:
         if r["pinned_by"]:
-            lines.append(f"  {_cell(r['speed_m_s'])} m/s pinned by: {r['pinned_by']}")
+            lines.append(f"  {_cell(r['speed_m_s'])} m/s pinned by {grouped(r['pinned_by'])}")
         if r["error"]:
             lines.append(f"  {_cell(r['speed_m_s'])} m/s: {r['error']}")
         if r["default_infeasible"]:
@@ -131,6 +131,19 @@ def gait_table(robot: str, rows: list[dict[str, Any]]) -> str:
                 f"{r['default_infeasible']}"
             )
     return "\n".join(lines)
+
+
+def grouped(pinned_by: str) -> str:
+    """``pinned_by`` (``"<field> up|down: <limit>; ..."``) with each limit named once.
+
+    ``"period_s up: RF_knee range; duty_cycle up: RF_knee range"`` reads
+    ``"RF_knee range (period_s up, duty_cycle up)"``.
+    """
+    limits: dict[str, list[str]] = {}
+    for part in pinned_by.split("; "):
+        where, _, limit = part.partition(": ")
+        limits.setdefault(limit, []).append(where)
+    return "; ".join(f"{limit} ({', '.join(where)})" for limit, where in limits.items())
 
 
 def _check_family(family: str) -> None:
