@@ -5,7 +5,8 @@ Goal: each robot's six speeds in under 10 minutes on 2 workers. The cases are th
 cache on the local process pool (fresh worker interpreters: their imports are in the time). The
 baseline, measured in the same run and process: one plain swing optimization of the robot's
 default trot (``scalf-opt optimize``'s), so a speed's cost reads as that many optimizations. The
-machine's load average is printed before and after: on a shared machine other jobs take cores.
+machine's load average is printed before and after: on a shared machine other jobs take cores,
+so the workers' CPU time is printed too (divided by the workers: the time on idle cores).
 
     python benchmarks/bench_gait.py [--keep DIR] [--workers N]
 
@@ -17,6 +18,7 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import sys
 import tempfile
 import time
@@ -53,6 +55,13 @@ def baseline_s(robot_name: str) -> float:
     return time.perf_counter() - start
 
 
+def workers_cpu_s() -> float:
+    """CPU time of this process's finished children (the pool's workers) [s]: what the speeds
+    cost whatever else the machine runs."""
+    usage = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return usage.ru_utime + usage.ru_stime
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--keep", type=Path, help="keep each robot's cache in DIR/<robot>")
@@ -65,11 +74,11 @@ def main() -> None:
         study = speed_study(parse_speeds(speeds), robot=robot)
         with tempfile.TemporaryDirectory() as scratch:
             out = args.keep / robot if args.keep else Path(scratch)
-            start = time.perf_counter()
+            start, cpu_start = time.perf_counter(), workers_cpu_s()
             rows, cached = run_cases(
                 study, out, _pool(args.workers), Progress(len(study.cases), enabled=False)
             )
-            elapsed = time.perf_counter() - start
+            elapsed, cpu = time.perf_counter() - start, workers_cpu_s() - cpu_start
         assert cached == 0, f"{out}: {cached} speeds came from an old cache; give a new --keep"
         ok = sum(r["status"] == "ok" for r in rows.values())
         evaluations = sum(r.get("evaluations") or 0 for r in rows.values())
@@ -77,7 +86,8 @@ def main() -> None:
             f"{robot:6s} {speeds:>14s} {ok}/{len(rows)} ok {elapsed:8.1f} s "
             f"({'met' if elapsed < GOAL_S else 'NOT met'}: < {GOAL_S:.0f} s)  "
             f"baseline {base:5.2f} s  ratio {elapsed / base:6.0f}x  "
-            f"{evaluations} gaits searched"
+            f"{evaluations} gaits searched; the workers' CPU time {cpu:.0f} s "
+            f"(on {args.workers} idle cores: {cpu / args.workers:.0f} s)"
         )
         print(lines[-1], flush=True)
     print(f"load average after: {os.getloadavg()[0]:.2f}")
