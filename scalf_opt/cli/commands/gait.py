@@ -29,7 +29,7 @@ JSON = True
 EXAMPLES = (
     ("scalf-opt gait --speed 0.25:1.5:0.25", "six speeds on SCalf (results/gait)"),
     ("scalf-opt gait --speed 1.0 --workers 1", "the paper's speed, in this process"),
-    ("scalf-opt gait --robot go1 --speed 0.3:0.8:0.1 --out results/go1", "an electric robot"),
+    ("scalf-opt gait --robot go1 --speed 0.2:0.7:0.1 --out results/go1", "an electric robot"),
 )
 
 
