@@ -125,6 +125,13 @@ def gait_table(robot: str, rows: list[dict[str, Any]]) -> str:
             lines.append(f"  {_cell(r['speed_m_s'])} m/s pinned by {grouped(r['pinned_by'])}")
         if r["error"]:
             lines.append(f"  {_cell(r['speed_m_s'])} m/s: {r['error']}")
+        cot, reference = r["cost_of_transport"], r["reference_cost_of_transport"]
+        if isinstance(cot, float) and isinstance(reference, float) and cot > reference:
+            lines.append(
+                f"  warning: {_cell(r['speed_m_s'])} m/s: the cheapest trot with {r['family']} "
+                "swings costs more than the default trot with the reference swing: the family "
+                "cannot come near the reference here (try another --family)"
+            )
         if r["default_infeasible"]:
             lines.append(
                 f"  {_cell(r['speed_m_s'])} m/s: the default trot cannot walk it: "
