@@ -183,7 +183,10 @@ class GaitTrials:
 
     The swings of every new gait start from the last solved gait's optima (warm start): a
     search moves in small steps, and Ipopt from a neighbour's optimum takes a few iterations.
-    A gait is known by its fields; asking for it again returns the first answer.
+    A gait is known by its fields; asking for it again returns the first answer. With
+    ``stance_at_swing_rate`` a gait's stance energy is taken at the rate its swings converged
+    at (one cycle's samples: gaits of different timing refine differently); without it, at the
+    trials' rate (the free stance's search, whose stances share one rate).
     """
 
     def __init__(
@@ -193,6 +196,7 @@ class GaitTrials:
         settings: Settings,
         legs: tuple[str, ...] = FIRST_PAIR,
         warm: SwingOptimization | None = None,
+        stance_at_swing_rate: bool = False,
     ) -> None:
         self.pipeline = pipeline
         self.family = family
@@ -200,6 +204,7 @@ class GaitTrials:
         self.legs = legs
         self.warm: dict[str, np.ndarray] = dict(warm.thetas) if warm is not None else {}
         self.seen: dict[tuple[float, ...], StanceEvaluation] = {}
+        self.stance_at_swing_rate = stance_at_swing_rate
 
     @staticmethod
     def key(gait: Gait) -> tuple[float, ...]:
@@ -230,7 +235,7 @@ class GaitTrials:
             self.seen[key] = StanceEvaluation(gait, math.inf, why, run)
             return self.seen[key]
         self.warm.update(run.thetas)
-        if run.rate_hz != gait.sample_rate_hz:  # the stance at the swings' rate: one cycle's
+        if self.stance_at_swing_rate and run.rate_hz != gait.sample_rate_hz:
             stance = sum(float(run.pipeline.stance(leg).energy_j.sum()) for leg in self.legs)
         total = stance + sum(r.best.swing_energy_j for r in run.legs.values())
         self.seen[key] = StanceEvaluation(gait, total, None, run)

@@ -394,7 +394,7 @@ def optimize_gait(
     start = time.perf_counter()
     base = pipeline.gait
     box = box or GaitBox.around(base)
-    trials = GaitTrials(pipeline, family, settings, FIRST_PAIR)
+    trials = GaitTrials(pipeline, family, settings, FIRST_PAIR, stance_at_swing_rate=True)
     mass = pipeline.robot.total_mass_kg
 
     def evaluate(x: np.ndarray) -> StanceEvaluation:

@@ -84,7 +84,9 @@ def test_no_point_of_a_brute_force_grid_is_cheaper_than_the_grid_s_resolution_ex
     feasible neighbour one grid step away), plus the sampling's 0.5 %.
     """
     best = search.best.gait
-    trials = GaitTrials(EnergyPipeline(scalf, best), make_family(FAMILY), Settings())
+    trials = GaitTrials(
+        EnergyPipeline(scalf, best), make_family(FAMILY), Settings(), stance_at_swing_rate=True
+    )
     d_period, d_duty = 0.05, 0.05  # the grid's resolution: 50 ms and 0.05
     periods = best.period_s + d_period * np.arange(-3, 4)
     duties = np.arange(0.5, 0.76, d_duty)
