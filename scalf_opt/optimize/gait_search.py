@@ -421,7 +421,9 @@ def optimize_gait(
         for duty in GRID_DUTIES:
             x = search_vector(replace(base, period_s=factor * base.period_s, duty_cycle=duty))
             grid.append((x, evaluate(x)))
-    candidates = [(search_vector(default.gait), default), *grid]
+    candidates = list(grid)
+    if reference_unwalkable(pipeline.with_gait(default.gait)) is None:  # else no answer either
+        candidates.insert(0, (search_vector(default.gait), default))
     x0, first = min(candidates, key=lambda c: cost_of_transport(c[1], mass, speed_m_s))
     result = pattern_search(
         objective, x0, PatternSearchOptions(initial_step=INITIAL_STEP, precision=PRECISION)
