@@ -32,7 +32,8 @@ It is honest about its answer:
    it, chooses the start: the search does not depend on one start's basin;
 2. the paper's pattern search over the five numbers (:data:`INITIAL_STEP`, :data:`PRECISION`,
    in search units of 10 ms, 0.01, 1 cm) refines the best of them; it accepts only strict
-   improvements, so the answer is never worse than the default trot with optimized swings;
+   improvements, so the answer is never worse than the default trot with optimized swings
+   (when the reference swing can walk it, below);
 3. every neighbour of the answer one last step away is looked at: one that leaves the search box
    (:class:`GaitBox`: the duty floor 0.5 that keeps a trot a trot without a flight phase) or
    breaks a limit is reported with the limit's name (:attr:`GaitSearch.pinned`).
@@ -77,8 +78,8 @@ INITIAL_STEP = (5.0, 5.0, 2.0, 2.0, 2.0)
 """First step per variable [search units]: 50 ms, 0.05, 2 cm, 2 cm, 2 cm."""
 
 PRECISION = 1.0
-"""The search stops when every step is below this [search units]: the last steps are 6 ms, 0.006
-and 2.5 mm."""
+"""The search stops when every step is below this [search units]: its last exploration around
+the answer, with steps of 12.5 ms, 0.0125 and 5 mm, found nothing cheaper."""
 
 DUTY_FLOOR = 0.5
 """The least duty cycle: below it a trot has a flight phase (the constant-height trunk model
