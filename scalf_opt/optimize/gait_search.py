@@ -33,7 +33,7 @@ It is honest about its answer:
 2. the paper's pattern search over the five numbers (:data:`INITIAL_STEP`, :data:`PRECISION`,
    in search units of 10 ms, 0.01, 1 cm) refines the best of them; it accepts only strict
    improvements, so the answer is never worse than the default trot with optimized swings
-   (when the reference swing can walk it, below);
+   (when the reference swing can walk it);
 3. every neighbour of the answer one last step away is looked at: one that leaves the search box
    (:class:`GaitBox`: the duty floor 0.5 that keeps a trot a trot without a flight phase) or
    breaks a limit is reported with the limit's name (:attr:`GaitSearch.pinned`).
