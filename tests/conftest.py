@@ -33,3 +33,14 @@ def optimum(tmp_path_factory):
     out = tmp_path_factory.mktemp("optimum")
     assert main(["optimize", "--out", str(out), "-q"]) == 0
     return out
+
+
+@pytest.fixture(scope="session")
+def cheapest_trot(scalf):
+    """SCalf's cheapest trot at the paper's speed (1.0 m/s), ``paper`` family (~25 s)."""
+    from scalf_opt.energy.pipeline import EnergyPipeline
+    from scalf_opt.locomotion.gait import Gait
+    from scalf_opt.locomotion.swing.registry import make_family
+    from scalf_opt.optimize.gait_search import optimize_gait
+
+    return optimize_gait(EnergyPipeline(scalf, Gait()), 1.0, make_family("paper"))

@@ -14,6 +14,7 @@ and the numbers are the command line's: the ``scalf-opt`` commands call these fu
 
 from scalf_opt.api.evaluation import EvaluationResult, evaluate
 from scalf_opt.api.export import ExportResult, export_plan
+from scalf_opt.api.gait_optimization import GaitResult, optimize_gait
 from scalf_opt.api.gaits import read_gait
 from scalf_opt.api.logs import LogResult, analyze_log
 from scalf_opt.api.optimization import OptimizationResult, optimize_swing
@@ -27,6 +28,7 @@ __all__ = [
     "EvaluationResult",
     "ExportResult",
     "Gait",
+    "GaitResult",
     "LogResult",
     "NotSolvedError",
     "OptimizationResult",
@@ -37,6 +39,7 @@ __all__ = [
     "export_plan",
     "figures",
     "load_robot",
+    "optimize_gait",
     "optimize_swing",
     "paper",
     "read_gait",

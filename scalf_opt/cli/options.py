@@ -79,6 +79,10 @@ GAIT_OPTIONS: dict[str, tuple[str, Callable[[str], Any], str]] = {
 """Gait fields that have a command-line option: field -> (option, type, help)."""
 
 
+ACCOUNTING_HELP = "joint power accounting (default: the paper's |tau*qd| + drive losses)"
+"""``--accounting``'s help, the same wherever a command takes it."""
+
+
 def add_robot(parser: argparse.ArgumentParser) -> None:
     """``--urdf PATH`` or ``--robot NAME``."""
     group = parser.add_mutually_exclusive_group()
@@ -108,7 +112,7 @@ def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
             "--accounting",
             choices=tuple(ACCOUNTINGS),
             default="paper",
-            help="joint power accounting (default: the paper's |tau*qd| + drive losses)",
+            help=ACCOUNTING_HELP,
         )
 
 

@@ -209,6 +209,69 @@ def pair_energy_j(
     return cycle.energy_j, None
 
 
+class GaitTrials:
+    """Gaits a search tries: each one's stance checked, its swings optimized, each once.
+
+    The swings of every new gait start from the last solved gait's optima (warm start): a
+    search moves in small steps, and Ipopt from a neighbour's optimum takes a few iterations.
+    A gait is known by its fields; asking for it again returns the first answer. With
+    ``stance_at_swing_rate`` a gait's stance energy is taken at the rate its swings converged
+    at (one cycle's samples: gaits of different timing refine differently); without it, at the
+    trials' rate (the free stance's search, whose stances share one rate).
+    """
+
+    def __init__(
+        self,
+        pipeline: EnergyPipeline,
+        family: SwingFamily,
+        settings: Settings,
+        legs: tuple[str, ...] = FIRST_PAIR,
+        warm: SwingOptimization | None = None,
+        stance_at_swing_rate: bool = False,
+    ) -> None:
+        self.pipeline = pipeline
+        self.family = family
+        self.settings = settings
+        self.legs = legs
+        self.warm: dict[str, np.ndarray] = dict(warm.thetas) if warm is not None else {}
+        self.seen: dict[tuple[float, ...], StanceEvaluation] = {}
+        self.stance_at_swing_rate = stance_at_swing_rate
+
+    @staticmethod
+    def key(gait: Gait) -> tuple[float, ...]:
+        """What tells two gaits apart (every field, to 1e-12)."""
+        return tuple(round(float(v), 12) for v in gait.to_dict().values())
+
+    def remember(self, evaluation: StanceEvaluation) -> None:
+        """Record an evaluation made elsewhere (the nominal gait's)."""
+        self.seen[self.key(evaluation.gait)] = evaluation
+
+    def evaluate(self, gait: Gait) -> StanceEvaluation:
+        """The gait's stance plus optimized swing energy of the legs, or why it is infeasible."""
+        key = self.key(gait)
+        if key in self.seen:
+            return self.seen[key]
+        trial = self.pipeline.with_gait(gait)
+        _, why = _stance_feasible(trial, self.legs, self.settings.margins)
+        if why is not None:
+            self.seen[key] = StanceEvaluation(gait, math.inf, why)
+            return self.seen[key]
+        try:
+            run = optimize_swings(trial, self.legs, self.family, self.settings, self.warm or None)
+        except ScalfError as exc:  # a swing the gait makes impossible (its path leaves the reach)
+            self.seen[key] = StanceEvaluation(gait, math.inf, str(exc))
+            return self.seen[key]
+        if not run.success:
+            why = f"swing not solved: {run.failure()}"
+            self.seen[key] = StanceEvaluation(gait, math.inf, why, run)
+            return self.seen[key]
+        self.warm.update(run.thetas)
+        evaluated = run.pipeline if self.stance_at_swing_rate else trial
+        total, why = pair_energy_j(evaluated, self.family, run, self.legs)
+        self.seen[key] = StanceEvaluation(gait, total, why, run)
+        return self.seen[key]
+
+
 def optimize_stance(
     pipeline: EnergyPipeline,
     family: SwingFamily,
@@ -233,34 +296,17 @@ def optimize_stance(
     if reason is not None:
         raise ScalfError(reason)
     nominal = StanceEvaluation(at_rate.gait, nominal_total, None, nominal_run)
-    seen: dict[tuple[float, ...], StanceEvaluation] = {}
-    warm = {leg: r.best.theta for leg, r in nominal_run.legs.items()}
+    trials = GaitTrials(at_rate, family, settings, legs, nominal_run)
 
     def evaluate(x_cm: np.ndarray) -> StanceEvaluation:
-        key = tuple(np.round(x_cm, 9))
-        if key in seen:
-            return seen[key]
         try:
             gait = stance_gait(at_rate.gait, x_cm)
         except ScalfError as exc:
-            seen[key] = StanceEvaluation(at_rate.gait, math.inf, str(exc))
-            return seen[key]
-        trial = at_rate.with_gait(gait)
-        _, why = _stance_feasible(trial, legs, settings.margins)
-        if why is not None:
-            seen[key] = StanceEvaluation(gait, math.inf, why)
-            return seen[key]
-        run = optimize_swings(trial, legs, family, settings, warm)
-        if not run.success:
-            seen[key] = StanceEvaluation(gait, math.inf, "swing not solved", run)
-            return seen[key]
-        warm.update({leg: r.best.theta for leg, r in run.legs.items()})
-        total, why = pair_energy_j(run.pipeline, family, run, legs)
-        seen[key] = StanceEvaluation(gait, total, why, run)
-        return seen[key]
+            return StanceEvaluation(at_rate.gait, math.inf, str(exc))
+        return trials.evaluate(gait)
 
     x0 = stance_vector_cm(at_rate.gait)
-    seen[tuple(np.round(x0, 9))] = nominal
+    trials.remember(nominal)
     result = pattern_search(
         lambda x: (evaluate(x).total_j, evaluate(x).reason),
         x0,

@@ -37,8 +37,10 @@ from scalf_opt.model.naming import legs_file_for
 from scalf_opt.model.robot import Robot
 from scalf_opt.model.urdf_file import MAX_URDF_BYTES
 from scalf_opt.optimize.driver import Settings, optimize_swings
+from scalf_opt.optimize.gait_search import optimize_gait
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.robots.variants import VariantScales, derive_variant
+from scalf_opt.studies.gait_case import gait_details, gait_row
 from scalf_opt.studies.study_file import Case
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
 
@@ -143,6 +145,8 @@ def run_case(case: Case) -> dict[str, Any]:
             row["thigh_to_shank"] = rf.thigh_length_m / rf.shank_length_m
             pipeline = EnergyPipeline(robot, gait, case.accounting)
             settings = Settings(method=case.method)
+            if case.speed_m_s is not None:
+                return _gait_case(row, case, pipeline, settings)
             run = optimize_swings(
                 pipeline, _legs(case.optimize), make_family(case.family), settings
             )
@@ -163,6 +167,31 @@ def run_case(case: Case) -> dict[str, Any]:
         row["status"] = STATUS_ERROR
         row["error"] = f"{type(exc).__name__}: {exc} ({Path(last.filename).name}:{last.lineno})"
         row["unexpected"] = True
+    return row
+
+
+def _gait_case(
+    row: dict[str, Any], case: Case, pipeline: EnergyPipeline, settings: Settings
+) -> dict[str, Any]:
+    """The cheapest trot at the case's speed: its ``gaits.csv`` columns and the study's.
+
+    The study's ``reference`` is the robot's default trot at that speed with the reference
+    swing, its ``optimized`` the cheapest gait with its optimized swings.
+    """
+    assert case.speed_m_s is not None
+    search = optimize_gait(pipeline, case.speed_m_s, make_family(case.family), settings)
+    gait = gait_row(search, row["robot"])
+    row.update({k: v for k, v in gait.items() if k not in row or row[k] is None})
+    row["status"], row["error"] = gait["status"], gait["error"]
+    row["speed_m_s"] = case.speed_m_s
+    row["details"] = gait_details(search)
+    if search.reference is not None:
+        _energies(row, search.reference, "reference")
+    if search.best.run is not None and search.best.run.success:
+        cycle = search.cycle()
+        _energies(row, cycle, "optimized")
+        if search.reference is not None:  # per metre: the two gaits' cycles differ in length
+            row["saving_pct"] = row["saving_vs_reference_pct"]
     return row
 
 
@@ -202,6 +231,8 @@ def case_key(case: Case, memo: dict[tuple[Any, ...], dict[str, str | None]] | No
         memo[robot_key] = _input_files(case)
     inputs = asdict(case)
     inputs.pop("index")  # the same case at another place in a study is the same case
+    if inputs["speed_m_s"] is None:  # a fixed gait's case: its key as before speeds existed
+        inputs.pop("speed_m_s")
     inputs["files"] = memo[robot_key]
     inputs["version"] = __version__
     text = json.dumps(inputs, sort_keys=True, default=str)

@@ -20,11 +20,18 @@ class Progress:
         total: Number of cases to run.
         stream: Where to draw (default stderr).
         enabled: Draw at all; ``None``: only when ``stream`` is a terminal.
+        label: The command's name in the heartbeat lines.
     """
 
     WIDTH = 30
 
-    def __init__(self, total: int, stream: TextIO | None = None, enabled: bool | None = None):
+    def __init__(
+        self,
+        total: int,
+        stream: TextIO | None = None,
+        enabled: bool | None = None,
+        label: str = "study",
+    ):
         self.total = total
         self.stream = stream or sys.stderr
         self.enabled = self.stream.isatty() if enabled is None else enabled
@@ -33,7 +40,7 @@ class Progress:
         self.start = time.monotonic()
         self._heartbeat: Heartbeat | None = None
         if enabled is None and not self.enabled and total:
-            self._heartbeat = Heartbeat("study").__enter__()
+            self._heartbeat = Heartbeat(label).__enter__()
             self._heartbeat.doing = f"0/{total} cases done"
 
     def update(self, ok: bool) -> None:

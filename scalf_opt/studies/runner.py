@@ -36,6 +36,7 @@ from scalf_opt.studies.case import (
     check_setup,
     run_case,
 )
+from scalf_opt.studies.gait_case import GAIT_COLUMNS
 from scalf_opt.studies.progress import Progress
 from scalf_opt.studies.study_file import Case, Study
 from scalf_opt.viz.figures import save_atomic
@@ -190,7 +191,59 @@ def check_some_case_runs(study: Study) -> None:
 
 def _columns(study: Study) -> list[str]:
     swept = list(dict.fromkeys(f for case in study.cases for f in case.swept))
-    return ["case", *swept, *[c for c in RESULT_COLUMNS if c not in swept]]
+    columns = ["case", *swept, *[c for c in RESULT_COLUMNS if c not in swept]]
+    if any(case.speed_m_s is not None for case in study.cases):  # the cheapest gaits' too
+        columns += [c for c in GAIT_COLUMNS if c not in columns]
+    return columns
+
+
+def run_cases(
+    study: Study,
+    out: str | Path,
+    runner: Runner | None = None,
+    progress: Progress | None = None,
+    label: str = "study",
+) -> tuple[dict[int, dict[str, Any]], int]:
+    """Run every case not yet cached under ``out/cache``: each case's full row, by index.
+
+    A row holds every key its case produced (a cheapest-gait case's ``details`` too), not only
+    the columns of ``results.csv``. Also returns how many rows came from the cache. ``label``
+    names the command in the progress lines.
+
+    Raises:
+        ConfigError: The output folder cannot be written; the Dask scheduler cannot be reached.
+        ScalfError: No case can be set up (:func:`check_some_case_runs`).
+    """
+    cache = Path(out) / CACHE_DIR
+    check_some_case_runs(study)
+    runner = runner or choose_runner()
+    rows: dict[int, dict[str, Any]] = {}
+    keys: dict[int, str | None] = {}
+    memo: dict[tuple[Any, ...], dict[str, str | None]] = {}
+    todo = []
+    for case in study.cases:
+        try:
+            keys[case.index] = case_key(case, memo)
+        except ScalfError:
+            keys[case.index] = None  # the case fails the same way when it runs: not cached
+        key = keys[case.index]
+        row = _cached(cache / f"{key}.json", case) if key else None
+        if row is None:
+            todo.append(case)
+        else:
+            rows[case.index] = row
+    cached = len(rows)
+    progress = progress or Progress(len(todo), label=label)
+    try:
+        for case, row in runner(todo):
+            key = keys[case.index]
+            if key and not row.get("unexpected"):
+                write_atomic(cache / f"{key}.json", to_json(row))
+            rows[case.index] = row
+            progress.update(row["status"] == STATUS_OK)
+    finally:
+        progress.close()
+    return rows, cached
 
 
 def run_study(
@@ -211,35 +264,7 @@ def run_study(
         ConfigError: The output folder cannot be written; the Dask scheduler cannot be reached.
     """
     out = Path(out)
-    cache = out / CACHE_DIR
-    check_some_case_runs(study)
-    runner = runner or choose_runner()
-    rows: dict[int, dict[str, Any]] = {}
-    keys: dict[int, str | None] = {}
-    memo: dict[tuple[Any, ...], dict[str, str | None]] = {}
-    todo = []
-    for case in study.cases:
-        try:
-            keys[case.index] = case_key(case, memo)
-        except ScalfError:
-            keys[case.index] = None  # the case fails the same way when it runs: not cached
-        key = keys[case.index]
-        row = _cached(cache / f"{key}.json", case) if key else None
-        if row is None:
-            todo.append(case)
-        else:
-            rows[case.index] = row
-    cached = len(rows)
-    progress = progress or Progress(len(todo))
-    try:
-        for case, row in runner(todo):
-            key = keys[case.index]
-            if key and not row.get("unexpected"):
-                write_atomic(cache / f"{key}.json", to_json(row))
-            rows[case.index] = row
-            progress.update(row["status"] == STATUS_OK)
-    finally:
-        progress.close()
+    rows, cached = run_cases(study, out, runner, progress)
     columns = _columns(study)
     ordered = [{c: rows[i].get(c) for c in columns} for i in sorted(rows)]
     results = write_atomic(out / RESULTS_FILE, rows_csv_text(ordered))

@@ -24,6 +24,7 @@ A study file is TOML::
     "variant.thigh_length_scale" = [0.9, 1.1]
     "robot" = ["scalf", "hyq"]                # also family, method, accounting
     "gait.period_s + gait.step_length_m" = [[0.6, 0.15], [0.5, 0.25]]  # fields set together
+    speed_m_s = [0.5, 1.0, 1.5]  # or study.speed_m_s: the cheapest trot at each speed instead
 
     [plot]
     x = "speed_m_s"           # the figure's x axis: a swept key or a results.csv column
@@ -45,6 +46,7 @@ from scalf_opt.files import read_toml
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.optimize.gait_search import check_speed
 from scalf_opt.optimize.solvers import solver
 from scalf_opt.robots.catalog import robot_names
 from scalf_opt.robots.variants import VariantScales
@@ -55,7 +57,20 @@ SETTINGS = ("robot", "family", "method", "accounting")
 
 OPTIMIZE_CHOICES = ("pair", "all", *LEG_NAMES)
 
-_STUDY_KEYS = ("name", "urdf", "legs", "actuators", "optimize", *SETTINGS)
+SPEED = "speed_m_s"
+"""The study key of a target speed: each case searches the cheapest trot at its speed."""
+
+SEARCHED_GAIT_FIELDS = (
+    "period_s",
+    "duty_cycle",
+    "step_length_m",
+    "stance_height_m",
+    "stance_x_offset_front_m",
+    "stance_x_offset_hind_m",
+)
+"""Gait fields the cheapest-gait search chooses: a study with a speed may not set them."""
+
+_STUDY_KEYS = ("name", "urdf", "legs", "actuators", "optimize", SPEED, *SETTINGS)
 _TOP_KEYS = ("study", "gait", "variant", "sweep", "plot")
 
 MAX_CASES = 10_000
@@ -79,6 +94,9 @@ class Case:
         optimize: Legs optimized (``pair``, ``all`` or a leg).
         gait: Gait fields set over the robot's default gait.
         variant: Variant scales (empty: the robot itself).
+        speed_m_s: A target speed [m/s]: the case searches the cheapest trot at it
+            (:mod:`~scalf_opt.optimize.gait_search`) instead of optimizing a fixed gait's swings;
+            ``None``: a fixed gait.
     """
 
     index: int
@@ -93,6 +111,7 @@ class Case:
     optimize: str
     gait: dict[str, Any] = field(default_factory=dict)
     variant: dict[str, Any] = field(default_factory=dict)
+    speed_m_s: float | None = None
 
 
 @dataclass(frozen=True)
@@ -166,6 +185,11 @@ def _check_field(path: Path, key: str, value: Any) -> Any:
     """A swept or fixed value of ``key`` (``gait.x``, ``variant.x`` or a setting), checked."""
     if key in SETTINGS:
         return _check_setting(path, key, value)
+    if key == SPEED:
+        try:
+            return check_speed(_number(path, key, value))
+        except ConfigError as exc:
+            raise ConfigError(f"{path}: {key}: {exc}") from exc
     kind, _, name = key.partition(".")
     if kind == "gait":
         if name not in Gait.field_names():
@@ -189,7 +213,7 @@ def _check_field(path: Path, key: str, value: Any) -> Any:
             raise ConfigError(f"{path}: {exc}") from exc
         return value
     raise ConfigError(
-        f"{path}: unknown sweep key {key!r} (use gait.<field>, variant.<field>, "
+        f"{path}: unknown sweep key {key!r} (use gait.<field>, variant.<field>, {SPEED}, "
         f"{', '.join(SETTINGS)})"
     )
 
@@ -220,6 +244,26 @@ def _axes(path: Path, sweep: dict[str, Any]) -> list[tuple[str, list[str], list[
                 raise ConfigError(f"{path}: sweep sets {f} twice ({key!r})")
             seen.add(f)
     return out
+
+
+def _check_gait_search(
+    path: Path, optimize: str, fixed_gait: dict[str, Any], axes: list[Any]
+) -> None:
+    """Refuse what a study with a speed cannot have: a searched gait field, a leg choice."""
+    if optimize != "pair":
+        raise ConfigError(
+            f"{path}: study.optimize = {optimize!r}: a study with a speed searches the gait with "
+            'the diagonal pair\'s swings (optimize = "pair")'
+        )
+    given = [f"gait.{k}" for k in fixed_gait] + [
+        f for _, fields_, _ in axes for f in fields_ if f.startswith("gait.")
+    ]
+    for name in given:
+        if name.removeprefix("gait.") in SEARCHED_GAIT_FIELDS:
+            raise ConfigError(
+                f"{path}: {name}: a study with a speed searches the period, duty cycle, step "
+                "length and stance itself (set the clearance, rate or cycles only)"
+            )
 
 
 def read_study(path: str | Path) -> Study:
@@ -267,10 +311,16 @@ def read_study(path: str | Path) -> Study:
             f"{path}: study.optimize = {optimize!r} is not one of {', '.join(OPTIMIZE_CHOICES)}"
         )
     fixed_gait = {k: _check_field(path, f"gait.{k}", v) for k, v in tables["gait"].items()}
+    speed = _check_field(path, SPEED, study[SPEED]) if SPEED in study else None
     fixed_variant = {k: _check_field(path, f"variant.{k}", v) for k, v in tables["variant"].items()}
     axes = _axes(path, tables["sweep"])
     if urdf is not None and any("robot" in fields_ for _, fields_, _ in axes):
         raise ConfigError(f"{path}: sweep.robot needs study.robot, not study.urdf")
+    swept_speed = any(SPEED in fields_ for _, fields_, _ in axes)
+    if speed is not None and swept_speed:
+        raise ConfigError(f"{path}: study.{SPEED} and sweep.{SPEED}: give one")
+    if speed is not None or swept_speed:
+        _check_gait_search(path, optimize, fixed_gait, axes)
     count = math.prod(len(points) for _, _, points in axes)
     if count > MAX_CASES:
         raise ConfigError(
@@ -279,13 +329,13 @@ def read_study(path: str | Path) -> Study:
         )
     cases = []
     for index, combo in enumerate(itertools.product(*(points for _, _, points in axes))):
-        values = dict(settings)
+        values: dict[str, Any] = {**settings, SPEED: speed}
         gait, variant = dict(fixed_gait), dict(fixed_variant)
         swept: dict[str, Any] = {}
         for (_, fields_, _), point in zip(axes, combo, strict=True):
             for f, v in zip(fields_, point, strict=True):
                 swept[f] = v
-                if f in SETTINGS:
+                if f in SETTINGS or f == SPEED:
                     values[f] = v
                 elif f.startswith("gait."):
                     gait[f.removeprefix("gait.")] = v
@@ -305,6 +355,7 @@ def read_study(path: str | Path) -> Study:
                 optimize=optimize,
                 gait=gait,
                 variant=variant,
+                speed_m_s=values[SPEED],
             )
         )
     plot = tables["plot"]
@@ -315,3 +366,47 @@ def read_study(path: str | Path) -> Study:
         raise ConfigError(f"{path}: unknown key plot.{extra[0]} (known: x)")
     name = _text(path, study, "name", "study") or path.stem
     return Study(path, name, tuple(cases), tuple(key for key, _, _ in axes), plot_x)
+
+
+def speed_study(
+    speeds: list[float],
+    robot: str | None = None,
+    urdf: str | None = None,
+    family: str = DEFAULT_FAMILY,
+    method: str = "ipopt",
+    accounting: str = "paper",
+    name: str = "cheapest trot",
+) -> Study:
+    """A study of the cheapest trot at each of ``speeds`` (``scalf-opt gait``'s cases).
+
+    Args:
+        speeds: Target speeds [m/s].
+        robot: A catalog robot, or ``None`` with ``urdf``.
+        urdf: A URDF path, or ``None``.
+        family: Swing family.
+        method: The swings' solver.
+        accounting: Power accounting.
+        name: The study's name (the figure's title).
+
+    Raises:
+        ConfigError: A speed out of range (the family, method and accounting are checked when
+            the cases are set up).
+    """
+    values = [check_speed(v) for v in speeds]
+    cases = tuple(
+        Case(
+            index=i,
+            swept={SPEED: v},
+            robot=robot if urdf is None else None,
+            urdf=str(Path(urdf).resolve()) if urdf is not None else None,
+            legs=None,
+            actuators=None,
+            family=family,
+            method=method,
+            accounting=accounting,
+            optimize="pair",
+            speed_m_s=v,
+        )
+        for i, v in enumerate(values)
+    )
+    return Study(Path("--speed"), name, cases, (SPEED,), SPEED)

@@ -14,7 +14,7 @@ from scalf_opt.cli.commands import COMMANDS
 
 PLACEHOLDERS = {"FILE", "DIR", "NAME", "LEG", "N", "X", "URL"}
 JSON_COMMANDS = {"model", "evaluate", "optimize", "paper", "simulate", "analyze-log", "variant"}
-JSON_COMMANDS |= {"study"}
+JSON_COMMANDS |= {"study", "gait"}
 VERBOSE_COMMANDS = {"optimize", "paper"}  # the commands that run Ipopt and can show its log
 PARSER = build_parser()
 SUBPARSERS = PARSER.get_default("commands")
@@ -108,6 +108,10 @@ def test_every_json_starts_with_its_provenance(capsys, tmp_path):
         "analyze-log": ["analyze-log", str(tmp_path / "log.csv")],
         "variant": ["variant", "--thigh-length-scale", "1.1", "--out", str(tmp_path / "v.urdf")],
         "study": ["study", str(study), "--workers", "1", "--out", str(tmp_path / "study")],
+        "gait": [
+            *("gait", "--speed", "1.0", "--family", "paper", "--workers", "1"),
+            *("--out", str(tmp_path / "gait")),
+        ],
     }
     assert set(runs) == JSON_COMMANDS
     for name, argv in runs.items():

@@ -10,6 +10,7 @@ from scalf_opt.cli.commands import (
     evaluate,
     export,
     figures,
+    gait,
     model,
     optimize,
     paper,
@@ -31,5 +32,6 @@ COMMANDS = (
     analyze_log,
     variant,
     study,
+    gait,
 )
 """In the order ``scalf-opt --help`` lists them."""

@@ -33,6 +33,13 @@ MAX_STOP_MARGIN_DEG = 30.0
 MAX_STROKE_MARGIN_MM = 50.0
 """Largest stroke margin an option accepts [mm]."""
 
+FAMILY_HELP = (
+    f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 (default "
+    f"{DEFAULT_FAMILY}); or {FREE_FAMILY}: the free-trajectory bound (dense B-splines refined "
+    "until the energy converges)"
+)
+"""``--family``'s help, the same wherever a command takes it."""
+
 NAME = "optimize"
 HELP = "optimize the swing of one or more legs"
 EXAMPLES = (
@@ -62,9 +69,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--family",
         default=DEFAULT_FAMILY,
         metavar="NAME",
-        help=f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 "
-        f"(default {DEFAULT_FAMILY}); or {FREE_FAMILY}: the free-trajectory bound (dense "
-        "B-splines refined until the energy converges)",
+        help=FAMILY_HELP,
     )
     parser.add_argument(
         "--method",

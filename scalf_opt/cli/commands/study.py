@@ -10,6 +10,12 @@ from scalf_opt.cli.options import Outputs, bounded
 MAX_WORKERS = 256
 """Most local worker processes."""
 
+WORKERS_HELP = (
+    f"local worker processes, 1..{MAX_WORKERS} (default: one per CPU; 1 runs the cases in this "
+    "process)"
+)
+"""``--workers``' help, the same wherever a command takes it."""
+
 NAME = "study"
 HELP = "run a sweep declared in a study file (local processes or a Dask cluster)"
 JSON = True
@@ -26,8 +32,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--workers",
         type=bounded(int, MAX_WORKERS),
         metavar="N",
-        help=f"local worker processes, 1..{MAX_WORKERS} (default: one per CPU; 1 runs the cases "
-        "in this process)",
+        help=WORKERS_HELP,
     )
     parser.add_argument("--scheduler", metavar="URL", help="a Dask scheduler, e.g. tcp://host:8786")
     parser.add_argument(

@@ -1,0 +1,186 @@
+"""``optimize_gait``: the cheapest trot at a speed, with its timing, posture and swings optimized.
+
+The search is :func:`scalf_opt.optimize.gait_search.optimize_gait` (a coarse grid over the
+period and duty cycle, then the pattern search over them and the stance, the swings optimized
+inside by the one solve path); ``scalf-opt gait`` runs it for many speeds on the study engine
+and writes the same rows and files as :meth:`GaitResult.write` does for one.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from scalf_opt.api.gaits import command_tuple, read_gait
+from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import ConfigError
+from scalf_opt.files import write_atomic
+from scalf_opt.io.provenance import provenance
+from scalf_opt.io.results import checked_summary, samples_csv_text, write_results_json
+from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
+from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.model.robot import Robot
+from scalf_opt.optimize.driver import Settings
+from scalf_opt.optimize.gait_search import GaitSearch
+from scalf_opt.optimize.gait_search import optimize_gait as search_gait
+from scalf_opt.optimize.solvers import DEFAULT_SOLVER
+from scalf_opt.studies.gait_case import gait_details, gait_row
+from scalf_opt.types import Accounting, Method
+
+GAIT_FILE = "gait.toml"
+"""The cheapest gait as a gait file (``evaluate --gait``)."""
+
+
+def gait_toml(gait: Gait) -> str:
+    """A gait file (TOML ``[gait]`` table) holding every field of ``gait``, exactly."""
+    lines = ["[gait]"]
+    for name, value in gait.to_dict().items():
+        lines.append(f"{name} = {value!r}")
+    return "\n".join(lines) + "\n"
+
+
+@dataclass(frozen=True)
+class GaitResult:
+    """The cheapest trot at one speed.
+
+    Attributes:
+        robot: The robot.
+        row: Its ``gaits.csv`` row (:data:`~scalf_opt.studies.gait_case.GAIT_COLUMNS`).
+        details: The swings' parameters and records (:func:`~scalf_opt.studies.gait_case
+            .gait_details`).
+        cycle: The robot's cycle with the cheapest gait and its optimized swings, at the rate
+            they converged at (``None`` when no feasible gait was found).
+        pipeline: The pipeline of that cycle (``None`` with it).
+        search: The search itself (``None`` when rebuilt from a study's row).
+        command: The command line that asked for it (``None`` from Python).
+    """
+
+    robot: Robot
+    row: dict[str, Any]
+    details: dict[str, Any]
+    cycle: RobotCycle | None
+    pipeline: EnergyPipeline | None
+    search: GaitSearch | None = None
+    command: tuple[str, ...] | None = None
+
+    @classmethod
+    def from_row(
+        cls,
+        robot: Robot,
+        row: dict[str, Any],
+        details: dict[str, Any],
+        search: GaitSearch | None = None,
+        command: Sequence[str] | None = None,
+    ) -> GaitResult:
+        """The result of a row and its details: the optimum's cycle rebuilt from its swings.
+
+        The same gait, accounting, family and parameters at the same rate give the same
+        samples, so the cycle is the search's own.
+        """
+        cycle = pipeline = None
+        if "parameters" in details:
+            gait = Gait(**details["gait"])
+            pipeline = EnergyPipeline(robot, gait, details["accounting"])
+            thetas = {leg: np.asarray(p, dtype=float) for leg, p in details["parameters"].items()}
+            cycle = pipeline.robot_cycle(make_family(details["family"]), thetas)
+        return cls(robot, row, details, cycle, pipeline, search, command_tuple(command))
+
+    @property
+    def success(self) -> bool:
+        """The search converged to a feasible gait whose swings are solved."""
+        return self.row["status"] == "ok" and self.cycle is not None
+
+    @property
+    def gait(self) -> Gait:
+        """The cheapest gait (at the rate its swings converged at).
+
+        Raises:
+            ConfigError: No feasible gait was found.
+        """
+        if self.cycle is None:
+            raise ConfigError(f"no feasible gait at {self.row['speed_m_s']:g} m/s")
+        return self.cycle.gait
+
+    @property
+    def cost_of_transport(self) -> float:
+        """The cheapest gait's cost of transport (NaN when none was found)."""
+        return self.cycle.cost_of_transport if self.cycle is not None else math.nan
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data: ``summary.json`` of the cheapest gait (its cycle, swings and search)."""
+        data: dict[str, Any] = {"provenance": provenance(self.robot, self.command)}
+        if self.cycle is not None and self.pipeline is not None:
+            data.update(checked_summary(self.cycle, self.pipeline))
+        data["solved"] = self.cycle is not None
+        data["converged"] = self.success
+        data["status"] = "converged" if self.success else f"not converged: {self.row['error']}"
+        data["cheapest_gait_row"] = self.row
+        data.update({k: v for k, v in self.details.items() if k not in data})
+        return data
+
+    def write(self, out_dir: str | Path) -> list[Path]:
+        """Write ``gait.toml``, ``summary.json`` and ``samples.csv`` into ``out_dir``.
+
+        ``evaluate --gait DIR/gait.toml`` walks the gait; ``view --from DIR`` and ``simulate
+        --from DIR`` read the swings.
+
+        Raises:
+            ConfigError: No feasible gait was found: there is nothing to write.
+        """
+        if self.cycle is None:
+            speed = self.row["speed_m_s"]
+            raise ConfigError(f"no feasible gait at {speed:g} m/s: nothing to write")
+        out = Path(out_dir)
+        return [
+            write_atomic(out / GAIT_FILE, gait_toml(self.cycle.gait)),
+            *write_results_json(out / "summary.json", self.to_dict()),
+            write_atomic(out / "samples.csv", samples_csv_text(self.cycle)),
+        ]
+
+
+def optimize_gait(
+    robot: Robot,
+    speed: float,
+    *,
+    family: str = DEFAULT_FAMILY,
+    method: Method = DEFAULT_SOLVER,
+    accounting: Accounting = "paper",
+    gait: Gait | None = None,
+    command: Sequence[str] | None = None,
+) -> GaitResult:
+    """The cheapest trot of ``robot`` at ``speed`` [m/s].
+
+    The period, duty cycle (at least 0.5: a trot without a flight phase), stance height and
+    stance x-offsets are optimized with the diagonal pair's swings inside; the step length is
+    ``speed * duty * period``. Every gait tried respects every joint and drive limit; the
+    answer is compared with the robot's default trot at the same speed, with optimized swings
+    and with the reference swing (``row``), and a limit or search-box edge that pins it is named
+    (``row["pinned_by"]``).
+
+    Args:
+        robot: The robot.
+        speed: Target speed [m/s].
+        family: The swing family (``joint-N``, ``fourier-N``, ``paper``).
+        method: The swings' solver (``ipopt`` or ``pattern``).
+        accounting: Power accounting.
+        gait: The base gait (default: the robot's default trot): its clearance, rate and
+            cycles are kept, its period, duty and stance are the search's centre.
+        command: The command line, recorded in the result's provenance.
+
+    Raises:
+        ConfigError: A speed out of range, a family without parameters.
+    """
+    swing_family = make_family(family)
+    if swing_family.n_params == 0:
+        raise ConfigError(f"family {family!r} has no free parameter to optimize", field="family")
+    pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting)
+    search = search_gait(pipeline, speed, swing_family, Settings(method=method))
+    row = gait_row(search, robot.name)
+    return GaitResult.from_row(robot, row, gait_details(search), search, command)

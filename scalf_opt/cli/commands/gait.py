@@ -1,0 +1,238 @@
+"""``scalf-opt gait``: the cheapest trot at every speed, on the study engine."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from pathlib import Path
+from typing import TYPE_CHECKING, Any
+
+from scalf_opt.cli.commands.optimize import FAMILY_HELP
+from scalf_opt.cli.commands.study import MAX_WORKERS, WORKERS_HELP
+from scalf_opt.cli.options import ACCOUNTING_HELP, Outputs, add_robot, bounded, load_robot
+from scalf_opt.energy.accounting import ACCOUNTINGS
+from scalf_opt.errors import ConfigError
+from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
+from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SOLVERS, solver_help
+
+if TYPE_CHECKING:
+    from scalf_opt.model.robot import Robot
+
+MAX_SPEEDS = 200
+"""Most speeds one run may ask for (each is a search of about a hundred swing optimizations)."""
+
+DEFAULT_OUT = Path("results") / "gait"
+
+NAME = "gait"
+HELP = "the cheapest trot at every speed: period, duty, step, stance and swings optimized"
+JSON = True
+EXAMPLES = (
+    ("scalf-opt gait --speed 0.25:1.5:0.25", "six speeds on SCalf (results/gait)"),
+    ("scalf-opt gait --speed 1.0 --workers 1", "the paper's speed, in this process"),
+    ("scalf-opt gait --robot go1 --speed 0.2:0.7:0.1 --out results/go1", "an electric robot"),
+)
+
+
+def parse_speeds(text: str) -> list[float]:
+    """``--speed``: ``V``, ``V1,V2,...`` or ``START:STOP:STEP`` (STOP included) [m/s].
+
+    Raises:
+        ConfigError: Not numbers, a step not > 0, a stop below the start, more than
+            :data:`MAX_SPEEDS` speeds (the message names ``--speed``).
+    """
+    try:
+        if ":" in text:
+            start, stop, step = (float(p) for p in text.split(":"))
+            if not (math.isfinite(step) and step > 0 and stop >= start):
+                raise ConfigError(
+                    f"--speed {text}: START:STOP:STEP needs a step > 0 and STOP >= START"
+                )
+            count = math.floor((stop - start) / step + 1e-9) + 1
+            if count > MAX_SPEEDS:
+                raise ConfigError(f"--speed {text}: {count} speeds, more than {MAX_SPEEDS}")
+            return [round(start + i * step, 12) for i in range(count)]
+        speeds = [float(p) for p in text.split(",")]
+    except ValueError:
+        raise ConfigError(
+            f"--speed {text}: give V, V1,V2,... or START:STOP:STEP in m/s (e.g. 0.25:1.5:0.25)"
+        ) from None
+    if len(speeds) > MAX_SPEEDS:
+        raise ConfigError(f"--speed {text}: {len(speeds)} speeds, more than {MAX_SPEEDS}")
+    return speeds
+
+
+def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
+    parser.add_argument(
+        "--speed",
+        required=True,
+        metavar="X",
+        help="target speeds [m/s]: V, V1,V2,... or START:STOP:STEP with STOP included "
+        f"(at most {MAX_SPEEDS} speeds, each at most 10 m/s)",
+    )
+    add_robot(parser)
+    parser.add_argument("--family", default=DEFAULT_FAMILY, metavar="NAME", help=FAMILY_HELP)
+    parser.add_argument(
+        "--method",
+        choices=tuple(SOLVERS),
+        default=DEFAULT_SOLVER,
+        help=f"the solver: {solver_help()}",
+    )
+    parser.add_argument(
+        "--accounting", choices=tuple(ACCOUNTINGS), default="paper", help=ACCOUNTING_HELP
+    )
+    parser.add_argument("--workers", type=bounded(int, MAX_WORKERS), metavar="N", help=WORKERS_HELP)
+    parser.add_argument("--scheduler", metavar="URL", help="a Dask scheduler, e.g. tcp://host:8786")
+    parser.add_argument(
+        "--out",
+        type=Path,
+        default=DEFAULT_OUT,
+        metavar="DIR",
+        help="output folder (default results/gait): gaits.csv, gaits.png and per speed "
+        "speed_<v>/ with gait.toml, summary.json and samples.csv",
+    )
+
+
+def _cell(value: Any, digits: int = 4) -> str:
+    if value is None or value == "":
+        return "-"
+    if isinstance(value, float):
+        return f"{value:.{digits}g}"
+    return str(value)
+
+
+def gait_table(robot: str, rows: list[dict[str, Any]]) -> str:
+    """The cheapest gaits as a text table, and what pins each."""
+    header = ["v [m/s]", "T [s]", "duty", "S [m]", "z0 [m]", "front [m]", "hind [m]", "CoT"]
+    header += ["default", "reference", "saved", "status"]
+    lines = [
+        f"cheapest trot of {robot} per speed; cost of transport of the cheapest, of the default "
+        "trot at the speed with optimized swings, and with the reference swing"
+    ]
+    lines.append("  ".join(f"{h:>9s}" for h in header))
+    for r in rows:
+        cells = [_cell(r["speed_m_s"])]
+        for key in ("period_s", "duty_cycle", "step_length_m", "stance_height_m"):
+            cells.append(_cell(r[key]))
+        cells += [_cell(r["stance_x_offset_front_m"], 3), _cell(r["stance_x_offset_hind_m"], 3)]
+        cells += [_cell(r[k]) for k in ("cost_of_transport", "default_cost_of_transport")]
+        cells.append(_cell(r["reference_cost_of_transport"]))
+        saved = r["saving_vs_reference_pct"]
+        cells.append(f"{saved:.1f} %" if isinstance(saved, float) else "-")
+        cells.append(r["status"])
+        lines.append("  ".join(f"{c:>9s}" for c in cells))
+    for r in rows:
+        if r["pinned_by"]:
+            lines.append(f"  {_cell(r['speed_m_s'])} m/s pinned by {grouped(r['pinned_by'])}")
+        if r["error"]:
+            lines.append(f"  {_cell(r['speed_m_s'])} m/s: {r['error']}")
+        cot, reference = r["cost_of_transport"], r["reference_cost_of_transport"]
+        if isinstance(cot, float) and isinstance(reference, float) and cot > reference:
+            lines.append(
+                f"  warning: {_cell(r['speed_m_s'])} m/s: the cheapest trot with {r['family']} "
+                "swings costs more than the default trot with the reference swing: the family "
+                "cannot come near the reference here (try another --family)"
+            )
+        if r["default_infeasible"]:
+            lines.append(
+                f"  {_cell(r['speed_m_s'])} m/s: the default trot cannot walk it: "
+                f"{r['default_infeasible']}"
+            )
+    return "\n".join(lines)
+
+
+def grouped(pinned_by: str) -> str:
+    """``pinned_by`` (``"<field> up|down: <limit>; ..."``) with each limit named once.
+
+    ``"period_s up: RF_knee range; duty_cycle up: RF_knee range"`` reads
+    ``"RF_knee range (period_s up, duty_cycle up)"``.
+    """
+    limits: dict[str, list[str]] = {}
+    for part in pinned_by.split("; "):
+        where, _, limit = part.partition(": ")
+        limits.setdefault(limit, []).append(where)
+    return "; ".join(f"{limit} ({', '.join(where)})" for limit, where in limits.items())
+
+
+def _check_family(family: str) -> None:
+    from scalf_opt.locomotion.swing.names import FREE_FAMILY
+    from scalf_opt.locomotion.swing.registry import make_family
+
+    if family == FREE_FAMILY:
+        raise ConfigError(
+            "family free is the free-trajectory bound, not a family to search gaits with",
+            field="family",
+        )
+    if make_family(family).n_params == 0:
+        raise ConfigError(f"family {family!r} has no free parameter to optimize", field="family")
+
+
+def speed_folder(out: Path, speed_m_s: float) -> Path:
+    """Where the cheapest gait at ``speed_m_s`` is written: ``out/speed_<v>``."""
+    return out / f"speed_{speed_m_s:g}"
+
+
+def run(args: argparse.Namespace) -> int:
+    """Exit 0 when every speed's search succeeded, 3 when some did not (``gaits.csv`` says why)."""
+    from scalf_opt.api.gait_optimization import GaitResult
+    from scalf_opt.files import write_atomic
+    from scalf_opt.io.provenance import run_provenance
+    from scalf_opt.io.results import rows_csv_text
+    from scalf_opt.studies.gait_case import GAIT_COLUMNS
+    from scalf_opt.studies.runner import choose_runner, run_cases
+    from scalf_opt.studies.study_file import speed_study
+    from scalf_opt.viz.figures import save_atomic
+    from scalf_opt.viz.gait_figure import gait_figure
+
+    if args.workers is not None and args.scheduler is not None:
+        raise ConfigError("give --workers or --scheduler, not both")
+    speeds = parse_speeds(args.speed)
+    _check_family(args.family)
+    robot: Robot = load_robot(args)
+    study = speed_study(
+        speeds,
+        robot=args.robot or (None if args.urdf else "scalf"),
+        urdf=str(args.urdf) if args.urdf else None,
+        family=args.family,
+        method=args.method,
+        accounting=args.accounting,
+        name=f"cheapest trot of {robot.name}",
+    )
+    out: Path = args.out
+    full, cached = run_cases(study, out, choose_runner(args.workers, args.scheduler), label=NAME)
+    rows: list[dict[str, Any]] = [{c: full[i].get(c) for c in GAIT_COLUMNS} for i in sorted(full)]
+    written = [write_atomic(out / "gaits.csv", rows_csv_text(rows))]
+    written.append(save_atomic(gait_figure(rows, study.name), out / "gaits.png"))
+    for index, row in zip(sorted(full), rows, strict=True):
+        details = full[index].get("details") or {}
+        if row["status"] == "ok" and "parameters" in details:
+            result = GaitResult.from_row(robot, row, details, command=args.argv)
+            result.write(speed_folder(out, float(row["speed_m_s"])))
+    console = args.console
+    console.text(gait_table(robot.name, rows))
+    files = ", ".join(map(str, written))
+    console.text(f"{len(rows)} speeds ({cached} from the cache); wrote {files}")
+    console.text(f"and per solved speed {out}/speed_<v>/ (gait.toml, summary.json, samples.csv)")
+    console.json(
+        {
+            "provenance": run_provenance(args.argv, robot=robot.name),
+            "gaits_csv": str(out / "gaits.csv"),
+            "rows": rows,
+        }
+    )
+    failed = [r for r in rows if r["status"] != "ok"]
+    if failed:
+        console.error(
+            f"{len(failed)} of {len(rows)} speeds did not succeed (see {out / 'gaits.csv'})"
+        )
+        return 3
+    return 0
+
+
+def outputs(args: argparse.Namespace) -> Outputs:
+    """The table, the figure and the speeds' folders, moved into place together.
+
+    The cache of finished speeds is written at once (a killed run resumes from it).
+    """
+    from scalf_opt.studies.runner import CACHE_DIR
+
+    return Outputs(folders={"--out": args.out}, direct=(args.out / CACHE_DIR,))

@@ -1,0 +1,102 @@
+"""The figure of ``scalf-opt gait``: the cost of transport against speed, and the cheapest gaits.
+
+Top: the cost of transport of the cheapest trot (solid), of the robot's default trot retimed to
+each speed with optimized swings (dashed) and with the reference swing (dotted); a speed whose
+search did not succeed is marked ``x`` on the axis. Below, one panel each: the cheapest gait's
+period, duty cycle, step length, stance height, stance x-offsets (front and hind) and average
+power against speed, with units; a point pinned by a limit or a search-box edge is a hollow
+marker.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from typing import Any
+
+import matplotlib
+
+matplotlib.use("Agg")  # files only: no display needed
+
+import matplotlib.pyplot as plt
+from matplotlib.figure import Figure
+
+PANELS: tuple[tuple[tuple[tuple[str, str], ...], str, float], ...] = (
+    ((("period_s", "period T"),), "period T [s]", 1.0),
+    ((("duty_cycle", "duty cycle"),), "duty cycle [-]", 1.0),
+    ((("step_length_m", "step length S"),), "step length S [mm]", 1000.0),
+    ((("stance_height_m", "stance height z0"),), "stance height z0 [mm]", 1000.0),
+    (
+        (("stance_x_offset_front_m", "front"), ("stance_x_offset_hind_m", "hind")),
+        "feet ahead of hips [mm]",
+        1000.0,
+    ),
+    ((("average_power_w", "average power"),), "average power [W]", 1.0),
+)
+"""The lower panels: (columns and labels, axis label with unit, factor from SI to the unit)."""
+
+COT_LINES = (
+    ("cost_of_transport", "cheapest trot (timing, stance and swings optimized)", "-", "o"),
+    ("default_cost_of_transport", "default trot, optimized swings", "--", "s"),
+    ("reference_cost_of_transport", "default trot, reference swing", ":", "^"),
+)
+"""The top panel's lines: (column, label, line style, marker)."""
+
+
+def _value(row: dict[str, Any], key: str) -> float:
+    value = row.get(key)
+    if value is None or value == "":
+        return math.nan
+    return float(value)
+
+
+def _line(rows: Sequence[dict[str, Any]], key: str, factor: float = 1.0) -> tuple[list, list]:
+    points = [(_value(r, "speed_m_s"), _value(r, key) * factor) for r in rows]
+    points = [(x, y) for x, y in points if math.isfinite(y)]
+    return [x for x, _ in points], [y for _, y in points]
+
+
+def gait_figure(rows: Sequence[dict[str, Any]], title: str) -> Figure:
+    """The figure of ``gaits.csv``'s rows (see the module docstring)."""
+    rows = sorted(rows, key=lambda r: _value(r, "speed_m_s"))
+    ok = [r for r in rows if r.get("status") == "ok"]
+    failed = [_value(r, "speed_m_s") for r in rows if r.get("status") != "ok"]
+    fig = plt.figure(figsize=(9.5, 11.5), layout="constrained")
+    grid = fig.add_gridspec(4, 2, height_ratios=(1.6, 1, 1, 1))
+    top = fig.add_subplot(grid[0, :])
+    for key, label, style, marker in COT_LINES:
+        source = ok if key == "cost_of_transport" else rows
+        xs, ys = _line(source, key)
+        if xs:
+            top.plot(xs, ys, style, marker=marker, label=label)
+    if any(r.get("pinned_by") for r in ok):
+        top.plot(
+            [],
+            [],
+            "o",
+            mfc="white",
+            color="gray",
+            label="hollow marker: pinned by a limit or the search box (column pinned_by)",
+        )
+    if failed:
+        top.plot(failed, [0.0] * len(failed), "x", color="tab:red", label="search not solved")
+    top.set_xlabel("speed v [m/s]")
+    top.set_ylabel("cost of transport E / (m g d) [-]")
+    top.set_ylim(bottom=0.0)
+    top.grid(True, alpha=0.3)
+    top.legend(loc="best", fontsize=9)
+    top.set_title(title)
+    pinned = [r for r in ok if r.get("pinned_by")]
+    for index, (columns, ylabel, factor) in enumerate(PANELS):
+        ax = fig.add_subplot(grid[1 + index // 2, index % 2], sharex=top)
+        for column, label in columns:
+            xs, ys = _line(ok, column, factor)
+            (line,) = ax.plot(xs, ys, "-o", label=label if len(columns) > 1 else None)
+            px, py = _line(pinned, column, factor)
+            ax.plot(px, py, "o", mfc="white", color=line.get_color())
+        if len(columns) > 1:
+            ax.legend(fontsize=8, loc="best")
+        ax.set_ylabel(ylabel)
+        ax.set_xlabel("speed v [m/s]")
+        ax.grid(True, alpha=0.3)
+    return fig

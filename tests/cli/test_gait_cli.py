@@ -1,0 +1,77 @@
+"""``scalf-opt gait``: the cheapest trot per speed as a table, files every command loads, a
+resumed run from the cache, and one-line errors for a bad ``--speed``."""
+
+import csv
+import json
+
+import pytest
+
+from scalf_opt.cli import main
+from scalf_opt.cli.commands.gait import MAX_SPEEDS, parse_speeds
+from scalf_opt.errors import ConfigError
+from scalf_opt.locomotion.gait_file import read_gait
+from scalf_opt.studies.gait_case import GAIT_COLUMNS
+
+ARGV = ["gait", "--speed", "1.0", "--family", "paper", "--workers", "1"]
+
+
+@pytest.fixture(scope="module")
+def run(tmp_path_factory):
+    out = tmp_path_factory.mktemp("gait")
+    return out, main([*ARGV, "--out", str(out), "-q"])
+
+
+def test_speeds_are_a_value_a_list_or_a_range_with_its_end():
+    assert parse_speeds("1") == [1.0]
+    assert parse_speeds("0.5,1.25") == [0.5, 1.25]
+    assert parse_speeds("0.25:1.5:0.25") == [0.25, 0.5, 0.75, 1.0, 1.25, 1.5]
+    for bad in ("1.0x", "1:0:0.5", "0:1:0", "0:1", f"0.001:10:{1 / (MAX_SPEEDS + 5)}"):
+        with pytest.raises(ConfigError, match="--speed"):
+            parse_speeds(bad)
+
+
+def test_the_table_the_figure_and_a_folder_per_speed(run, capsys):
+    out, code = run
+    assert code == 0
+    with (out / "gaits.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert list(rows[0]) == list(GAIT_COLUMNS) and len(rows) == 1
+    row = rows[0]
+    assert row["status"] == "ok" and float(row["speed_m_s"]) == 1.0
+    cot = float(row["cost_of_transport"])
+    assert (
+        cot <= float(row["default_cost_of_transport"]) <= float(row["reference_cost_of_transport"])
+    )
+    assert (out / "gaits.png").stat().st_size > 10_000
+    gait = read_gait(out / "speed_1" / "gait.toml")
+    assert gait.speed_m_s == pytest.approx(1.0, rel=1e-12)
+    assert gait.period_s == pytest.approx(float(row["period_s"]), rel=1e-12)
+    # the swings are loadable: evaluate them on their gait, same cost of transport
+    assert main(["evaluate", "--swing", str(out / "speed_1"), "--json"]) == 0
+    evaluated = json.loads(capsys.readouterr().out)
+    assert evaluated["cost_of_transport"] == pytest.approx(cot, rel=1e-9)
+
+
+def test_a_second_run_comes_from_the_cache_with_the_same_table(run, capsys):
+    out, _ = run
+    before = (out / "gaits.csv").read_bytes()
+    assert main([*ARGV, "--out", str(out), "--json"]) == 0
+    data = json.loads(capsys.readouterr().out)
+    assert next(iter(data)) == "provenance" and data["rows"][0]["status"] == "ok"
+    assert (out / "gaits.csv").read_bytes() == before
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["gait", "--speed", "0"], "--speed: the speed must be a number in (0, 10] m/s"),
+        (["gait", "--speed", "fast"], "--speed fast: give V, V1,V2,... or START:STOP:STEP"),
+        (["gait", "--speed", "1", "--family", "free"], "--family: family free is the"),
+        (["gait", "--speed", "1", "--workers", "2", "--scheduler", "tcp://x:1"], "not both"),
+    ],
+)
+def test_a_bad_option_is_one_line(argv, message, tmp_path, capsys):
+    assert main([*argv, "--out", str(tmp_path / "out")]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err, err
+    assert not (tmp_path / "out").exists()

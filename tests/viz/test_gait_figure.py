@@ -1,0 +1,44 @@
+"""The cost-of-transport figure of ``scalf-opt gait``: three lines against speed, a failed speed
+marked on the axis, and every lower panel a gait field with its unit."""
+
+import matplotlib.pyplot as plt
+
+from scalf_opt.viz.gait_figure import COT_LINES, PANELS, gait_figure
+
+
+def row(speed, status="ok", **values):
+    base = {
+        "speed_m_s": speed,
+        "status": status,
+        "period_s": 0.5,
+        "duty_cycle": 0.5,
+        "step_length_m": 0.25 * speed,
+        "stance_height_m": 0.75,
+        "stance_x_offset_front_m": 0.05,
+        "stance_x_offset_hind_m": -0.05,
+        "average_power_w": 300.0 * speed,
+        "cost_of_transport": 0.1 * speed,
+        "default_cost_of_transport": 0.15 * speed,
+        "reference_cost_of_transport": 0.2 * speed,
+        "pinned_by": "duty_cycle down: duty floor",
+    }
+    return {**base, **values}
+
+
+def test_the_figure_has_the_three_lines_and_a_panel_per_field():
+    rows = [row(1.0), row(0.5), row(1.5, status="not solved", cost_of_transport=None)]
+    fig = gait_figure(rows, "test")
+    top, *panels = fig.axes
+    labels = [line.get_label() for line in top.get_lines()]
+    for _, label, _, _ in COT_LINES:
+        assert label in labels
+    cheapest = next(line for line in top.get_lines() if line.get_label() == COT_LINES[0][1])
+    assert list(cheapest.get_xdata()) == [0.5, 1.0]  # sorted, the failed speed left out
+    failed = next(line for line in top.get_lines() if line.get_label() == "search not solved")
+    assert list(failed.get_xdata()) == [1.5]
+    assert len(panels) == len(PANELS)
+    for ax, (_, ylabel, _) in zip(panels, PANELS, strict=True):
+        assert ax.get_ylabel() == ylabel and "[" in ylabel and ax.get_xlabel() == "speed v [m/s]"
+    step = panels[2].get_lines()[0]
+    assert list(step.get_ydata()) == [125.0, 250.0]  # millimetres
+    plt.close(fig)
