@@ -99,7 +99,7 @@ def test_every_json_starts_with_its_provenance(capsys, tmp_path):
         "simulate": [
             "simulate",
             "--cycles",
-            "2",
+            "3",  # the log then holds a complete cycle from a touch-down for every leg
             "--out",
             str(tmp_path / "sim"),
             "--log",

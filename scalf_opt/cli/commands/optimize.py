@@ -108,8 +108,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--stop-margin",
         type=bounded(float, MAX_STOP_MARGIN_DEG, 0.0),
         default=math.degrees(DEFAULT_STOP_MARGIN_RAD),
-        metavar="DEG",
-        help="every optimized joint angle stays this far inside its range, 0..30 degrees "
+        metavar="X",
+        help="every optimized joint angle stays X degrees inside its range, 0..30 "
         f"(default {math.degrees(DEFAULT_STOP_MARGIN_RAD):g}: the simulated servo tracks within "
         "it; 0: the limits themselves, as the paper)",
     )
@@ -117,8 +117,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--stroke-margin",
         type=bounded(float, MAX_STROKE_MARGIN_MM, 0.0),
         default=1e3 * DEFAULT_STROKE_MARGIN_M,
-        metavar="MM",
-        help="every cylinder length stays this far inside its stroke, 0..50 mm (default "
+        metavar="X",
+        help="every cylinder length stays X mm inside its stroke, 0..50 (default "
         f"{1e3 * DEFAULT_STROKE_MARGIN_M:g})",
     )
     parser.add_argument(
