@@ -31,7 +31,7 @@ FAMILIES = ("paper", "joint-2", "joint-4", "joint-6", "joint-8", "joint-12")
 
 
 def gaps(quick: bool) -> tuple[list[dict[str, object]], dict[str, object]]:
-    pipeline = EnergyPipeline(load_robot("scalf"), Gait())
+    pipeline = EnergyPipeline(load_robot("scalf"), Gait(), loads="trunk")
     families = ("paper", "joint-4") if quick else FAMILIES
     runs = {name: optimize_swings(pipeline, FIRST_PAIR, make_family(name)) for name in families}
     bounds = {

@@ -1,5 +1,8 @@
 """Energy and its saving against the mid-swing clearance H, on SCalf at the paper's trot.
 
+Under the paper's trunk-only stance loads (``loads = "trunk"`` in the study file), like the
+paper.
+
 H from 4 to 16 cm (the paper: 8 cm); every case evaluates the reference swing (whose apex is H)
 and optimizes the diagonal pair with Ipopt (the optimum must clear H at mid-swing).
 
@@ -27,6 +30,7 @@ def study_text(quick: bool) -> str:
 name = "clearance sweep (SCalf)"
 robot = "scalf"
 family = "{"joint-3" if quick else "joint-6"}"
+loads = "trunk"
 [sweep]
 "gait.clearance_m" = [{values}]
 """

@@ -34,7 +34,7 @@ from scalf_opt.robots.loading import load_robot
 
 
 def scan(quick: bool) -> list[dict[str, object]]:
-    pipeline = EnergyPipeline(load_robot("scalf"), Gait())
+    pipeline = EnergyPipeline(load_robot("scalf"), Gait(), loads="trunk")
     reference = pipeline.robot_cycle(make_family("reference"), legs=("RF", "LH"))
     orders = (2, 3) if quick else (2, 3, 4)
     terms = [(kind, k) for k in orders for kind in ("cos", "sin") if (kind, k) != ("sin", 2)]

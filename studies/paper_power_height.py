@@ -44,7 +44,7 @@ ROBOT = load_robot("scalf")
 
 def reference_power_w(height_m: float) -> float:
     """Average total power of the reference trot at stance height ``height_m`` [W]."""
-    pipeline = EnergyPipeline(ROBOT, Gait(stance_height_m=height_m))
+    pipeline = EnergyPipeline(ROBOT, Gait(stance_height_m=height_m), loads="trunk")
     return pipeline.robot_cycle(make_family("reference")).average_power_w
 
 
@@ -61,7 +61,7 @@ def scan(heights: np.ndarray) -> list[dict[str, object]]:
 
 
 def optimized(height_m: float, family: str) -> dict[str, object]:
-    pipeline = EnergyPipeline(ROBOT, Gait(stance_height_m=height_m))
+    pipeline = EnergyPipeline(ROBOT, Gait(stance_height_m=height_m), loads="trunk")
     run = optimize_swings(pipeline, ("RF", "LH"), make_family(family))
     solved = run.success
     reference = run.reference_cycle()  # at the optimum's converged rate, like with like

@@ -101,7 +101,7 @@ def check_setup(case: Case, folder: Path) -> None:
     robot = _robot(case, folder)
     gait = _gait(case, robot)
     make_family(case.family)
-    pipeline = EnergyPipeline(robot, gait, case.accounting)
+    pipeline = EnergyPipeline(robot, gait, case.accounting, loads=case.loads)
     pipeline.robot_cycle(make_family("reference"))
 
 
@@ -143,7 +143,7 @@ def run_case(case: Case) -> dict[str, Any]:
             row["thigh_length_m"] = rf.thigh_length_m
             row["shank_length_m"] = rf.shank_length_m
             row["thigh_to_shank"] = rf.thigh_length_m / rf.shank_length_m
-            pipeline = EnergyPipeline(robot, gait, case.accounting)
+            pipeline = EnergyPipeline(robot, gait, case.accounting, loads=case.loads)
             settings = Settings(method=case.method)
             if case.speed_m_s is not None:
                 return _gait_case(row, case, pipeline, settings)

@@ -12,6 +12,7 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from scalf_opt.energy.loads import PAPER_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.driver import Settings, optimize_swings
@@ -37,8 +38,11 @@ def search_study(
     """Run the pattern search and Ipopt on the paper family and map the landscape around them.
 
     The grid covers every accepted point of both phases, Ipopt's optimum and the start, with a
-    quarter of their span (at least 2 degrees) as margin on each side.
+    quarter of their span (at least 2 degrees) as margin on each side. The landscape is the
+    paper's (its Figure 8): the swing energy, under the trunk-only loads whatever the
+    pipeline's (under whole-body loads each leg's objective would add its pair's stance).
     """
+    pipeline = pipeline.with_loads(PAPER_LOADS)
     family = make_family(FAMILY)
     pattern_settings = Settings("pattern", pattern=options or PatternSearchOptions())
     pattern_run = optimize_swings(pipeline, tuple(legs), family, pattern_settings)

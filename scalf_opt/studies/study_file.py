@@ -11,6 +11,7 @@ A study file is TOML::
     family = "joint-4"        # swing family (default joint-6)
     method = "ipopt"          # a solver: ipopt (default) or pattern
     accounting = "paper"      # paper (default), positive or regenerative
+    loads = "whole-body"      # stance loads: whole-body (default) or trunk (the paper's)
     optimize = "pair"         # legs optimized: pair (default; LF, RH by symmetry), all, RF, ...
 
     [gait]                    # gait fields of every case, over the robot's default gait
@@ -22,7 +23,7 @@ A study file is TOML::
     [sweep]                   # the axes: the cases are the cartesian product of their values
     "gait.period_s" = [0.4, 0.5, 0.6]
     "variant.thigh_length_scale" = [0.9, 1.1]
-    "robot" = ["scalf", "hyq"]                # also family, method, accounting
+    "robot" = ["scalf", "hyq"]                # also family, method, accounting, loads
     "gait.period_s + gait.step_length_m" = [[0.6, 0.15], [0.5, 0.25]]  # fields set together
     speed_m_s = [0.5, 1.0, 1.5]  # or study.speed_m_s: the cheapest trot at each speed instead
 
@@ -41,6 +42,7 @@ from pathlib import Path
 from typing import Any
 
 from scalf_opt.energy.accounting import accounting as power_accounting
+from scalf_opt.energy.loads import DEFAULT_LOADS, stance_loads
 from scalf_opt.errors import ConfigError
 from scalf_opt.files import read_toml
 from scalf_opt.locomotion.gait import Gait
@@ -52,7 +54,7 @@ from scalf_opt.robots.catalog import robot_names
 from scalf_opt.robots.variants import VariantScales
 from scalf_opt.types import LEG_NAMES
 
-SETTINGS = ("robot", "family", "method", "accounting")
+SETTINGS = ("robot", "family", "method", "accounting", "loads")
 """Study settings that a sweep may vary."""
 
 OPTIMIZE_CHOICES = ("pair", "all", *LEG_NAMES)
@@ -97,6 +99,7 @@ class Case:
         speed_m_s: A target speed [m/s]: the case searches the cheapest trot at it
             (:mod:`~scalf_opt.optimize.gait_search`) instead of optimizing a fixed gait's swings;
             ``None``: a fixed gait.
+        loads: Stance load model (:mod:`scalf_opt.energy.loads`).
     """
 
     index: int
@@ -112,6 +115,7 @@ class Case:
     gait: dict[str, Any] = field(default_factory=dict)
     variant: dict[str, Any] = field(default_factory=dict)
     speed_m_s: float | None = None
+    loads: str = DEFAULT_LOADS
 
 
 @dataclass(frozen=True)
@@ -174,8 +178,10 @@ def _check_setting(path: Path, key: str, value: Any, label: str | None = None) -
                 raise ConfigError(f"family {value!r} has no free parameter to optimize")
         elif key == "method":
             solver(value)
-        else:
+        elif key == "accounting":
             power_accounting(value)
+        else:
+            stance_loads(value)
     except ConfigError as exc:
         raise ConfigError(f"{path}: {label}: {exc}") from exc
     return value
@@ -301,6 +307,7 @@ def read_study(path: str | Path) -> Study:
         "family": DEFAULT_FAMILY,
         "method": "ipopt",
         "accounting": "paper",
+        "loads": DEFAULT_LOADS,
     }
     for key in SETTINGS:
         if key in study:
@@ -356,6 +363,7 @@ def read_study(path: str | Path) -> Study:
                 gait=gait,
                 variant=variant,
                 speed_m_s=values[SPEED],
+                loads=str(values["loads"]),
             )
         )
     plot = tables["plot"]
