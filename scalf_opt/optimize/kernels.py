@@ -174,11 +174,13 @@ _STANCE_KERNELS: weakref.WeakKeyDictionary[LegPhysics, dict[object, ca.Function]
 def stance_kernel(varying: LegPhysics, space: Space, stance: tuple[LegPhysics, ...]) -> ca.Function:
     """The pair's stance at one sample under whole-body loads, for the NLP (compiled once).
 
-    ``(y (6), d (18 k)) -> (p_mech (2 k), loss (1))``: the varying leg's sample ``y`` in
-    ``space``, and per stance leg its joint angles, rates, fixed torques and the 2 x 6 gain of
-    its torques on the varying leg's wrench (row-major); out come the stance joints' signed
-    powers ``tau qd`` and their drives' summed losses with the smooth max
-    (:data:`HEAT_SMOOTHING_EPS_M_S`). See :mod:`scalf_opt.energy.coupling`.
+    ``(y (6), d (18 k)) -> (p_mech (2 k), loss (1), limited)``: the varying leg's sample ``y``
+    in ``space``, and per stance leg its joint angles, rates, fixed torques and the 2 x 6 gain
+    of its torques on the varying leg's wrench (row-major); out come the stance joints' signed
+    powers ``tau qd``, their drives' summed losses with the smooth max
+    (:data:`HEAT_SMOOTHING_EPS_M_S`) and, per stance leg, the bounded quantities the swing
+    moves (:func:`stance_limited_bounds`: torques and torque-dependent drive outputs, such as
+    a cylinder's force). See :mod:`scalf_opt.energy.coupling`.
     """
     key = (space, tuple(id(s) for s in stance))
     per_leg = _STANCE_KERNELS.setdefault(varying, {})
@@ -186,7 +188,7 @@ def stance_kernel(varying: LegPhysics, space: Space, stance: tuple[LegPhysics, .
         y = ca.SX.sym("y", 6)
         d = ca.SX.sym("d", STANCE_INPUTS * len(stance))
         wrench = varying.wrench_function(space)(y[0:2], y[2:4], y[4:6])
-        powers, losses = [], []
+        powers, losses, limited = [], [], []
         for k, physics in enumerate(stance):
             block = d[STANCE_INPUTS * k : STANCE_INPUTS * (k + 1)]
             q, qd, tau0 = block[0:2], block[2:4], block[4:6]
@@ -195,12 +197,63 @@ def stance_kernel(varying: LegPhysics, space: Space, stance: tuple[LegPhysics, .
             powers.append(tau * qd)
             _, loss = physics.power_expr(q, qd, tau, heat_eps=HEAT_SMOOTHING_EPS_M_S)
             losses.append(ca.sum1(loss))
+            limited += [
+                _bounded_value(physics, b, q, qd, tau) for b in stance_limited_bounds(physics)
+            ]
         names = [varying.leg.name, space, *(s.leg.name for s in stance), "stance_sample"]
         name = casadi_name(*names)
-        fn = ca.Function(name, [y, d], [ca.vertcat(*powers), ca.sum1(ca.vertcat(*losses))])
+        outputs = [ca.vertcat(*powers), ca.sum1(ca.vertcat(*losses)), ca.vertcat(*limited)]
+        fn = ca.Function(name, [y, d], outputs)
         adjoint = fn.reverse(1)
         library = compile_library(
             name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian()]
         )
         per_leg[key] = load_external(name, library) or fn
     return per_leg[key]
+
+
+def _bounded_value(physics: LegPhysics, bound: Bound, q: ca.SX, qd: ca.SX, tau: ca.SX) -> ca.SX:
+    """The quantity ``bound`` limits, for joint motion ``(q, qd)`` and torques ``tau``."""
+    if bound.output == "tau":
+        assert bound.row is not None
+        return tau[bound.row]
+    drive = physics.drives[bound.joint]
+    outputs = drive.outputs(q[bound.joint], qd[bound.joint], tau[bound.joint])
+    return outputs[bound.quantity]
+
+
+def stance_limited_bounds(physics: LegPhysics) -> tuple[Bound, ...]:
+    """The leg's bounds that its torques move: effort limits, torque-dependent drive bounds.
+
+    A drive bound counts when its quantity depends on the torque (a cylinder's force; not its
+    length or speed). Under whole-body loads the swinging legs change the stance legs'
+    torques, so the swing NLP keeps these inside their limits on the stance samples it loads
+    (no margin: a margin is for end stops and stroke ends).
+    """
+    q, qd, tau = (ca.SX.sym(n, 2) for n in ("q", "qd", "tau"))
+    return tuple(
+        b
+        for b in leg_bounds(physics)
+        if b.output == "tau"
+        or (b.row is None and ca.depends_on(_bounded_value(physics, b, q, qd, tau), tau))
+    )
+
+
+_STANCE_LIMIT_FUNCTIONS: weakref.WeakKeyDictionary[LegPhysics, ca.Function] = (
+    weakref.WeakKeyDictionary()
+)
+
+
+def stance_limit_function(physics: LegPhysics) -> ca.Function:
+    """``(q, qd, tau) -> limited`` at one sample, the quantities of :func:`stance_limited_bounds`.
+
+    The numeric twin of the stance kernel's third output: the pattern search and the limit
+    checks evaluate the stance legs' limits with it (map it over the samples).
+    """
+    if physics not in _STANCE_LIMIT_FUNCTIONS:
+        q, qd, tau = (ca.SX.sym(n, 2) for n in ("q", "qd", "tau"))
+        values = [_bounded_value(physics, b, q, qd, tau) for b in stance_limited_bounds(physics)]
+        _STANCE_LIMIT_FUNCTIONS[physics] = ca.Function(
+            casadi_name(physics.leg.name, "stance_limits"), [q, qd, tau], [ca.vertcat(*values)]
+        )
+    return _STANCE_LIMIT_FUNCTIONS[physics]

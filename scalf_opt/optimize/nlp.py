@@ -48,7 +48,12 @@ import numpy as np
 
 from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.interrupts import interruptible, stop_requested
-from scalf_opt.optimize.kernels import STANCE_INPUTS, casadi_name, stance_kernel
+from scalf_opt.optimize.kernels import (
+    STANCE_INPUTS,
+    casadi_name,
+    stance_kernel,
+    stance_limited_bounds,
+)
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.types import Accounting, Space
 
@@ -170,6 +175,8 @@ class CoupledShape:
         stance_legs: The pair's legs.
         n_samples: Stance samples.
         charged: Per stance leg, the joints whose mechanical power is charged.
+        n_limited: Bounded quantities of the stance legs per sample that the swing moves
+            (:func:`~scalf_opt.optimize.kernels.stance_limited_bounds`): constraint rows.
     """
 
     varying: str
@@ -177,6 +184,7 @@ class CoupledShape:
     stance_legs: tuple[str, ...]
     n_samples: int
     charged: tuple[tuple[int, ...], ...]
+    n_limited: int = 0
 
     def n_slacks(self, accounting: Accounting) -> int:
         """Slack variables of the stance term."""
@@ -208,7 +216,18 @@ def coupled_shape(problem: SwingProblem) -> CoupledShape | None:
         tuple(t.leg for t in coupling.terms),
         int(coupling.weights.size),
         charged,
+        len(_stance_limits(problem)[0]),
     )
+
+
+def _stance_limits(problem: SwingProblem) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper bounds of the stance legs' limited quantities at one sample."""
+    coupling = problem.coupling
+    assert coupling is not None
+    bounds = [
+        b for t in coupling.terms for b in stance_limited_bounds(problem.pipeline.physics(t.leg))
+    ]
+    return np.array([b.lower for b in bounds]), np.array([b.upper for b in bounds])
 
 
 def _stance_parameters(problem: SwingProblem) -> list[np.ndarray]:
@@ -250,7 +269,7 @@ def _stance_cost(
         shape.space,
         tuple(pipeline.physics(s) for s in shape.stance_legs),
     )
-    power, loss = kernel.map(n, "serial")(ca.reshape(y, 6, n), ca.reshape(data, -1, n))
+    power, loss, limited = kernel.map(n, "serial")(ca.reshape(y, 6, n), ca.reshape(data, -1, n))
     cost: ca.MX = ca.mtimes(loss, weights)
     rule = power_accounting(accounting)
     slack_vars: list[ca.MX] = []
@@ -265,6 +284,8 @@ def _stance_cost(
         if slack_rows is not None:
             rows.append(ca.vec(ca.MX(slack_rows)))
         cost += ca.sum2(ca.sum1(rule.smooth_cost(p, slacks)) * weights.T)
+    if shape.n_limited:  # after the slack rows: the stance legs' limits, sample by sample
+        rows.append(ca.vec(limited))
     return cost, parameters, slack_vars, rows
 
 
@@ -481,6 +502,7 @@ def solve_nlp(built: BuiltNlp, problem: SwingProblem, theta0: np.ndarray) -> Nlp
     m = 6 * n if built.lifted else 0  # lifted samples and their linear equalities
     stance_slacks: list[np.ndarray] = []
     n_stance_slacks = n_stance_rows = 0
+    limit_lo = limit_hi = np.zeros(0)
     if built.coupled is not None:
         coupling = problem.coupling
         assert coupling is not None
@@ -491,6 +513,12 @@ def solve_nlp(built: BuiltNlp, problem: SwingProblem, theta0: np.ndarray) -> Nlp
                 stance_slacks += [s.ravel(order="F") for s in rule.initial_slacks(p_stance)]
         n_stance_slacks = built.coupled.n_slacks(built.accounting)
         n_stance_rows = built.coupled.n_slack_rows(built.accounting)
+        if built.coupled.n_limited:
+            lo, hi = _stance_limits(problem)
+            limit_lo, limit_hi = (
+                np.tile(lo, built.coupled.n_samples),
+                np.tile(hi, built.coupled.n_samples),
+            )
     x0 = np.concatenate(
         [
             theta0,
@@ -522,6 +550,7 @@ def solve_nlp(built: BuiltNlp, problem: SwingProblem, theta0: np.ndarray) -> Nlp
             np.full(built.n_slack_rows, slack_lo),
             c_lo.ravel(order="F")[index],
             np.full(n_stance_rows, slack_lo),
+            limit_lo,
         ]
     )
     ubg = np.concatenate(
@@ -530,6 +559,7 @@ def solve_nlp(built: BuiltNlp, problem: SwingProblem, theta0: np.ndarray) -> Nlp
             np.full(built.n_slack_rows, slack_hi),
             c_hi.ravel(order="F")[index],
             np.full(n_stance_rows, slack_hi),
+            limit_hi,
         ]
     )
     params = [problem.samples_base.ravel(order="F")]

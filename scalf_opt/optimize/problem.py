@@ -38,10 +38,23 @@ from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
 from scalf_opt.energy.physics import LegPhysics, trapezoid_weights
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
-from scalf_opt.optimize.kernels import FOOT_Z, FOOT_Z_ACCEL, REACH, Kernel, kernel_for
+from scalf_opt.optimize.kernels import (
+    FOOT_Z,
+    FOOT_Z_ACCEL,
+    REACH,
+    Kernel,
+    kernel_for,
+    stance_limit_function,
+    stance_limited_bounds,
+)
 
 FEASIBILITY_TOLERANCE = 1e-9
 """Round-off allowed on a geometric constraint when judging a point feasible [m, rad]."""
+
+STANCE_LIMIT_RTOL = 1e-6
+"""A loaded stance leg's torque or force may cross its limit by this share of the limit before
+a member counts as infeasible (Ipopt holds those rows to its 1e-4 absolute tolerance: 5e-8 of
+SCalf's 14 kN cylinder force)."""
 
 
 @dataclass(frozen=True)
@@ -247,6 +260,35 @@ class SwingProblem:
         """Exact objective of a member [J], feasible or not."""
         return self._energy_j(self.outputs(theta)) + self.stance_energy_j(theta)
 
+    def stance_excess(self, theta: np.ndarray) -> tuple[float, str | None]:
+        """How far the loaded stance legs cross a torque or force limit, and which one.
+
+        Under whole-body loads this leg's swing (through its twin) changes the torques of the
+        pair's stance legs; their effort limits and torque-dependent drive limits (a cylinder's
+        force) bind the swing as its own limits do. Returns the largest excess as a share of
+        the bound's size (0 when inside, and always under trunk loads) and its reason.
+        """
+        coupling = self.coupling
+        if coupling is None:
+            return 0.0, None
+        worst, reason = 0.0, None
+        torques = coupling.torques_nm(self.pipeline, np.asarray(theta, dtype=float))
+        for term, tau in zip(coupling.terms, torques, strict=True):
+            physics = self.pipeline.physics(term.leg)
+            bounds = stance_limited_bounds(physics)
+            if not bounds:
+                continue
+            fn = stance_limit_function(physics).map(tau.shape[1])
+            values = np.array(fn(term.q, term.qd, tau)).reshape(len(bounds), -1)
+            for b, row in zip(bounds, values, strict=True):
+                excess = float(np.max(np.maximum(np.maximum(b.lower - row, row - b.upper), 0.0)))
+                if not np.all(np.isfinite(row)):
+                    return math.inf, f"stance of {term.leg}: non-finite {b.name}"
+                share = excess / _size(b)
+                if share > worst:
+                    worst, reason = share, f"stance of {term.leg}: {b.name} beyond its {b.source}"
+        return worst, reason
+
     def energy_and_bound_excess(self, theta: np.ndarray) -> tuple[float, float]:
         """A member's exact objective [J] and how far it crosses its limits.
 
@@ -264,7 +306,7 @@ class SwingProblem:
         lower, upper = (b[:k] for b in self.constraint_bounds)
         excess = np.maximum(np.maximum(lower - c, c - upper), 0.0)
         share = excess / np.array([[_size(b)] for b in self.bounds])
-        return energy, float(share.max(initial=0.0))
+        return energy, max(float(share.max(initial=0.0)), self.stance_excess(theta)[0])
 
     def evaluate(self, theta: np.ndarray) -> Evaluation:
         """Exact swing energy and feasibility of ``theta`` (family units)."""
@@ -286,6 +328,9 @@ class SwingProblem:
         if violation > 0.0:
             row, sample = np.unravel_index(int(np.argmax(beyond)), beyond.shape)
             return Evaluation(float("inf"), self._reason(int(row), int(sample)), violation)
+        stance_share, stance_reason = self.stance_excess(theta)
+        if stance_share > STANCE_LIMIT_RTOL:  # the NLP's rows hold these to Ipopt's tolerance
+            return Evaluation(float("inf"), stance_reason, stance_share)
         return Evaluation(self._energy_j(out) + self.stance_energy_j(theta), None, 0.0)
 
     def _reason(self, row: int, sample: int) -> str:

@@ -100,3 +100,31 @@ def test_the_bound_is_on_the_swing_energy_under_any_loads(scalf):
     gap = 100.0 * (leg.check_swing_energy_j / leg.bound_check_energy_j - 1.0)
     assert leg.gap_to_bound_percent == pytest.approx(gap, rel=1e-12)
     assert gap > 0.0  # the paper family's two parameters stay well above the bound
+
+
+def test_the_loaded_stance_limits_are_the_torque_and_force_ones(scalf):
+    from scalf_opt.optimize.kernels import stance_limited_bounds
+
+    names = [b.name for b in stance_limited_bounds(EnergyPipeline(scalf, Gait()).physics("RF"))]
+    assert names == ["tau_hip", "tau_knee", "cyl_force_hip", "cyl_force_knee"]
+
+
+def test_an_optimum_keeps_the_stance_legs_it_loads_inside_their_force_limits(hyq):
+    """HyQ's default trot under whole-body loads: the reference swings load the stance hips'
+    cylinders beyond their 1.96 kN pull; the optimized swings must not, and the pipeline's own
+    cycle (the 3-D distribution of the whole robot's wrench, not the NLP's affine coupling)
+    confirms it on the stance legs of the optimized pair."""
+    from scalf_opt.energy.limits import leg_bounds, violations
+    from scalf_opt.locomotion.scaling import default_gait_for
+
+    pipeline = EnergyPipeline(hyq, default_gait_for(hyq), loads="whole-body")
+    family = make_family("joint-6")
+    reference = SwingProblem(pipeline, "RF", family, {"LH": np.zeros(family.n_params)})
+    share, reason = reference.stance_excess(np.zeros(family.n_params))
+    assert share > 0.01 and "cyl_force_hip" in reason  # the reference swings: beyond
+    run = optimize_swings(pipeline, ("RF", "LH"), family)
+    assert run.success
+    cycle = run.pipeline.robot_cycle(family, run.thetas, ("RF", "LH"))
+    for leg in ("RF", "LH"):
+        beyond = violations(cycle.legs[leg].stance.values, leg_bounds(run.pipeline.physics(leg)))
+        assert [v for v in beyond if v.excess > 1e-6 * abs(v.bound.lower)] == []
