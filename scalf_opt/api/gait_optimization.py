@@ -18,6 +18,7 @@ import numpy as np
 
 from scalf_opt.api.gaits import command_tuple, read_gait
 from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
 from scalf_opt.files import write_atomic
@@ -154,6 +155,7 @@ def optimize_gait(
     accounting: Accounting = "paper",
     gait: Gait | None = None,
     command: Sequence[str] | None = None,
+    loads: str = DEFAULT_LOADS,
 ) -> GaitResult:
     """The cheapest trot of ``robot`` at ``speed`` [m/s].
 
@@ -173,14 +175,15 @@ def optimize_gait(
         gait: The base gait (default: the robot's default trot): its clearance, rate and
             cycles are kept, its period, duty and stance are the search's centre.
         command: The command line, recorded in the result's provenance.
+        loads: The stance load model: ``whole-body`` (default) or ``trunk`` (the paper's).
 
     Raises:
-        ConfigError: A speed out of range, a family without parameters.
+        ConfigError: A speed out of range, a family without parameters, an unknown load model.
     """
     swing_family = make_family(family)
     if swing_family.n_params == 0:
         raise ConfigError(f"family {family!r} has no free parameter to optimize", field="family")
-    pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting)
+    pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting, loads=loads)
     search = search_gait(pipeline, speed, swing_family, Settings(method=method))
     row = gait_row(search, robot.name)
     return GaitResult.from_row(robot, row, gait_details(search), search, command)

@@ -384,6 +384,7 @@ def speed_study(
     method: str = "ipopt",
     accounting: str = "paper",
     name: str = "cheapest trot",
+    loads: str = DEFAULT_LOADS,
 ) -> Study:
     """A study of the cheapest trot at each of ``speeds`` (``scalf-opt gait``'s cases).
 
@@ -395,6 +396,7 @@ def speed_study(
         method: The swings' solver.
         accounting: Power accounting.
         name: The study's name (the figure's title).
+        loads: Stance load model (:mod:`scalf_opt.energy.loads`).
 
     Raises:
         ConfigError: A speed out of range (the family, method and accounting are checked when
@@ -414,6 +416,7 @@ def speed_study(
             accounting=accounting,
             optimize="pair",
             speed_m_s=v,
+            loads=loads,
         )
         for i, v in enumerate(values)
     )

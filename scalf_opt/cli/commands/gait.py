@@ -9,7 +9,14 @@ from typing import TYPE_CHECKING, Any
 
 from scalf_opt.cli.commands.optimize import FAMILY_HELP
 from scalf_opt.cli.commands.study import MAX_WORKERS, WORKERS_HELP
-from scalf_opt.cli.options import ACCOUNTING_HELP, Outputs, add_robot, bounded, load_robot
+from scalf_opt.cli.options import (
+    ACCOUNTING_HELP,
+    Outputs,
+    add_loads,
+    add_robot,
+    bounded,
+    load_robot,
+)
 from scalf_opt.energy.accounting import ACCOUNTINGS
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
@@ -80,6 +87,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--accounting", choices=tuple(ACCOUNTINGS), default="paper", help=ACCOUNTING_HELP
     )
+    add_loads(parser)
     parser.add_argument("--workers", type=bounded(int, MAX_WORKERS), metavar="N", help=WORKERS_HELP)
     parser.add_argument("--scheduler", metavar="URL", help="a Dask scheduler, e.g. tcp://host:8786")
     parser.add_argument(
@@ -196,6 +204,7 @@ def run(args: argparse.Namespace) -> int:
         method=args.method,
         accounting=args.accounting,
         name=f"cheapest trot of {robot.name}",
+        loads=args.loads,
     )
     out: Path = args.out
     full, cached = run_cases(study, out, choose_runner(args.workers, args.scheduler), label=NAME)
