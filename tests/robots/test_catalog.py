@@ -58,7 +58,9 @@ def test_default_trot_is_froude_similar_and_walkable(name):
     assert gait.step_length_m / robot.leg_length_m == pytest.approx(0.25 / REFERENCE_LEG_LENGTH_M)
     assert gait.phase_times_s("swing").size == 51  # the same resolution as SCalf's
     assert gait.stance_height_m == robot.nominal_stance_height_m
-    cycle = EnergyPipeline(robot, gait).robot_cycle(make_family("reference"))
+    # the paper's symmetry (LF repeats RF) is exact for symmetric legs under the trunk-only
+    # loads; under whole-body loads Go1's and A1's left-right mass layout makes it 0.7-1.5 %
+    cycle = EnergyPipeline(robot, gait, loads="trunk").robot_cycle(make_family("reference"))
     assert math.isfinite(cycle.energy_j) and cycle.energy_j > 0
     # mirror-image legs, up to the robots' own small asymmetries (Solo12, ANYmal: 1e-4)
     assert cycle.symmetry_error < 1e-3
