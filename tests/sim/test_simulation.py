@@ -77,8 +77,8 @@ def test_the_reference_trot_keeps_the_papers_assumptions(reference, pipeline):
 def test_the_ground_carries_the_whole_robot(reference, robot):
     """Momentum balance over a cycle: the mean vertical ground force is the robot's weight.
 
-    The model's minimum-norm distribution carries only the trunk (decision 11): each stance foot
-    then holds 981 N; in the simulation the legs' and hips' 33.4 kg are carried too.
+    Under the whole-body loads the model's stance feet carry the whole robot too: each holds
+    half its weight on average (within the stance grid's sampling of the legs' momentum, 0.2 %).
     """
     result = reference.result
     assert result["checks"]["mean_vertical_ground_force_over_weight"] == pytest.approx(
@@ -86,9 +86,7 @@ def test_the_ground_carries_the_whole_robot(reference, robot):
     )
     half_weight = robot.total_mass_kg * GRAVITY_M_S2 / 2
     for leg in LEG_NAMES:
-        assert result["model_stance_force_mean_n"][leg] == pytest.approx(
-            robot.trunk_mass_kg * GRAVITY_M_S2 / 2, rel=1e-9
-        )
+        assert result["model_stance_force_mean_n"][leg] == pytest.approx(half_weight, rel=2e-3)
         assert result["stance_force_mean_n"][leg] == pytest.approx(half_weight, rel=0.03)
 
 
