@@ -202,8 +202,11 @@ def stance_kernel(varying: LegPhysics, space: Space, stance: tuple[LegPhysics, .
             ]
         names = [varying.leg.name, space, *(s.leg.name for s in stance), "stance_sample"]
         name = casadi_name(*names)
-        outputs = [ca.vertcat(*powers), ca.sum1(ca.vertcat(*losses)), ca.vertcat(*limited)]
-        fn = ca.Function(name, [y, d], outputs)
+        fn = ca.Function(
+            name,
+            [y, d],
+            [ca.vertcat(*powers), ca.sum1(ca.vertcat(*losses)), ca.vertcat(*limited)],
+        )
         adjoint = fn.reverse(1)
         library = compile_library(
             name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian()]
