@@ -197,9 +197,7 @@ def stance_kernel(varying: LegPhysics, space: Space, stance: tuple[LegPhysics, .
             powers.append(tau * qd)
             _, loss = physics.power_expr(q, qd, tau, heat_eps=HEAT_SMOOTHING_EPS_M_S)
             losses.append(ca.sum1(loss))
-            limited += [
-                _bounded_value(physics, b, q, qd, tau) for b in stance_limited_bounds(physics)
-            ]
+            limited.append(stance_limit_function(physics)(q, qd, tau))
         names = [varying.leg.name, space, *(s.leg.name for s in stance), "stance_sample"]
         name = casadi_name(*names)
         fn = ca.Function(

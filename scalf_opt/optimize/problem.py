@@ -281,9 +281,9 @@ class SwingProblem:
             fn = stance_limit_function(physics).map(tau.shape[1])
             values = np.array(fn(term.q, term.qd, tau)).reshape(len(bounds), -1)
             for b, row in zip(bounds, values, strict=True):
-                excess = float(np.max(np.maximum(np.maximum(b.lower - row, row - b.upper), 0.0)))
                 if not np.all(np.isfinite(row)):
                     return math.inf, f"stance of {term.leg}: non-finite {b.name}"
+                excess = float(np.max(np.maximum(np.maximum(b.lower - row, row - b.upper), 0.0)))
                 share = excess / _size(b)
                 if share > worst:
                     worst, reason = share, f"stance of {term.leg}: {b.name} beyond its {b.source}"
