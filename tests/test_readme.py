@@ -42,3 +42,16 @@ def test_the_python_api_page_runs(tmp_path, monkeypatch, capsys):
     printed = re.search(r"It prints `([^`]*)`", text)
     assert printed and printed[1] in out
     assert (tmp_path / "results" / "joint-6-sim" / "simulation.json").is_file()
+
+
+def test_the_validation_numbers_are_the_referee_pages():
+    """The README's validation summary quotes the referee page's generated tables (renewed by
+    ``python docs/gen_outputs.py --manual docs/simulation-referee.md``) and its reading."""
+    text = README.read_text(encoding="utf-8")
+    section = text.split("## How far the energy model is validated")[1].split("\n## ")[0]
+    page = (ROOT / "docs" / "simulation-referee.md").read_text(encoding="utf-8")
+    quoted = re.findall(r"[-+]?\d+\.\d+ (?:%|points)", section)
+    assert len(quoted) >= 12
+    for number in quoted:
+        value = number.split()[0]
+        assert value in page, f"README quotes {number}, docs/simulation-referee.md has no {value}"

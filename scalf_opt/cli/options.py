@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 from scalf_opt.energy.accounting import ACCOUNTINGS
 from scalf_opt.energy.loads import DEFAULT_LOADS, LOAD_MODELS
 from scalf_opt.errors import ConfigError, GaitError
+from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SOLVERS, solver_help
 from scalf_opt.robots.catalog import robot_names
 from scalf_opt.types import LEG_NAMES
 
@@ -127,6 +128,16 @@ def add_loads(parser: argparse.ArgumentParser, saved: bool = False) -> None:
         default=None if saved else DEFAULT_LOADS,
         help="stance loads: the whole robot's dynamics (trunk and all four legs) or the trunk's "
         f"weight only (the paper's model); default: a saved result's own, else {DEFAULT_LOADS}",
+    )
+
+
+def add_method(parser: argparse.ArgumentParser) -> None:
+    """``--method``: the swing solver (:data:`~scalf_opt.optimize.solvers.SOLVERS`)."""
+    parser.add_argument(
+        "--method",
+        choices=tuple(SOLVERS),
+        default=DEFAULT_SOLVER,
+        help=f"the solver: {solver_help()}",
     )
 
 

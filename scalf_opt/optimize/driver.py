@@ -480,17 +480,21 @@ def optimize_swings(
             runs.append(StartResult(label, other, other_check, other_ok))
         good = [r for r in runs if r.converged]
         best = min(good, key=lambda r: r.optimum.objective_j) if good else runs[0]
-        check_swing = None
-        if others is not None and math.isfinite(best.check_energy_j):
+        check_energy, check_swing = best.check_energy_j, None
+        if others is not None and math.isfinite(check_energy):
+            # the alternation solved this leg beside the others' parameters of that round: its
+            # check is renewed beside their final ones, the pair the result reports
             fine = at_rate.with_gait(with_rate(at_rate.gait, check_rate_hz(at_rate.gait)))
+            final_problem = SwingProblem(fine, leg, family, others, margins=settings.margins)
+            check_energy = final_problem.energy_j(best.optimum.theta)
             check_swing = SwingProblem(fine, leg, family).swing_energy_j(best.optimum.theta)
         results[leg] = LegResult(
             leg=leg,
             best=best.optimum,
             starts=runs,
             reference_swing_energy_j=reference_swing_energy_j(at_rate, leg),
-            check_energy_j=best.check_energy_j,
-            sampling_error=relative_difference(best.optimum.objective_j, best.check_energy_j),
+            check_energy_j=check_energy,
+            sampling_error=relative_difference(best.optimum.objective_j, check_energy),
             check_swing_energy_j=check_swing,
         )
     return SwingOptimization(

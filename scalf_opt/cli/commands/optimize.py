@@ -10,6 +10,7 @@ from scalf_opt.cli.options import (
     add_accept_unconverged,
     add_gait,
     add_loads,
+    add_method,
     add_robot,
     bounded,
     check_output_dir,
@@ -21,7 +22,6 @@ from scalf_opt.cli.options import (
 )
 from scalf_opt.energy.margins import DEFAULT_STOP_MARGIN_RAD, DEFAULT_STROKE_MARGIN_M
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY
-from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SOLVERS, solver_help
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
 
 MAX_STARTS = 100
@@ -71,12 +71,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         metavar="NAME",
         help=FAMILY_HELP,
     )
-    parser.add_argument(
-        "--method",
-        choices=tuple(SOLVERS),
-        default=DEFAULT_SOLVER,
-        help=f"the solver: {solver_help()}",
-    )
+    add_method(parser)
     parser.add_argument(
         "--precision",
         type=bounded(float, 1.0),
