@@ -82,13 +82,14 @@ class GaitResult:
     ) -> GaitResult:
         """The result of a row and its details: the optimum's cycle rebuilt from its swings.
 
-        The same gait, accounting, family and parameters at the same rate give the same
-        samples, so the cycle is the search's own.
+        The same gait, accounting, loads (the run record's), family and parameters at the same
+        rate give the same samples, so the cycle is the search's own.
         """
         cycle = pipeline = None
         if "parameters" in details:
             gait = Gait(**details["gait"])
-            pipeline = EnergyPipeline(robot, gait, details["accounting"])
+            loads = details["optimization_run"]["loads"]  # the loads it was optimized under
+            pipeline = EnergyPipeline(robot, gait, details["accounting"], loads=loads)
             thetas = {leg: np.asarray(p, dtype=float) for leg, p in details["parameters"].items()}
             cycle = pipeline.robot_cycle(make_family(details["family"]), thetas)
         return cls(robot, row, details, cycle, pipeline, search, command_tuple(command))

@@ -10,6 +10,7 @@ from typing import Any
 import numpy as np
 
 from scalf_opt.api.gaits import read_gait
+from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError, LogError
 from scalf_opt.files import write_atomic
@@ -152,6 +153,7 @@ def simulate(
     cycles: int = 10,
     accounting: Accounting = "paper",
     servo_bandwidth_hz: float | None = None,
+    loads: str | None = None,
     command: Sequence[str] | None = None,
 ) -> SimulationResult:
     """Simulate the planned trot in MuJoCo (needs the ``sim`` extra).
@@ -166,6 +168,8 @@ def simulate(
         accounting: Power accounting of the joint energies.
         servo_bandwidth_hz: Natural frequency of the servo's feedback loops [Hz] (default:
             derived from the leg length, 30 Hz on SCalf; :mod:`scalf_opt.sim.settings`).
+        loads: The energy model's stance loads (the model's side and the plan's feed-forward):
+            ``None`` gives the saved swings' own, else ``whole-body``.
         command: The command line, recorded in the result's provenance.
 
     Raises:
@@ -194,9 +198,10 @@ def simulate(
         saved = read_saved_swings(swings_from)
         saved.check_robot(robot)
         gait, swings = saved.gait, saved.require_all_legs()
+        loads = loads or saved.loads
     else:
         gait, swings = gait or read_gait(robot=robot), dict(REFERENCE_SWINGS)
-    pipeline = EnergyPipeline(robot, gait, accounting)
+    pipeline = EnergyPipeline(robot, gait, accounting, loads=loads or DEFAULT_LOADS)
     source = str(swings_from) if swings_from is not None else None
     data, run = simulation_file(robot, pipeline, swings, settings, cycles, source)
     data = {"provenance": provenance(robot, command), **data}

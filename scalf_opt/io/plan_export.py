@@ -85,7 +85,7 @@ def _evaluate_cycle(robot: Robot, saved: SavedSwings, gait: Gait) -> RobotCycle:
     from scalf_opt.energy.pipeline import EnergyPipeline
     from scalf_opt.energy.swings import planned_cycle
 
-    pipeline = EnergyPipeline(robot, gait, saved.accounting)
+    pipeline = EnergyPipeline(robot, gait, saved.accounting, loads=saved.loads)
     return planned_cycle(pipeline, saved.require_all_legs())
 
 

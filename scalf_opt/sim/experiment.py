@@ -96,6 +96,7 @@ def simulation_file(
         "mujoco_version": mujoco.__version__,
         "gait": {**gait.to_dict(), "speed_m_s": gait.speed_m_s},
         "accounting": pipeline.accounting,
+        "loads": pipeline.loads,
         **run.result,
     }
     if any(family != "reference" for family, _ in swings.values()):

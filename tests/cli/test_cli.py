@@ -290,7 +290,11 @@ def test_optimize_free_method_and_free_stance(tmp_path, capsys):
     )
     assert code == 0 and "saved optimum (bspline-" in out
     code, out, _ = run(
-        ["optimize", "--family", "paper", "--free-stance", "--out", str(tmp_path / "fs")], capsys
+        [
+            *("optimize", "--family", "paper", "--free-stance", "--loads", "trunk"),
+            *("--out", str(tmp_path / "fs")),
+        ],
+        capsys,
     )
     assert code == 0 and "free stance: z0 =" in out and "from the stance" in out
     summary = json.loads((tmp_path / "fs" / "summary.json").read_text())

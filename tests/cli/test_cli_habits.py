@@ -44,7 +44,7 @@ def test_a_closed_pipe_is_not_an_error():
 
 def test_paper_in_a_closed_pipe_still_writes_every_file(tmp_path):
     script = (
-        f"{sys.executable} -m scalf_opt paper --rate 100 --out {tmp_path} | head -1; "
+        f"{sys.executable} -m scalf_opt paper --quick --rate 100 --out {tmp_path} | head -1; "
         "echo status ${PIPESTATUS[0]}"
     )
     proc = subprocess.run(["bash", "-c", script], capture_output=True, text=True, check=True)
@@ -133,7 +133,8 @@ def test_an_unexpected_failure_is_one_line_with_a_hint(monkeypatch, capsys):
 
 
 def test_paper_on_another_robot_does_not_borrow_scalf_s_story(tmp_path, capsys):
-    code, _, _ = run(["paper", "--robot", "hyq", "--rate", "100", "--out", str(tmp_path)], capsys)
+    argv = ["paper", "--robot", "hyq", "--quick", "--rate", "100", "--out", str(tmp_path)]
+    code, _, _ = run(argv, capsys)
     report = (tmp_path / "report.md").read_text()
     assert code == 0
     assert report.startswith("# The paper's comparison (Tables 5 and 6) on hyq")

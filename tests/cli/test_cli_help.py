@@ -109,7 +109,7 @@ def test_every_json_starts_with_its_provenance(capsys, tmp_path):
         "variant": ["variant", "--thigh-length-scale", "1.1", "--out", str(tmp_path / "v.urdf")],
         "study": ["study", str(study), "--workers", "1", "--out", str(tmp_path / "study")],
         "gait": [
-            *("gait", "--speed", "1.0", "--family", "paper", "--workers", "1"),
+            *("gait", "--speed", "1.0", "--family", "paper", "--workers", "1", "--loads", "trunk"),
             *("--out", str(tmp_path / "gait")),
         ],
     }

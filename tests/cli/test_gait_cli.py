@@ -12,7 +12,8 @@ from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.gait_file import read_gait
 from scalf_opt.studies.gait_case import GAIT_COLUMNS
 
-ARGV = ["gait", "--speed", "1.0", "--family", "paper", "--workers", "1"]
+ARGV = ["gait", "--speed", "1.0", "--family", "paper", "--workers", "1", "--loads", "trunk"]
+"""docs/gaits.md's loads: under the default whole-body loads the search takes minutes."""
 
 
 @pytest.fixture(scope="module")

@@ -91,6 +91,44 @@ def test_simulate_an_optimum_beside_the_reference(tmp_path, capsys):
     saving = data["saving_vs_reference"]
     assert saving["model_percent"] < 0 and saving["simulated_percent"] < 0
     assert data["reference"]["trajectory"]["LH"]["swing_family"] == "reference"
+    assert data["loads"] == "whole-body"
+
+
+def test_a_saved_optimum_is_simulated_and_exported_under_the_loads_it_was_planned_with(
+    tmp_path, capsys
+):
+    """A trunk-only optimum keeps its loads: the model's side of the simulation, its energy and
+    the exported plan are the saved ones, unless ``--loads`` says otherwise."""
+    opt = tmp_path / "opt"
+    argv = ["optimize", "--family", "paper", "--loads", "trunk", "--json", "--out", str(opt)]
+    assert main(argv) == 0
+    summary = json.loads(capsys.readouterr().out)
+    sim = ["simulate", "--from", str(opt), "--cycles", "2"]
+    assert main([*sim, "--out", str(tmp_path / "saved"), "-q"]) == 0
+    data = json.loads((tmp_path / "saved" / "simulation.json").read_text())
+    assert data["loads"] == "trunk"
+    model = data["total_energy_per_cycle_j"]["model"]
+    assert model == pytest.approx(summary["total_energy_per_cycle_j"], rel=1e-9)
+    assert main([*sim, "--loads", "whole-body", "--out", str(tmp_path / "wb"), "-q"]) == 0
+    data = json.loads((tmp_path / "wb" / "simulation.json").read_text())
+    assert data["loads"] == "whole-body"
+    assert data["total_energy_per_cycle_j"]["model"] > 1.05 * model  # the legs' loads added
+    # the exported plan carries the saved loads: read back it is the saved plan, and the same
+    # swings saved as whole-body export a plan that also carries the legs' loads
+    whole = tmp_path / "whole"
+    whole.mkdir()
+    saved = json.loads((opt / "summary.json").read_text())
+    (whole / "summary.json").write_text(json.dumps({**saved, "loads": "whole-body"}))
+    planned = {}
+    for folder in (opt, whole):
+        plan = tmp_path / f"{folder.name}.csv"
+        export = ["export", "--from", str(folder), "--rate", "1000", "--cycles", "4"]
+        assert main([*export, "--out", str(plan), "-q"]) == 0
+        assert main(["analyze-log", str(plan), "--plan", str(folder), "--json"]) == 0
+        comparison = json.loads(capsys.readouterr().out)["plan_comparison"]
+        assert abs(comparison["change_percent"]) < 0.01
+        planned[folder.name] = comparison["planned_average_power_w"]
+    assert planned["whole"] > 1.05 * planned["opt"]
 
 
 def test_simulate_another_robot(tmp_path, capsys):

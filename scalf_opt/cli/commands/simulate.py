@@ -8,6 +8,7 @@ from pathlib import Path
 from scalf_opt.cli.options import (
     Outputs,
     add_gait,
+    add_loads,
     add_robot,
     bounded,
     check_output_dir,
@@ -40,6 +41,7 @@ JSON = True
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_robot(parser)
     add_gait(parser)
+    add_loads(parser, saved=True)
     parser.add_argument(
         "--from",
         dest="source",
@@ -115,6 +117,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         cycles=args.cycles,
         accounting=args.accounting,
         servo_bandwidth_hz=args.servo_bandwidth,
+        loads=args.loads,
         command=args.argv,
     )
     # the files first: a reader that closes the pipe early (`| head`) loses no result
