@@ -123,7 +123,18 @@ def render_page(
             f"--screenshot={shot}",
             url,
         ]
-        stderr, group = _run(command, timeout_s)
+        for _ in range(ATTEMPTS):
+            stderr, group, finished = _run(command, timeout_s)
+            if finished or _screenshot_written(shot, stderr):
+                break
+            # a headless single-process Chromium now and then hangs when another runs beside it:
+            # it was stopped; a second run in a fresh profile is the workaround
+            shutil.rmtree(Path(tmp) / "profile", ignore_errors=True)
+            shot.unlink(missing_ok=True)
+        else:
+            raise ConfigError(
+                f"{chromium} did not finish within {timeout_s:g} s ({ATTEMPTS} attempts)"
+            )
         if not shot.is_file():
             last = stderr.strip().splitlines()[-1:] or ["no output"]
             raise ConfigError(f"{chromium} wrote no screenshot of {page} ({last[0]})")
@@ -138,11 +149,21 @@ def render_page(
     return Rendering(screenshot, console, errors, group)
 
 
-def _run(command: list[str], timeout_s: float) -> tuple[str, int]:
+ATTEMPTS = 2
+"""Runs of Chromium before a render that times out is an error."""
+
+
+def _screenshot_written(shot: Path, stderr: str) -> bool:
+    """Whether a Chromium stopped on timeout had written its screenshot (and said so)."""
+    return shot.is_file() and shot.stat().st_size > 0 and "written to file" in stderr
+
+
+def _run(command: list[str], timeout_s: float) -> tuple[str, int, bool]:
     """Run Chromium in its own process group; on timeout or interrupt stop the whole group.
 
     Returns:
-        Chromium's log (stderr) and its process group.
+        Chromium's log (stderr), its process group, and whether it finished by itself (``False``:
+        stopped after ``timeout_s``; its log is what it wrote until then).
     """
     process = subprocess.Popen(
         command,
@@ -155,13 +176,15 @@ def _run(command: list[str], timeout_s: float) -> tuple[str, int]:
     )
     try:
         _, stderr = process.communicate(timeout=timeout_s)
-    except subprocess.TimeoutExpired as exc:
-        _stop(process)
-        raise ConfigError(f"{command[0]} did not finish within {timeout_s:g} s") from exc
+    except subprocess.TimeoutExpired:
+        _stop_group(process.pid)
+        process.kill()
+        _, stderr = process.communicate()  # what it logged until stopped (none of it lost)
+        return stderr or "", process.pid, False
     except BaseException:
         _stop(process)
         raise
-    return stderr, process.pid
+    return stderr, process.pid, True
 
 
 def _stop(process: subprocess.Popen[str]) -> None:

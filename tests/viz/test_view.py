@@ -123,7 +123,7 @@ def test_view_renders_in_headless_chromium(tmp_path, scalf, scalf_shown):
 def test_page_errors_are_caught(tmp_path):
     page = tmp_path / "broken.html"
     page.write_text("<html><head></head><body><script>console.error('bad'); nope();</script>")
-    rendering = render_page(page, tmp_path / "broken.png", (200, 100))
+    rendering = render_page(page, tmp_path / "broken.png", (200, 100), timeout_s=30)
     assert len(rendering.errors) == 2 and rendering.errors[1].startswith("Uncaught")
 
 
