@@ -17,6 +17,10 @@ The public API (:mod:`scalf_opt.api`) is importable from here; it is loaded on f
 
 from typing import TYPE_CHECKING, Any
 
+from scalf_opt.blas_kernels import pin_blas_kernels
+
+pin_blas_kernels()  # before numpy loads: the same numbers on every x86-64 machine
+
 __version__ = "0.1.0"
 
 __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)

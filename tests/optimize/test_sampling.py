@@ -95,10 +95,11 @@ def test_the_first_rate_resolves_the_highest_harmonic():
     assert initial_rate_hz(Gait(sample_rate_hz=1000), make_family("joint-12")) == 1000.0
 
 
-@pytest.mark.parametrize(("name", "sign"), [("joint-6", 1), ("joint-8", -1)])
+@pytest.mark.parametrize(("name", "sign"), [("joint-6", 1), ("joint-9", -1)])
 def test_a_coarse_grid_would_be_exploited(scalf, name, sign):
     # why the refinement exists: an optimum at the gait's 200 Hz is not its energy (measured:
-    # joint-6 1.7 % above its energy at 2000 Hz, joint-8 2.1 % below)
+    # joint-6 1.7 % above its energy at 2000 Hz, joint-9 6.1 % below; joint-8's lands 0.3 %
+    # above or 2.1 % below depending on the BLAS kernels, so it is not the example)
     from scalf_opt.optimize.solve import run_ipopt
 
     pipeline = EnergyPipeline(scalf, Gait(), loads="trunk")

@@ -1,0 +1,64 @@
+"""The same numbers on every x86-64 machine: one set of OpenBLAS kernels, chosen before numpy loads.
+
+numpy's OpenBLAS picks its kernels by CPU at load time (``DYNAMIC_ARCH``): an Intel CPU with
+AVX-512 gets the ``SkylakeX`` kernels, an AMD one the ``Haswell`` ones. They sum in another
+order, so a matrix product differs in its last bits, and a flat optimum (a swing whose energy
+hardly moves along a valley) ends a few iterations elsewhere: the same command printed a swing
+energy of 0.6320 J on one machine and 0.6303 J on another. OpenBLAS reads the kernel to use from
+``OPENBLAS_CORETYPE`` when it loads, so :func:`pin_blas_kernels` sets it to ``Haswell`` (AVX2
+and FMA, which every x86-64 CPU of the last decade has, and the kernels OpenBLAS itself picks
+for AMD's) before anything imports numpy. A value the user has set is kept; a CPU without
+AVX2 or FMA keeps OpenBLAS's own choice (forcing kernels it cannot run would crash).
+
+This module imports nothing but the standard library: it must run before numpy is imported.
+"""
+
+from __future__ import annotations
+
+import os
+import platform
+from collections.abc import MutableMapping
+from pathlib import Path
+
+PINNED_CORE = "Haswell"
+"""OpenBLAS kernels used on every x86-64 CPU that can run them (AVX2 and FMA)."""
+
+_NEEDED_FLAGS = frozenset({"avx2", "fma"})
+
+
+def cpu_flags(cpuinfo: Path = Path("/proc/cpuinfo")) -> frozenset[str]:
+    """The instruction-set flags of the first CPU in ``cpuinfo``; empty where it cannot be read."""
+    try:
+        with cpuinfo.open(encoding="ascii", errors="replace") as lines:
+            for line in lines:
+                if line.startswith("flags"):
+                    return frozenset(line.partition(":")[2].split())
+    except OSError:
+        pass
+    return frozenset()
+
+
+def pin_blas_kernels(
+    environ: MutableMapping[str, str] = os.environ,
+    machine: str | None = None,
+    flags: frozenset[str] | None = None,
+) -> str | None:
+    """Set ``OPENBLAS_CORETYPE`` to :data:`PINNED_CORE` where it is safe; return what it is now.
+
+    Args:
+        environ: The environment to set it in (the process's).
+        machine: The CPU architecture (default ``platform.machine()``).
+        flags: The CPU's flags (default: read from ``/proc/cpuinfo``).
+
+    Returns:
+        The kernels OpenBLAS will be asked for, or ``None`` where it keeps its own choice (not
+        x86-64, no AVX2/FMA, or flags unreadable, as on macOS).
+    """
+    if environ.get("OPENBLAS_CORETYPE"):
+        return environ["OPENBLAS_CORETYPE"]
+    if (machine or platform.machine()).lower() not in ("x86_64", "amd64"):
+        return None
+    if not _NEEDED_FLAGS.issubset(cpu_flags() if flags is None else flags):
+        return None
+    environ["OPENBLAS_CORETYPE"] = PINNED_CORE
+    return PINNED_CORE

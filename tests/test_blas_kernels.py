@@ -1,0 +1,73 @@
+"""One set of OpenBLAS kernels on every x86-64 CPU: the rule, and that it took effect here."""
+
+import ctypes
+import os
+import platform
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import scalf_opt  # noqa: F401 (its import pins the kernels)
+from scalf_opt.blas_kernels import PINNED_CORE, cpu_flags, pin_blas_kernels
+
+X86 = frozenset({"avx2", "fma", "sse2"})
+
+
+def test_the_rule():
+    env: dict[str, str] = {}
+    assert pin_blas_kernels(env, "x86_64", X86) == PINNED_CORE == env["OPENBLAS_CORETYPE"]
+    user = {"OPENBLAS_CORETYPE": "Zen"}
+    assert pin_blas_kernels(user, "x86_64", X86) == "Zen" and user["OPENBLAS_CORETYPE"] == "Zen"
+    for machine, flags in (
+        ("x86_64", frozenset({"avx", "sse2"})),
+        ("arm64", X86),
+        ("x86_64", frozenset()),
+    ):
+        env = {}
+        assert pin_blas_kernels(env, machine, flags) is None and env == {}
+
+
+def test_cpu_flags_are_read_and_a_missing_file_is_none(tmp_path):
+    info = tmp_path / "cpuinfo"
+    info.write_text("processor\t: 0\nflags\t\t: fpu avx2 fma\nbugs\t\t: none\n")
+    assert cpu_flags(info) == {"fpu", "avx2", "fma"}
+    assert cpu_flags(tmp_path / "missing") == frozenset()
+
+
+def _loaded_core() -> str:
+    libs = sorted((Path(np.__file__).parent.parent / "numpy.libs").glob("libscipy_openblas*.so"))
+    if not libs:
+        pytest.skip("numpy is not linked against scipy-openblas here")
+    library = ctypes.CDLL(str(libs[0]))  # already loaded by numpy: the same handle
+    corename = getattr(library, "scipy_openblas_get_corename64_", None)
+    if corename is None:
+        pytest.skip("this OpenBLAS does not name its kernels")
+    corename.restype = ctypes.c_char_p
+    return corename().decode()
+
+
+needs_avx2 = pytest.mark.skipif(
+    platform.machine() != "x86_64" or not {"avx2", "fma"} <= cpu_flags(),
+    reason="the kernels are pinned on x86-64 CPUs with AVX2 and FMA",
+)
+
+
+@needs_avx2
+def test_numpy_runs_the_pinned_kernels_in_the_tests():
+    assert _loaded_core() == PINNED_CORE
+
+
+@needs_avx2
+def test_numpy_runs_the_pinned_kernels_in_the_command_line():
+    probe = (
+        "import runpy, sys; sys.argv = ['scalf-opt', '--version']\n"
+        "try:\n    runpy.run_module('scalf_opt', run_name='__main__')\n"
+        "except SystemExit:\n    pass\n"
+        "import os; print(os.environ.get('OPENBLAS_CORETYPE'))"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"}
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env)
+    assert out.stdout.strip().splitlines()[-1] == PINNED_CORE, out.stderr
