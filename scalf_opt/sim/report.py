@@ -39,7 +39,7 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
         title,
         "",
         f"trunk height fluctuation  {1e3 * result['trunk_height_fluctuation_m']:8.3f} mm   "
-        f"goal <= {1e3 * goals['trunk_height_fluctuation_at_most_m']:.0f} mm: "
+        f"goal <= {1e3 * goals['trunk_height_fluctuation_at_most_m']:.2g} mm: "
         f"{_met(goals['trunk_height_met'])}   (mean {1e3 * result['trunk_height_mean_m']:.2f} "
         f"mm, planned {1e3 * result['trunk_height_planned_m']:.2f} mm)",
         f"trunk pitch peak          {1e3 * result['trunk_pitch_peak_rad']:8.3f} mrad",

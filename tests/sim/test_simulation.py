@@ -202,3 +202,10 @@ def test_a_reference_impossible_at_the_saved_stance_is_skipped_with_a_note(
     report = simulation_report(data, "title")
     assert "\nreference not simulated: the reference swing is impossible" in report
     assert run.result["joint_energy_per_cycle_j"]["RF"]["simulated"] > 0
+
+
+def test_the_height_goal_is_the_paper_s_4_mm_or_1_percent_of_a_lower_stance():
+    from scalf_opt.sim.metrics import height_goal_m
+
+    assert height_goal_m(0.75) == 0.004  # SCalf: the paper's Section 6.3
+    assert height_goal_m(0.254) == pytest.approx(0.00254, rel=1e-12)  # Go1: 1 % of z0
