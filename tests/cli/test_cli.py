@@ -239,12 +239,14 @@ def test_paper_and_optimize_give_the_same_optimum(tmp_path, capsys):
     from scalf_opt.robots.loading import load_robot
     from scalf_opt.studies.paper import reproduce
 
+    # the paper's trunk-only loads (its tables' model); the default loads' agreement is
+    # tests/api/test_one_solve_path.py's
     gait = write_gait(tmp_path / "trot.toml", period_s=0.4, step_length_m=0.3)
-    assert run(["optimize", "--gait", str(gait), "--out", str(tmp_path)], capsys)[0] == 0
+    argv = ["optimize", "--gait", str(gait), "--loads", "trunk", "--out", str(tmp_path)]
+    assert run(argv, capsys)[0] == 0
     saved = json.loads((tmp_path / "summary.json").read_text())
-    rep = reproduce(
-        EnergyPipeline(load_robot("scalf"), Gait(period_s=0.4, step_length_m=0.3)), beyond=False
-    )
+    trot = Gait(period_s=0.4, step_length_m=0.3)
+    rep = reproduce(EnergyPipeline(load_robot("scalf"), trot, loads="trunk"), beyond=False)
     for leg in ("RF", "LH"):
         ours = rep.runs["ipopt_rich"].legs[leg].best
         assert saved["optimization"][leg]["swing_energy_j"] == ours.swing_energy_j
