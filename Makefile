@@ -28,7 +28,7 @@ test: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
-	MPLBACKEND=Agg $(BIN)/python -m pytest -q -n auto
+	MPLBACKEND=Agg $(BIN)/python -m pytest -q -n auto --dist loadgroup
 
 # The documentation site (MkDocs, Material theme) into site/, offline; open site/index.html.
 docs: $(STAMP)

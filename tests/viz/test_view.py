@@ -39,6 +39,9 @@ needs_chromium = pytest.mark.skipif(
     reason="Chromium is not installed: the end-to-end view test needs it "
     "(apt-get install chromium; .ci/run installs it)",
 )
+one_chromium_at_a_time = pytest.mark.xdist_group("chromium")
+"""The Chromium tests run on one worker (`make test` distributes by group): two headless
+Chromiums side by side now and then hang."""
 
 
 def live_processes_in_group(group):
@@ -101,6 +104,7 @@ def test_page_is_self_contained(scalf, scalf_shown):
 
 
 @needs_chromium
+@one_chromium_at_a_time
 def test_view_renders_in_headless_chromium(tmp_path, scalf, scalf_shown):
     _, shown = scalf_shown
     scene = build_scene(scalf, shown, SceneOptions(n_cycles=1, frame_rate_hz=20.0))
@@ -120,6 +124,7 @@ def test_view_renders_in_headless_chromium(tmp_path, scalf, scalf_shown):
 
 
 @needs_chromium
+@one_chromium_at_a_time
 def test_page_errors_are_caught(tmp_path):
     page = tmp_path / "broken.html"
     page.write_text("<html><head></head><body><script>console.error('bad'); nope();</script>")
