@@ -238,6 +238,7 @@ def summarize(
     work = (record.actuator_power_w + record.constraint_power_w).sum() * dt
     gross = np.abs(record.actuator_power_w).sum() * dt
     height_ptp = float(np.ptp(z[steps]))
+    height_goal = height_goal_m(gait.stance_height_m)
     largest_gap = max(abs(e["relative_difference"]) for e in energy.values())
     return {
         "cycles": cycles + 1,
@@ -281,8 +282,8 @@ def summarize(
             ),
         },
         "goals": {
-            "trunk_height_fluctuation_at_most_m": height_goal_m(gait.stance_height_m),
-            "trunk_height_met": height_ptp <= height_goal_m(gait.stance_height_m),
+            "trunk_height_fluctuation_at_most_m": height_goal,
+            "trunk_height_met": height_ptp <= height_goal,
             "joint_energy_relative_difference_at_most": ENERGY_GOAL,
             "joint_energy_met": largest_gap <= ENERGY_GOAL,
         },

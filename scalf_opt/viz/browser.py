@@ -128,7 +128,7 @@ def render_page(
             if finished or _screenshot_written(shot, stderr):
                 break
             # a headless single-process Chromium now and then hangs when another runs beside it:
-            # it was stopped; a second run in a fresh profile is the workaround
+            # it was stopped; another run in a fresh profile is the workaround
             shutil.rmtree(Path(tmp) / "profile", ignore_errors=True)
             shot.unlink(missing_ok=True)
         else:

@@ -1,5 +1,6 @@
 """A headless Chromium that hangs: stopped after its timeout, its screenshot kept when it had
-written it (and said so), else run once more in a fresh profile, else a one-line error.
+written it (and said so), else run again in a fresh profile (ATTEMPTS runs in all), else a
+one-line error.
 
 Chromium is replaced by a script (``SCALF_OPT_CHROMIUM``), so these run without it; the hang is
 real (measured: 1 to 3 in 60 renders when two run at once, both at exit)."""
@@ -45,7 +46,7 @@ def test_a_chromium_that_hangs_after_its_screenshot_gives_the_screenshot(tmp_pat
     assert rendering.errors == ["Uncaught Error: bad"]  # what it logged until stopped
 
 
-def test_a_chromium_that_always_hangs_is_run_twice_then_refused(tmp_path, monkeypatch):
+def test_a_chromium_that_always_hangs_is_run_attempts_times_then_refused(tmp_path, monkeypatch):
     _, page = fake_chromium(tmp_path, monkeypatch, HANGS_EVERY_TIME)
     with pytest.raises(ConfigError, match=f"did not finish within 1 s \\({ATTEMPTS} attempts\\)"):
         render_page(page, tmp_path / "shot.png", timeout_s=1.0)
