@@ -19,23 +19,25 @@ machine's load; ratios are what to compare). The last lines, one per family, are
 
 Then the drivers on top of the families, each timed whole (its every solve, sampling check
 and level) and stated as a multiple of the last family's Ipopt solve in the same run, with the
-CPU time it took (every thread's; on a loaded machine the wall-clock time grows with the load,
-the CPU time much less):
+CPU time it took (every thread's and worker process's; on a loaded machine the wall-clock time
+grows with the load, the CPU time much less):
 
 * ``bound RF``: the free-trajectory bound of the RF leg (``--family free``), its levels, and the
   energy still to gain;
-* ``bounds RF + LH``: the bounds of both legs as ``scalf-opt paper`` computes them, on parallel
-  threads (one per core), against the RF bound alone (with two free cores it should take about
-  the slower leg's time: the two legs' solves run at once);
+* ``bounds RF + LH``: the bounds of both legs as ``scalf-opt paper`` computes them, in worker
+  processes (one per core, :mod:`scalf_opt.workers`), against the RF bound alone (with two free
+  cores about the slower leg's time, plus a second or two to start the workers);
 * ``free stance``: the stance height and x-offsets optimized with the ``joint-6`` swings of RF
-  and LH (``--free-stance``; the two legs' swings on parallel threads), and how many stances it
-  tried.
+  and LH (``--free-stance``; the two legs' swings on parallel threads, which Ipopt's lock on
+  MUMPS runs mostly one after the other), and how many stances it tried.
 
     python benchmarks/bench_optimize.py [FAMILY ...]
 """
 
 from __future__ import annotations
 
+import os
+import resource
 import sys
 import time
 from pathlib import Path
@@ -49,7 +51,7 @@ from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.bound import bound_for, bounds_for
-from scalf_opt.optimize.driver import LEG_THREADS, optimize_swings
+from scalf_opt.optimize.driver import optimize_swings
 from scalf_opt.optimize.free_stance import optimize_stance
 from scalf_opt.optimize.nlp import build_nlp
 from scalf_opt.optimize.problem import SwingProblem
@@ -75,11 +77,17 @@ def timed(fn):
     return out, time.perf_counter() - start
 
 
+def cpu_s() -> float:
+    """CPU time of this process (every thread) and of its finished worker processes [s]."""
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return time.process_time() + children.ru_utime + children.ru_stime
+
+
 def timed_cpu(fn):
-    """``fn()``, its wall-clock time and the process's CPU time over it (every thread's) [s]."""
-    cpu = time.process_time()
+    """``fn()``, its wall-clock time and the CPU time over it (:func:`cpu_s`) [s]."""
+    cpu = cpu_s()
     out, wall = timed(fn)
-    return out, wall, time.process_time() - cpu
+    return out, wall, cpu_s() - cpu
 
 
 def compare(pipeline: EnergyPipeline, name: str) -> tuple[float, float, bool]:
@@ -144,7 +152,8 @@ def main() -> None:
     )
     pair, t_pair, cpu_pair = timed_cpu(lambda: bounds_for(pipeline, FIRST_PAIR))
     lines.append(
-        f"bounds {' + '.join(FIRST_PAIR)} on {min(LEG_THREADS, len(FIRST_PAIR))} threads "
+        f"bounds {' + '.join(FIRST_PAIR)} in {min(os.cpu_count() or 1, len(FIRST_PAIR))} "
+        "processes "
         f"(paper): {t_pair:.1f} s, CPU {cpu_pair:.1f} s ({t_pair / t_bound:.2f}x the {LEG} "
         "bound alone), " + "; ".join(f"{leg} {b.status_text()}" for leg, b in pair.items())
     )

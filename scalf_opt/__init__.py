@@ -17,9 +17,10 @@ The public API (:mod:`scalf_opt.api`) is importable from here; it is loaded on f
 
 from typing import TYPE_CHECKING, Any
 
-from scalf_opt.blas_kernels import pin_blas_kernels
+from scalf_opt.blas_kernels import pin_blas_kernels, single_blas_thread
 
 pin_blas_kernels()  # before numpy loads: the same numbers on every x86-64 machine
+single_blas_thread()  # MUMPS's BLAS: no spinning threads taking the other solve's core
 
 __version__ = "0.1.0"
 

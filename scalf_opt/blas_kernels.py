@@ -10,6 +10,14 @@ and FMA, which every x86-64 CPU of the last decade has, and the kernels OpenBLAS
 for AMD's) before anything imports numpy. A value the user has set is kept; a CPU without
 AVX2 or FMA keeps OpenBLAS's own choice (forcing kernels it cannot run would crash).
 
+The same module runs OpenBLAS on one thread (:func:`single_blas_thread`), numpy's and the one
+CasADi's MUMPS factorizes with: Ipopt's interface to MUMPS holds one lock for the whole process, so
+a second BLAS thread could only help the factorization itself, whose fronts here are too small to
+split; its idle threads instead spun in ``sched_yield`` (650,000 calls and 11 s of system time in
+one free-trajectory bound of 18 s), taking the second core from the other leg's solve or the
+other study worker. The numbers do not change (OpenBLAS splits a product by its output blocks,
+not along the sums).
+
 This module imports nothing but the standard library: it must run before numpy is imported.
 """
 
@@ -62,3 +70,10 @@ def pin_blas_kernels(
         return None
     environ["OPENBLAS_CORETYPE"] = PINNED_CORE
     return PINNED_CORE
+
+
+def single_blas_thread(environ: MutableMapping[str, str] = os.environ) -> str:
+    """Set ``OPENBLAS_NUM_THREADS`` to 1 unless the user set it; return what it is now."""
+    if not environ.get("OPENBLAS_NUM_THREADS"):
+        environ["OPENBLAS_NUM_THREADS"] = "1"
+    return environ["OPENBLAS_NUM_THREADS"]

@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import scalf_opt  # noqa: F401 (its import pins the kernels)
-from scalf_opt.blas_kernels import PINNED_CORE, cpu_flags, pin_blas_kernels
+from scalf_opt.blas_kernels import PINNED_CORE, cpu_flags, pin_blas_kernels, single_blas_thread
 
 X86 = frozenset({"avx2", "fma", "sse2"})
 
@@ -70,3 +70,22 @@ def test_numpy_runs_the_pinned_kernels_in_the_command_line():
     env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"}
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env)
     assert out.stdout.strip().splitlines()[-1] == PINNED_CORE, out.stderr
+
+
+def test_blas_runs_on_one_thread_unless_the_user_chose():
+    env: dict[str, str] = {}
+    assert single_blas_thread(env) == "1" == env["OPENBLAS_NUM_THREADS"]
+    user = {"OPENBLAS_NUM_THREADS": "4"}
+    assert single_blas_thread(user) == "4" == user["OPENBLAS_NUM_THREADS"]
+
+
+def test_the_command_line_runs_blas_on_one_thread():
+    probe = (
+        "import runpy, sys; sys.argv = ['scalf-opt', '--version']\n"
+        "try:\n    runpy.run_module('scalf_opt', run_name='__main__')\n"
+        "except SystemExit:\n    pass\n"
+        "import numpy, os; print(os.environ.get('OPENBLAS_NUM_THREADS'))"
+    )
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env)
+    assert out.stdout.strip().splitlines()[-1] == "1", out.stderr

@@ -9,6 +9,7 @@ from __future__ import annotations
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from functools import cached_property
+from typing import Any
 
 import numpy as np
 
@@ -79,6 +80,18 @@ class EnergyPipeline:
         """The robot's physics, shared by every gait and accounting."""
         assert self.model is not None
         return self.model
+
+    def __reduce__(self) -> tuple[type[EnergyPipeline], tuple[Any, ...]]:
+        """Pickled as its inputs.
+
+        Where it is unpickled (a worker process) the robot's physics is built again, its
+        compiled functions loaded from the compile cache.
+        """
+        assert self.drives is not None
+        return (
+            EnergyPipeline,
+            (self.robot, self.gait, self.accounting, dict(self.drives), None, self.loads),
+        )
 
     def with_gait(self, gait: Gait) -> EnergyPipeline:
         """The same robot physics and accounting with another gait (or rate)."""

@@ -9,6 +9,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from functools import cached_property
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 import pinocchio as pin
@@ -224,3 +225,12 @@ class Robot:
     @cached_property
     def _legs(self) -> dict[str, Leg]:
         return {}
+
+    def __getstate__(self) -> dict[str, Any]:
+        """Pickled without the legs built so far.
+
+        They hold CasADi expressions; a worker process builds them again on first use.
+        """
+        state = dict(self.__dict__)
+        state.pop("_legs", None)
+        return state

@@ -6,7 +6,8 @@ converged (:mod:`scalf_opt.optimize.sampling`), runs the extra starts asked for
 (:mod:`scalf_opt.optimize.starts`), and sets every optimum beside the reference swing at the same
 rate. A failed start is reported, not fatal; a leg is solved when its best start converged to
 a feasible point whose energy has converged in the sampling. With Ipopt the legs are solved on
-parallel threads (:data:`LEG_THREADS`); their answers do not depend on it.
+parallel threads (:data:`LEG_THREADS`); their answers do not depend on it, and their time
+hardly either (Ipopt's MUMPS factorizes one system at a time per process).
 """
 
 from __future__ import annotations

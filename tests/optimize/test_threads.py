@@ -1,4 +1,5 @@
-"""Solves on worker threads: the same answers as one after the other, and stopped on request."""
+"""Solves on worker threads and processes: the same answers as one after the other, and stopped
+on request."""
 
 import threading
 
@@ -33,14 +34,20 @@ def test_map_in_threads_keeps_the_order_and_raises_the_first_error():
     assert not stop_requested()  # the cancellation ends with the call
 
 
-def test_two_legs_bounds_on_threads_are_bitwise_those_one_after_the_other(model):
-    threaded = bounds_for(model, ("RF", "LH"), threads=2, spans=(16, 32))
-    serial = bounds_for(model, ("RF", "LH"), threads=1, spans=(16, 32))
+def test_two_legs_bounds_in_processes_are_bitwise_those_one_after_the_other(model):
+    labels: list[str] = []
+    parallel = bounds_for(model, ("RF", "LH"), processes=2, spans=(16, 32), progress=labels.append)
+    serial = bounds_for(model, ("RF", "LH"), processes=1, spans=(16, 32))
     for leg in ("RF", "LH"):
         np.testing.assert_array_equal(
-            threaded[leg].result.best.theta, serial[leg].result.best.theta
+            parallel[leg].result.best.theta, serial[leg].result.best.theta
         )
-        assert threaded[leg].check_energy_j == serial[leg].check_energy_j
+        assert parallel[leg].check_energy_j == serial[leg].check_energy_j
+        assert parallel[leg].levels[-1].swing_energy_j == serial[leg].levels[-1].swing_energy_j
+    # every level's label reached this process
+    assert sorted(labels) == sorted(
+        f"{leg}: free-trajectory bound, {n} spans" for leg in ("RF", "LH") for n in (16, 32)
+    )
 
 
 def test_a_solve_on_a_worker_thread_stops_when_the_main_thread_unwinds(model):

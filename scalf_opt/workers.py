@@ -1,0 +1,178 @@
+"""Independent solves in worker processes: :func:`map_in_processes`.
+
+Ipopt's interface to MUMPS holds one lock for the whole process, so two large solves on two
+threads factorize one after the other: SCalf's two free-trajectory bounds took 34 s on two
+threads and 18 s each alone. Solves whose time is the linear solver therefore run in worker
+processes, each a fresh interpreter (``python -m scalf_opt.workers``) that reads one pickled
+``(function, item)`` on its standard input and writes pickled frames back: progress labels, then
+the result or the error.
+
+A fresh interpreter, not :mod:`multiprocessing`: its ``spawn`` re-runs the caller's main script
+in every worker, so a script without an ``if __name__ == "__main__":`` guard would start the
+work again in each worker, and ``fork`` copies this process's CasADi and Pinocchio state and
+any lock another thread holds. The worker imports the package first (its import-time settings,
+:mod:`scalf_opt.blas_kernels`, hold there too), so the answers are bitwise those of a loop.
+
+The workers ignore Ctrl-C (the terminal sends it to them too); the main process, stopped by a
+signal or an error, kills them.
+"""
+
+from __future__ import annotations
+
+import os
+import pickle
+import signal
+import subprocess
+import sys
+import threading
+from collections.abc import Callable, Sequence
+from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
+from typing import IO, Any, TypeVar
+
+from scalf_opt.errors import ScalfError
+
+T = TypeVar("T")
+R = TypeVar("R")
+
+_channel: IO[bytes] | None = None
+"""In a worker: the pipe its frames go to (its original standard output)."""
+
+_progress: Callable[[str], None] | None = None
+"""Where :func:`worker_progress` sends a label in this process (the plain loop's ``progress``)."""
+
+
+class WorkerDiedError(ScalfError):
+    """A worker process ended without an answer (killed, or out of memory)."""
+
+
+def worker_progress(label: str) -> None:
+    """The progress callback of work run by :func:`map_in_processes`.
+
+    The label reaches that call's ``progress``, in the main process.
+    """
+    if _channel is not None:
+        _send("progress", label)
+    elif _progress is not None:
+        _progress(label)
+
+
+def map_in_processes(
+    fn: Callable[[T], R],
+    items: Sequence[T],
+    workers: int,
+    progress: Callable[[str], None] | None = None,
+) -> list[R]:
+    """``[fn(item) for item in items]``, on up to ``workers`` worker processes, results in order.
+
+    ``fn`` is a module-level function; the items, results and errors pickle. Labels the work
+    passes to :func:`worker_progress` go to ``progress`` (called from a thread of this
+    process). The first error in item order is raised once the other workers are killed; so is
+    Ctrl-C or SIGTERM received here. One worker, or one item: a plain loop in this process.
+    """
+    global _progress
+    if workers <= 1 or len(items) <= 1:
+        previous, _progress = _progress, progress
+        try:
+            return [fn(item) for item in items]
+        finally:
+            _progress = previous
+    running: list[subprocess.Popen[bytes]] = []
+    lock = threading.Lock()
+    stopping = threading.Event()
+
+    def run(item: T) -> R:
+        with lock:
+            if stopping.is_set():
+                raise WorkerDiedError("stopped before it started")
+            worker = subprocess.Popen(
+                [sys.executable, "-m", "scalf_opt.workers"],
+                stdin=subprocess.PIPE,
+                stdout=subprocess.PIPE,
+            )
+            running.append(worker)
+        return _exchange(worker, fn, item, progress)
+
+    pool = ThreadPoolExecutor(max_workers=min(workers, len(items)))
+    try:
+        futures = [pool.submit(run, item) for item in items]
+        wait(futures, return_when=FIRST_EXCEPTION)
+        for future in futures:  # the first item that failed, not the first to finish
+            if future.done() and future.exception() is not None:
+                return [future.result()]  # raises it
+        return [future.result() for future in futures]
+    finally:
+        with lock:
+            stopping.set()
+            for worker in running:
+                if worker.poll() is None:
+                    worker.kill()
+        pool.shutdown(wait=True, cancel_futures=True)
+        for worker in running:
+            worker.wait()
+
+
+def _exchange(
+    worker: subprocess.Popen[bytes],
+    fn: Callable[[T], R],
+    item: T,
+    progress: Callable[[str], None] | None,
+) -> R:
+    """Send the work to ``worker``, relay its progress, return its result or raise its error."""
+    assert worker.stdin is not None and worker.stdout is not None
+    try:
+        pickle.dump((fn, item), worker.stdin)
+        worker.stdin.close()
+    except BrokenPipeError:
+        pass  # it died at once: said below
+    while True:
+        try:
+            kind, payload = pickle.load(worker.stdout)
+        except (EOFError, pickle.UnpicklingError) as exc:
+            code = worker.wait()
+            raise WorkerDiedError(
+                f"a worker process ended without an answer (exit code {code})"
+            ) from exc
+        if kind == "progress":
+            if progress is not None:
+                progress(payload)
+        elif kind == "result":
+            worker.wait()
+            return payload
+        else:
+            worker.wait()
+            raise payload
+
+
+def _send(kind: str, payload: Any) -> None:
+    assert _channel is not None
+    pickle.dump((kind, payload), _channel)
+    _channel.flush()
+
+
+def _serve() -> int:
+    """A worker's life: read the work, do it, write the answer."""
+    global _channel
+    signal.signal(signal.SIGINT, signal.SIG_IGN)  # the main process ends the workers
+    # frames go to the original standard output; anything else printed goes to stderr
+    _channel = os.fdopen(os.dup(1), "wb")
+    os.dup2(2, 1)
+    sys.stdout = sys.stderr
+    fn, item = pickle.load(sys.stdin.buffer)
+    try:
+        result = fn(item)
+    except Exception as exc:  # the main process raises it
+        try:
+            _send("error", exc)
+        except (pickle.PicklingError, TypeError, AttributeError):
+            _send("error", ScalfError(f"{type(exc).__name__}: {exc}"))
+        return 1
+    _send("result", result)
+    return 0
+
+
+if __name__ == "__main__":
+    # run as a script this file is ``__main__``: serve from the package's module, the one whose
+    # worker_progress the work was pickled with
+    from scalf_opt.workers import _serve as serve
+
+    sys.exit(serve())
