@@ -19,14 +19,17 @@ signal or an error, kills them.
 
 from __future__ import annotations
 
+import contextlib
 import os
 import pickle
 import signal
 import subprocess
 import sys
 import threading
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
+from multiprocessing.context import SpawnContext
+from multiprocessing.queues import SimpleQueue
 from typing import IO, Any, TypeVar
 
 from scalf_opt.errors import ScalfError
@@ -56,6 +59,47 @@ def worker_progress(label: str) -> None:
         _progress(label)
 
 
+@contextlib.contextmanager
+def progress_to(callback: Callable[[str], None]) -> Iterator[None]:
+    """Inside the block, :func:`worker_progress` in this process calls ``callback``."""
+    global _progress
+    previous, _progress = _progress, callback
+    try:
+        yield
+    finally:
+        _progress = previous
+
+
+@contextlib.contextmanager
+def relayed_labels(
+    context: SpawnContext,
+) -> Iterator[tuple[Callable[[SimpleQueue[Any]], None], tuple[SimpleQueue[Any]]]]:
+    """For a pool of ``context``'s processes: its ``(initializer, initargs)``.
+
+    The labels the pool's workers pass to :func:`worker_progress` reach
+    :func:`worker_progress` in this process, relayed by a thread while the block runs.
+    """
+    labels: SimpleQueue[Any] = context.SimpleQueue()
+    relay = threading.Thread(target=_relay, args=(labels,), daemon=True)
+    relay.start()
+    try:
+        yield _send_labels_to, (labels,)
+    finally:
+        labels.put(None)
+        relay.join()
+
+
+def _send_labels_to(labels: SimpleQueue[Any]) -> None:
+    """A pool worker's initializer: its labels go to the queue."""
+    global _progress
+    _progress = labels.put
+
+
+def _relay(labels: SimpleQueue[Any]) -> None:
+    while (label := labels.get()) is not None:
+        worker_progress(label)
+
+
 def map_in_processes(
     fn: Callable[[T], R],
     items: Sequence[T],
@@ -69,13 +113,11 @@ def map_in_processes(
     process). The first error in item order is raised once the other workers are killed; so is
     Ctrl-C or SIGTERM received here. One worker, or one item: a plain loop in this process.
     """
-    global _progress
     if workers <= 1 or len(items) <= 1:
-        previous, _progress = _progress, progress
-        try:
+        if progress is None:
             return [fn(item) for item in items]
-        finally:
-            _progress = previous
+        with progress_to(progress):
+            return [fn(item) for item in items]
     running: list[subprocess.Popen[bytes]] = []
     lock = threading.Lock()
     stopping = threading.Event()
@@ -133,8 +175,7 @@ def _exchange(
                 f"a worker process ended without an answer (exit code {code})"
             ) from exc
         if kind == "progress":
-            if progress is not None:
-                progress(payload)
+            (progress or worker_progress)(payload)  # none given: to this process's own sink
         elif kind == "result":
             worker.wait()
             return payload

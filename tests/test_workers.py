@@ -40,3 +40,20 @@ def test_an_error_in_a_worker_is_raised_here_and_ends_the_others():
 def test_a_worker_that_dies_is_an_error_that_says_so():
     with pytest.raises(WorkerDiedError, match="exit code 3"):
         map_in_processes(os._exit, [3, 3], 2)
+
+
+def test_labels_of_a_pool_of_spawned_workers_reach_this_process_sink():
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    from scalf_opt.workers import progress_to, relayed_labels
+
+    labels: list[str] = []
+    context = multiprocessing.get_context("spawn")
+    with (
+        progress_to(labels.append),
+        relayed_labels(context) as (initializer, initargs),
+        ProcessPoolExecutor(2, context, initializer, initargs) as pool,
+    ):
+        assert list(pool.map(worker_progress, ["0.5 m/s", "1 m/s"])) == [None, None]
+    assert sorted(labels) == ["0.5 m/s", "1 m/s"]

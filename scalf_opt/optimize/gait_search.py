@@ -44,6 +44,7 @@ from __future__ import annotations
 import math
 import re
 import time
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 from typing import Any
 
@@ -375,6 +376,7 @@ def optimize_gait(
     family: SwingFamily | None = None,
     settings: Settings | None = None,
     box: GaitBox | None = None,
+    progress: Callable[[str], None] | None = None,
 ) -> GaitSearch:
     """The cheapest trot at ``speed_m_s`` (see the module docstring).
 
@@ -385,6 +387,8 @@ def optimize_gait(
         family: The swing family (default ``joint-6``).
         settings: How the swings are optimized (default: ``scalf-opt optimize``'s).
         box: The search box (default :meth:`GaitBox.around` the base gait).
+        progress: Called with a label as each new gait's swings start being optimized
+            (``0.5 m/s: gait 7, T = 0.550 s, duty 0.600``).
 
     Raises:
         ConfigError: A speed out of range, a family without parameters.
@@ -410,12 +414,19 @@ def optimize_gait(
         why = reference_unwalkable(pipeline.with_gait(gait))
         if why is not None:
             return StanceEvaluation(gait, math.inf, why)
+        if progress is not None and GaitTrials.key(gait) not in trials.seen:
+            progress(
+                f"{speed_m_s:g} m/s: gait {len(trials.seen) + 1}, T = {gait.period_s:.3f} s, "
+                f"duty {gait.duty_cycle:.3f}"
+            )
         return trials.evaluate(gait)
 
     def objective(x: np.ndarray) -> tuple[float, str | None]:
         e = evaluate(x)
         return cost_of_transport(e, mass, speed_m_s), e.reason
 
+    if progress is not None:
+        progress(f"{speed_m_s:g} m/s: the default trot")
     default, reference = _default_evaluation(trials, at_speed(base, speed_m_s))
     grid = []
     for factor in GRID_PERIOD_FACTORS:

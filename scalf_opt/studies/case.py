@@ -43,6 +43,7 @@ from scalf_opt.robots.variants import VariantScales, derive_variant
 from scalf_opt.studies.gait_case import gait_details, gait_row
 from scalf_opt.studies.study_file import Case
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
+from scalf_opt.workers import worker_progress
 
 STATUS_OK = "ok"
 STATUS_NOT_SOLVED = "not solved"
@@ -179,7 +180,9 @@ def _gait_case(
     swing, its ``optimized`` the cheapest gait with its optimized swings.
     """
     assert case.speed_m_s is not None
-    search = optimize_gait(pipeline, case.speed_m_s, make_family(case.family), settings)
+    search = optimize_gait(
+        pipeline, case.speed_m_s, make_family(case.family), settings, progress=worker_progress
+    )
     gait = gait_row(search, row["robot"])
     row.update({k: v for k, v in gait.items() if k not in row or row[k] is None})
     row["status"], row["error"] = gait["status"], gait["error"]

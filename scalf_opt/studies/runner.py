@@ -41,6 +41,7 @@ from scalf_opt.studies.progress import Progress
 from scalf_opt.studies.study_file import Case, Study
 from scalf_opt.viz.figures import save_atomic
 from scalf_opt.viz.study_figures import study_figure
+from scalf_opt.workers import progress_to, relayed_labels
 
 RESULTS_FILE = "results.csv"
 FIGURE_FILE = "study.png"
@@ -91,7 +92,10 @@ def _pool(workers: int) -> Runner:
     def run(cases: list[Case]) -> Iterator[tuple[Case, dict[str, Any]]]:
         # spawn: a fresh interpreter per worker, no fork of this process's CasADi/Pinocchio state
         context = multiprocessing.get_context("spawn")
-        with ProcessPoolExecutor(max_workers=workers, mp_context=context) as pool:
+        with (
+            relayed_labels(context) as (initializer, initargs),
+            ProcessPoolExecutor(workers, context, initializer, initargs) as pool,
+        ):
             futures = {pool.submit(run_case, case): case for case in cases}
             try:
                 for future in as_completed(futures):
@@ -235,12 +239,13 @@ def run_cases(
     cached = len(rows)
     progress = progress or Progress(len(todo), label=label)
     try:
-        for case, row in runner(todo):
-            key = keys[case.index]
-            if key and not row.get("unexpected"):
-                write_atomic(cache / f"{key}.json", to_json(row))
-            rows[case.index] = row
-            progress.update(row["status"] == STATUS_OK)
+        with progress_to(progress.note):  # what a case is doing, as it says it
+            for case, row in runner(todo):
+                key = keys[case.index]
+                if key and not row.get("unexpected"):
+                    write_atomic(cache / f"{key}.json", to_json(row))
+                rows[case.index] = row
+                progress.update(row["status"] == STATUS_OK)
     finally:
         progress.close()
     return rows, cached

@@ -174,6 +174,28 @@ def test_progress_bar_only_on_a_terminal():
     assert "2/2 cases, 1 not ok" in tty.getvalue() and tty.getvalue().endswith("\n")
 
 
+def test_progress_shows_what_a_running_case_last_said(monkeypatch):
+    monkeypatch.setenv("COLUMNS", "200")
+
+    class Terminal(io.StringIO):
+        def isatty(self):
+            return True
+
+    tty = Terminal()
+    bar = Progress(2, tty)
+    bar.note("0.5 m/s: gait 7, T = 0.550 s, duty 0.600")
+    assert tty.getvalue().endswith("0/2 cases, 0 s; 0.5 m/s: gait 7, T = 0.550 s, duty 0.600")
+    bar.update(True)
+    bar.update(True)
+    bar.close()
+    last = tty.getvalue().rstrip("\n").split("\r")[-1]
+    assert last.rstrip() == "[" + "#" * Progress.WIDTH + "] 2/2 cases, 0 s"  # no note once done
+    monkeypatch.setenv("COLUMNS", "60")  # a narrow terminal: one line, cut
+    bar = Progress(2, tty := Terminal())
+    bar.note("0.5 m/s: gait 7, T = 0.550 s, duty 0.600")
+    assert len(tty.getvalue().split("\r")[-1]) == 59
+
+
 def test_command_line(serial, capsys):
     study, result = serial
     out = result.results_path.parent
