@@ -15,8 +15,10 @@ CasADi's MUMPS factorizes with: Ipopt's interface to MUMPS holds one lock for th
 a second BLAS thread could only help the factorization itself, whose fronts here are too small to
 split; its idle threads instead spun in ``sched_yield`` (650,000 calls and 11 s of system time in
 one free-trajectory bound of 18 s), taking the second core from the other leg's solve or the
-other study worker. The numbers do not change (OpenBLAS splits a product by its output blocks,
-not along the sums).
+other study worker. One thread also makes the numbers independent of the machine's core
+count: on two threads a product is split differently and can differ in its last bit (the
+tutorial's symmetry check printed 0.0e+00 on two threads and 2.0e-16 on one; every other
+documented output was the same).
 
 This module imports nothing but the standard library: it must run before numpy is imported.
 """
