@@ -250,11 +250,15 @@ def bound_for(
         best: LegResult | None = None
         rate = 0.0
         for theta0 in candidates:
-            ipopt = None if previous is None else WARM_START_OPTIONS
-            settings = Settings(ipopt=ipopt, margins=margins)
-            run = optimize_swings(
-                level, (leg,), family, settings, {leg: theta0}, stance_checked=True
-            )
+            # a warm start that fails (Go1's RF at 64 spans ran out of iterations) is tried
+            # again with Ipopt's own start and every retry strategy of the solver
+            for ipopt in [WARM_START_OPTIONS, None] if previous is not None else [None]:
+                settings = Settings(ipopt=ipopt, margins=margins)
+                run = optimize_swings(
+                    level, (leg,), family, settings, {leg: theta0}, stance_checked=True
+                )
+                if run.legs[leg].success:
+                    break
             leg_result = run.legs[leg]
             if best is None or (
                 leg_result.success

@@ -105,3 +105,22 @@ def test_the_stated_remainder_holds_one_level_finer_at_twice_the_rate(model, bou
     run = optimize_swings(at_rate, ("RF",), finer, Settings(), {"RF": start})
     assert run.legs["RF"].success
     assert run.legs["RF"].check_energy_j >= bound.check_energy_j - bound.remaining_j
+
+
+def test_a_level_whose_warm_start_fails_is_solved_again_from_ipopts_own_start(model, monkeypatch):
+    """Go1's RF 64-span level ran out of iterations from the warm start; solved cold it converges.
+
+    Here the warm start is made to fail (one iteration allowed): the level must still be solved,
+    and, its family holding the coarser one, not above the coarser level.
+    """
+    import scalf_opt.optimize.bound as bound_module
+
+    cold = bound_for(model, "RF", spans=(16, 32))
+    monkeypatch.setattr(
+        bound_module, "WARM_START_OPTIONS", {**bound_module.WARM_START_OPTIONS, "max_iter": 1}
+    )
+    failing_warm = bound_for(model, "RF", spans=(16, 32))
+    assert [lv.success for lv in failing_warm.levels] == [True, True]
+    coarse, fine = failing_warm.levels
+    assert coarse.swing_energy_j == cold.levels[0].swing_energy_j  # the first level is cold anyway
+    assert fine.swing_energy_j <= coarse.swing_energy_j + 1e-9 * coarse.swing_energy_j
