@@ -184,3 +184,14 @@ def test_the_package_offers_exactly_the_api_lazily():
     assert scalf_opt.__all__ == ["__version__", *scalf_opt.api.__all__]
     for name in scalf_opt.api.__all__:
         assert getattr(scalf_opt, name) is getattr(scalf_opt.api, name)
+
+
+def test_a_near_miss_of_the_free_bound_is_named_and_nothing_is_written(tmp_path, capsys):
+    out = tmp_path / "out"
+    assert main(["optimize", "--family", "fre", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith("scalf-opt: error: --family: unknown family")
+    assert err.rstrip().endswith("did you mean 'free'?")
+    assert not out.exists()
+    assert main(["optimize", "--family", "joint-66"]) == 2  # not near 'free': no suggestion
+    assert "did you mean" not in capsys.readouterr().err

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import difflib
 import math
 from pathlib import Path
 
@@ -21,6 +22,7 @@ from scalf_opt.cli.options import (
     warn_without_effect,
 )
 from scalf_opt.energy.margins import DEFAULT_STOP_MARGIN_RAD, DEFAULT_STROKE_MARGIN_M
+from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
 
@@ -122,6 +124,25 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_accept_unconverged(parser)
 
 
+def check_family(name: str) -> None:
+    """``--family`` names a swing family or ``free``; a near miss of ``free`` is named.
+
+    Raises:
+        ConfigError: Neither.
+    """
+    from scalf_opt.locomotion.swing.registry import make_family
+
+    if name == FREE_FAMILY:
+        return
+    try:
+        make_family(name)
+    except ConfigError as exc:
+        close = difflib.get_close_matches(name, [FREE_FAMILY], n=1, cutoff=0.7)
+        if not close:
+            raise
+        raise ConfigError(f"{exc}; did you mean {close[0]!r}?", field="family") from exc
+
+
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when everything converged, 3 when something did not (unless accepted)."""
     from scalf_opt.api import optimize_swing
@@ -137,6 +158,7 @@ def run(args: argparse.Namespace) -> int:
     from scalf_opt.viz.report import evaluate_report
 
     check_output_dir(args.out)
+    check_family(args.family)
     robot = load_robot(args)
     warn_without_effect(args, robot)
     gait = load_gait(args, robot)
