@@ -44,8 +44,11 @@ _progress: Callable[[str], None] | None = None
 """Where :func:`worker_progress` sends a label in this process (the plain loop's ``progress``)."""
 
 
-class WorkerDiedError(ScalfError):
-    """A worker process ended without an answer (killed, or out of memory)."""
+class WorkerDiedError(RuntimeError):
+    """A worker process ended without an answer (killed, or out of memory).
+
+    Not the input's fault, so not a :class:`~scalf_opt.errors.ScalfError`: the command exits 1.
+    """
 
 
 def worker_progress(label: str) -> None:
@@ -204,8 +207,9 @@ def _serve() -> int:
     except Exception as exc:  # the main process raises it
         try:
             _send("error", exc)
-        except (pickle.PicklingError, TypeError, AttributeError):
-            _send("error", ScalfError(f"{type(exc).__name__}: {exc}"))
+        except (pickle.PicklingError, TypeError, AttributeError):  # an error that does not pickle
+            kind = ScalfError if isinstance(exc, ScalfError) else RuntimeError
+            _send("error", kind(f"{type(exc).__name__}: {exc}"))
         return 1
     _send("result", result)
     return 0
