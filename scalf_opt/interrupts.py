@@ -23,7 +23,7 @@ import signal
 import sys
 import threading
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
+from concurrent.futures import FIRST_EXCEPTION, Future, ThreadPoolExecutor, wait
 from types import FrameType
 from typing import TypeVar
 
@@ -72,6 +72,18 @@ def raise_if_stopped() -> None:
         raise KeyboardInterrupt
 
 
+def results_in_order(futures: list[Future[R]]) -> list[R]:
+    """The futures' results in order, once all are done.
+
+    As soon as one fails: the error of the first in order that failed (not the first to fail).
+    """
+    wait(futures, return_when=FIRST_EXCEPTION)
+    for future in futures:
+        if future.done() and future.exception() is not None:
+            return [future.result()]  # raises it
+    return [future.result() for future in futures]
+
+
 def map_in_threads(fn: Callable[[T], R], items: Sequence[T], workers: int) -> list[R]:
     """``[fn(item) for item in items]``, on up to ``workers`` threads, results in order.
 
@@ -84,12 +96,7 @@ def map_in_threads(fn: Callable[[T], R], items: Sequence[T], workers: int) -> li
         return [fn(item) for item in items]
     pool = ThreadPoolExecutor(max_workers=min(workers, len(items)))
     try:
-        futures = [pool.submit(fn, item) for item in items]
-        wait(futures, return_when=FIRST_EXCEPTION)
-        for future in futures:  # the first item that failed, not the first to finish
-            if future.done() and future.exception() is not None:
-                return [future.result()]  # raises it
-        return [future.result() for future in futures]
+        return results_in_order([pool.submit(fn, item) for item in items])
     except BaseException:
         _cancelled.set()
         raise

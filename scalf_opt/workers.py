@@ -27,12 +27,13 @@ import subprocess
 import sys
 import threading
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_EXCEPTION, ThreadPoolExecutor, wait
+from concurrent.futures import ThreadPoolExecutor
 from multiprocessing.context import SpawnContext
 from multiprocessing.queues import SimpleQueue
 from typing import IO, Any, TypeVar
 
 from scalf_opt.errors import ScalfError
+from scalf_opt.interrupts import results_in_order
 
 T = TypeVar("T")
 R = TypeVar("R")
@@ -117,9 +118,7 @@ def map_in_processes(
     Ctrl-C or SIGTERM received here. One worker, or one item: a plain loop in this process.
     """
     if workers <= 1 or len(items) <= 1:
-        if progress is None:
-            return [fn(item) for item in items]
-        with progress_to(progress):
+        with progress_to(progress) if progress is not None else contextlib.nullcontext():
             return [fn(item) for item in items]
     running: list[subprocess.Popen[bytes]] = []
     lock = threading.Lock()
@@ -139,12 +138,7 @@ def map_in_processes(
 
     pool = ThreadPoolExecutor(max_workers=min(workers, len(items)))
     try:
-        futures = [pool.submit(run, item) for item in items]
-        wait(futures, return_when=FIRST_EXCEPTION)
-        for future in futures:  # the first item that failed, not the first to finish
-            if future.done() and future.exception() is not None:
-                return [future.result()]  # raises it
-        return [future.result() for future in futures]
+        return results_in_order([pool.submit(run, item) for item in items])
     finally:
         with lock:
             stopping.set()

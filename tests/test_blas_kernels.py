@@ -59,17 +59,23 @@ def test_numpy_runs_the_pinned_kernels_in_the_tests():
     assert _loaded_core() == PINNED_CORE
 
 
-@needs_avx2
-def test_numpy_runs_the_pinned_kernels_in_the_command_line():
+def _set_by_the_command_line(variable: str) -> str | None:
+    """``variable`` as ``scalf-opt --version`` leaves it, started without it in its environment."""
     probe = (
         "import runpy, sys; sys.argv = ['scalf-opt', '--version']\n"
         "try:\n    runpy.run_module('scalf_opt', run_name='__main__')\n"
         "except SystemExit:\n    pass\n"
-        "import os; print(os.environ.get('OPENBLAS_CORETYPE'))"
+        f"import numpy, os; print(os.environ.get({variable!r}))"
     )
-    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"}
+    env = {k: v for k, v in os.environ.items() if k != variable}
     out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env)
-    assert out.stdout.strip().splitlines()[-1] == PINNED_CORE, out.stderr
+    assert out.returncode == 0, out.stderr
+    return out.stdout.strip().splitlines()[-1]
+
+
+@needs_avx2
+def test_numpy_runs_the_pinned_kernels_in_the_command_line():
+    assert _set_by_the_command_line("OPENBLAS_CORETYPE") == PINNED_CORE
 
 
 def test_blas_runs_on_one_thread_unless_the_user_chose():
@@ -80,12 +86,4 @@ def test_blas_runs_on_one_thread_unless_the_user_chose():
 
 
 def test_the_command_line_runs_blas_on_one_thread():
-    probe = (
-        "import runpy, sys; sys.argv = ['scalf-opt', '--version']\n"
-        "try:\n    runpy.run_module('scalf_opt', run_name='__main__')\n"
-        "except SystemExit:\n    pass\n"
-        "import numpy, os; print(os.environ.get('OPENBLAS_NUM_THREADS'))"
-    )
-    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_NUM_THREADS"}
-    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env)
-    assert out.stdout.strip().splitlines()[-1] == "1", out.stderr
+    assert _set_by_the_command_line("OPENBLAS_NUM_THREADS") == "1"
