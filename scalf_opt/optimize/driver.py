@@ -302,18 +302,20 @@ def _solve_leg(
     settings: Settings,
     theta0: np.ndarray | None,
     others: Mapping[str, np.ndarray] | None = None,
+    trial: bool = False,
 ) -> tuple[SwingOptimum, float]:
     """Optimize one leg at the pipeline's rate; also return the energy at ten times the rate.
 
     That energy is ``inf`` when the optimum crosses a bound between its samples by more than
     :data:`BETWEEN_SAMPLES_RTOL` of the bound (on the same ten times finer samples): the rate
-    does not resolve the optimum, exactly as when the energy has not converged.
+    does not resolve the optimum, exactly as when the energy has not converged. ``trial``: a
+    warm solve (:mod:`scalf_opt.optimize.solvers`), one trial of a search.
     """
     raise_if_stopped()
     problem = SwingProblem(pipeline, leg, family, others, margins=settings.margins)
     if theta0 is None:
         theta0 = np.zeros(problem.n_params)
-    optimum = solver(settings.method).solve(problem, theta0, settings.solver_options)
+    optimum = solver(settings.method).solve(problem, theta0, settings.solver_options, warm=trial)
     check = math.inf
     if optimum.success:
         fine_pipeline = pipeline.with_gait(with_rate(pipeline.gait, check_rate_hz(pipeline.gait)))
@@ -329,9 +331,10 @@ def _solve_one(
     family: SwingFamily,
     settings: Settings,
     theta0: Mapping[str, np.ndarray | None],
+    trial: bool,
     leg: str,
 ) -> tuple[SwingOptimum, float]:
-    return _solve_leg(pipeline, leg, family, settings, theta0[leg])
+    return _solve_leg(pipeline, leg, family, settings, theta0[leg], trial=trial)
 
 
 def _solve_legs(
@@ -341,6 +344,7 @@ def _solve_legs(
     settings: Settings,
     current: Mapping[str, np.ndarray | None],
     workers: int = 1,
+    trial: bool = False,
 ) -> tuple[dict[str, tuple[SwingOptimum, float]], int]:
     """Optimize every leg at the pipeline's rate; also return the rounds it took.
 
@@ -355,7 +359,7 @@ def _solve_legs(
     coupled = pipeline.load_model.couples_legs and len(legs) > 1
     if not coupled:  # independent problems: on parallel threads when the solver allows it
         solved = map_in_threads(
-            partial(_solve_one, pipeline, family, settings, current), legs, workers
+            partial(_solve_one, pipeline, family, settings, current, trial), legs, workers
         )
         return dict(zip(legs, solved, strict=True)), 1
     answers: dict[str, tuple[SwingOptimum, float]] = {}
@@ -369,7 +373,9 @@ def _solve_legs(
                     theta = thetas[o]
                     if o != leg:
                         others[o] = np.zeros(family.n_params) if theta is None else theta
-            answers[leg] = _solve_leg(pipeline, leg, family, settings, thetas[leg], others)
+            answers[leg] = _solve_leg(
+                pipeline, leg, family, settings, thetas[leg], others, trial=trial
+            )
             if answers[leg][0].success:
                 thetas[leg] = answers[leg][0].theta
         if not coupled or not all(o.success for o, _ in answers.values()):
@@ -400,6 +406,7 @@ def optimize_swings(
     theta0: Mapping[str, np.ndarray] | None = None,
     progress: Callable[[str], None] | None = None,
     stance_checked: bool = False,
+    trial: bool = False,
 ) -> SwingOptimization:
     """Optimize ``family``'s parameters for each leg (see the module docstring).
 
@@ -412,6 +419,10 @@ def optimize_swings(
         progress: Called with a label as each rate and each extra start begins.
         stance_checked: The caller has already checked this gait's stance (at another rate:
             the free-trajectory bound's levels), so it is not evaluated again here.
+        trial: The run is one trial of a search (a gait or a stance) started at a neighbouring
+            trial's optimum ``theta0``: every solve is warm (the solver's warm strategy alone,
+            :mod:`scalf_opt.optimize.solvers`), and a failed one is the trial's answer, not
+            retried with the cold strategies (the search moves on).
 
     Raises:
         ConfigError: The family has no free parameter, or the accounting cannot be optimized.
@@ -443,12 +454,13 @@ def optimize_swings(
     rounds = 1
     converged = False
     workers = LEG_THREADS if solver(settings.method).releases_gil else 1
+    trial = trial and theta0 is not None and all(leg in theta0 for leg in legs)  # else cold
     while True:
         rates.append(rate)
         if progress is not None:
             progress(f"{family.name} at {rate:g} Hz")
         at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
-        answers, rounds = _solve_legs(at_rate, legs, family, settings, current, workers)
+        answers, rounds = _solve_legs(at_rate, legs, family, settings, current, workers, trial)
         solved = all(o.success for o, _ in answers.values())
         errors = [relative_difference(o.objective_j, c) for o, c in answers.values()]
         if not solved:

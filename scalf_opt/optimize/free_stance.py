@@ -214,6 +214,9 @@ class GaitTrials:
 
     The swings of every new gait start from the last solved gait's optima (warm start): a
     search moves in small steps, and Ipopt from a neighbour's optimum takes a few iterations.
+    Such a trial is solved by the solver's warm strategy alone (``optimize_swings``'
+    ``trial``): a gait whose swings it does not solve is infeasible for the search, which moves
+    on, rather than retried with every cold strategy (near a limit, minutes per gait).
     A gait is known by its fields; asking for it again returns the first answer. With
     ``stance_at_swing_rate`` a gait's stance energy is taken at the rate its swings converged
     at (one cycle's samples: gaits of different timing refine differently); without it, at the
@@ -257,7 +260,9 @@ class GaitTrials:
             self.seen[key] = StanceEvaluation(gait, math.inf, why)
             return self.seen[key]
         try:
-            run = optimize_swings(trial, self.legs, self.family, self.settings, self.warm or None)
+            run = optimize_swings(
+                trial, self.legs, self.family, self.settings, self.warm or None, trial=True
+            )
         except ScalfError as exc:  # a swing the gait makes impossible (its path leaves the reach)
             self.seen[key] = StanceEvaluation(gait, math.inf, str(exc))
             return self.seen[key]

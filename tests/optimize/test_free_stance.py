@@ -74,3 +74,41 @@ def test_an_impossible_stance_names_the_offset_fields(scalf):
     pipeline = EnergyPipeline(scalf, replace(Gait(), stance_x_offset_front_m=0.5), loads="trunk")
     with pytest.raises(GaitError, match=r"stance_x_offset_front_m = 0\.5"):
         pipeline.stance("RF")
+
+
+def test_a_search_s_trial_is_solved_warm_once_and_a_cold_start_with_every_strategy(
+    scalf, monkeypatch
+):
+    # Ipopt held to 3 iterations (a user option every strategy keeps): every solve fails, so
+    # the calls show the policy. The first gait has no neighbour: cold, the three strategies in
+    # turn. The next starts at a neighbour's optimum: the warm strategy alone, no retry (near a
+    # limit the cold strategies took minutes per gait on a search that fails there anyway).
+    from scalf_opt.optimize import solve as solve_module
+    from scalf_opt.optimize.driver import Settings
+    from scalf_opt.optimize.free_stance import GaitTrials
+    from scalf_opt.optimize.solvers import IPOPT_ATTEMPTS, IPOPT_WARM_ATTEMPT
+
+    calls = []
+    real = solve_module.run_ipopt
+
+    def spy(problem, theta0=None, ipopt_options=None):
+        calls.append((problem.leg, dict(ipopt_options)))
+        return real(problem, theta0, ipopt_options)
+
+    monkeypatch.setattr(solve_module, "run_ipopt", spy)
+    pipeline = EnergyPipeline(scalf, Gait(), loads="trunk")
+    family = make_family("paper")
+    trials = GaitTrials(pipeline, family, Settings(ipopt={"max_iter": 3}))
+    cold = trials.evaluate(Gait())
+    assert cold.run is not None and not cold.run.success
+    assert "swing not solved" in cold.reason
+    strategies = [{**a, "max_iter": 3} for a in IPOPT_ATTEMPTS]
+    assert [options for leg, options in calls if leg == "RF"] == strategies
+    assert [options for leg, options in calls if leg == "LH"] == strategies
+
+    calls.clear()
+    trials.warm = {"RF": np.array([5.0, -5.0]), "LH": np.array([-5.0, 5.0])}
+    warm = trials.evaluate(replace(Gait(), stance_height_m=0.74))
+    assert warm.run is not None and not warm.run.success
+    assert sorted(leg for leg, _ in calls) == ["LH", "RF"]
+    assert all(options == {**IPOPT_WARM_ATTEMPT, "max_iter": 3} for _, options in calls)
