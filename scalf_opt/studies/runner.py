@@ -207,12 +207,13 @@ def run_cases(
     runner: Runner | None = None,
     progress: Progress | None = None,
     label: str = "study",
+    quiet: bool = False,
 ) -> tuple[dict[int, dict[str, Any]], int]:
     """Run every case not yet cached under ``out/cache``: each case's full row, by index.
 
     A row holds every key its case produced (a cheapest-gait case's ``details`` too), not only
     the columns of ``results.csv``. Also returns how many rows came from the cache. ``label``
-    names the command in the progress lines.
+    names the command in the progress lines; ``quiet`` shows none (no bar, no heartbeat).
 
     Raises:
         ConfigError: The output folder cannot be written; the Dask scheduler cannot be reached.
@@ -237,7 +238,7 @@ def run_cases(
         else:
             rows[case.index] = row
     cached = len(rows)
-    progress = progress or Progress(len(todo), label=label)
+    progress = progress or Progress(len(todo), label=label, enabled=False if quiet else None)
     try:
         with progress_to(progress.note):  # what a case is doing, as it says it
             for case, row in runner(todo):
@@ -256,6 +257,7 @@ def run_study(
     out: str | Path,
     runner: Runner | None = None,
     progress: Progress | None = None,
+    quiet: bool = False,
 ) -> StudyRun:
     """Run every case not yet cached under ``out``, then write ``results.csv`` and the figure.
 
@@ -263,13 +265,14 @@ def run_study(
         study: The study.
         out: Output folder (the cache lives in ``out/cache``).
         runner: The backend (:func:`choose_runner`; default: one process per CPU).
-        progress: Progress display (default: a bar on a terminal).
+        progress: Progress display (default: a bar on a terminal, a heartbeat elsewhere).
+        quiet: No progress display at all (``--quiet``).
 
     Raises:
         ConfigError: The output folder cannot be written; the Dask scheduler cannot be reached.
     """
     out = Path(out)
-    rows, cached = run_cases(study, out, runner, progress)
+    rows, cached = run_cases(study, out, runner, progress, quiet=quiet)
     columns = _columns(study)
     ordered = [{c: rows[i].get(c) for c in columns} for i in sorted(rows)]
     results = write_atomic(out / RESULTS_FILE, rows_csv_text(ordered))

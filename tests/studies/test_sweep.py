@@ -233,3 +233,22 @@ def test_a_study_process_killed_mid_run_keeps_its_cache_and_the_rerun_completes(
     assert rerun.returncode in (0, 3), rerun.stderr  # 3: the study's impossible cases
     _, serial_result = serial
     assert (out / "results.csv").read_text() == serial_result.results_path.read_text()
+
+
+def test_quiet_shows_no_progress_at_all(serial, monkeypatch, capsys):
+    """``-q`` turns off the bar and the heartbeat of a study (the README: "-q turns both off")."""
+    made = []
+
+    class Recorder(Progress):
+        def __init__(self, total, stream=None, enabled=None, label="study"):
+            made.append(enabled)
+            super().__init__(total, stream, enabled, label)
+
+    monkeypatch.setattr(runner_module, "Progress", Recorder)
+    study, result = serial
+    out = result.results_path.parent
+    argv = ["study", str(study.path), "--workers", "1", "--out", str(out)]
+    main([*argv, "-q"])
+    main(argv)
+    capsys.readouterr()
+    assert made == [False, None]  # quiet: nothing; else a bar on a terminal, a heartbeat elsewhere

@@ -202,7 +202,9 @@ def run(args: argparse.Namespace) -> int:
         loads=args.loads,
     )
     out: Path = args.out
-    full, cached = run_cases(study, out, choose_runner(args.workers, args.scheduler), label=NAME)
+    full, cached = run_cases(
+        study, out, choose_runner(args.workers, args.scheduler), label=NAME, quiet=args.quiet
+    )
     rows: list[dict[str, Any]] = [{c: full[i].get(c) for c in GAIT_COLUMNS} for i in sorted(full)]
     written = [write_atomic(out / "gaits.csv", rows_csv_text(rows))]
     written.append(save_atomic(gait_figure(rows, study.name), out / "gaits.png"))

@@ -55,7 +55,7 @@ def run(args: argparse.Namespace) -> int:
         raise ConfigError("give --workers or --scheduler, not both")
     study = read_study(args.file)
     out = output_folder(args)
-    result = run_study(study, out, choose_runner(args.workers, args.scheduler))
+    result = run_study(study, out, choose_runner(args.workers, args.scheduler), quiet=args.quiet)
     args.console.text(results_table(study.name, result))
     args.console.json(
         {
