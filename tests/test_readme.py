@@ -61,9 +61,8 @@ def test_the_gait_sweep_times_are_the_benchmark_s():
     """The README's time of ``scalf-opt gait`` over six speeds is the one docs/gaits.md's
     benchmark block measured (renewed by ``python docs/gen_outputs.py --manual docs/gaits.md``)."""
     page = (ROOT / "docs" / "gaits.md").read_text(encoding="utf-8")
-    block = page.split("<!-- output manual: python benchmarks/bench_gait.py -->")[1].split("```\n")[
-        1
-    ]
+    after = page.split("<!-- output manual: python benchmarks/bench_gait.py -->")[1]
+    block = after.split("```console\n")[1].split("```")[0]
     measured = dict(re.findall(r"^(\w+)\s+\S+ 6/6 ok\s+([\d.]+) s", block, re.MULTILINE))
     assert set(measured) == {"scalf", "go1"}
     text = README.read_text(encoding="utf-8")
