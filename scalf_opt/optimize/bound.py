@@ -318,21 +318,30 @@ def bounds_for(
         margins: How far inside the joint range and the cylinder stroke the swings stay.
     """
     workers = (os.cpu_count() or 1) if processes is None else processes
-    jobs = [(pipeline, leg, (seeds or {}).get(leg), spans, margins) for leg in legs]
-    found = map_in_processes(_leg_bound, jobs, workers, progress)
+    jobs = bound_jobs(pipeline, legs, seeds, spans, margins)
+    found = map_in_processes(leg_bound, jobs, workers, progress)
     return dict(zip(legs, found, strict=True))
 
 
-def _leg_bound(
-    job: tuple[
-        EnergyPipeline,
-        str,
-        list[tuple[SwingFamily, np.ndarray]] | None,
-        tuple[int, ...],
-        LimitMargins,
-    ],
-) -> FreeBound:
-    """One leg's bound, in a worker of :func:`bounds_for`."""
+BoundJob = tuple[
+    EnergyPipeline, str, list[tuple[SwingFamily, np.ndarray]] | None, tuple[int, ...], LimitMargins
+]
+"""One leg's bound as work for a worker process (:func:`leg_bound`): it pickles."""
+
+
+def bound_jobs(
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    seeds: Mapping[str, list[tuple[SwingFamily, np.ndarray]]] | None = None,
+    spans: tuple[int, ...] = SPANS,
+    margins: LimitMargins = DEFAULT_MARGINS,
+) -> list[BoundJob]:
+    """Each leg's bound as work for :func:`leg_bound` (arguments as :func:`bounds_for`'s)."""
+    return [(pipeline, leg, (seeds or {}).get(leg), spans, margins) for leg in legs]
+
+
+def leg_bound(job: BoundJob) -> FreeBound:
+    """One leg's bound, in a worker process (its levels' labels to the worker's progress)."""
     pipeline, leg, seeds, spans, margins = job
     return bound_for(pipeline, leg, seeds, spans=spans, progress=worker_progress, margins=margins)
 

@@ -31,12 +31,13 @@ from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.robot import Robot
-from scalf_opt.optimize.bound import FreeBound, bounds_for
+from scalf_opt.optimize.bound import FreeBound, bound_jobs, leg_bound
 from scalf_opt.optimize.driver import Settings, SwingOptimization, optimize_swings
 from scalf_opt.optimize.free_stance import FreeStance, optimize_stance
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.solve import SwingOptimum
 from scalf_opt.types import FIRST_PAIR
+from scalf_opt.workers import map_in_processes, worker_progress
 
 FINE_PRECISION = 1e-4
 """Pattern-search precision of the validation run."""
@@ -199,19 +200,16 @@ def reproduce(
         if run.success:
             out.cycles[key] = run.cycle()
             out.references[key] = run.reference_cycle()
+    # the rest is independent solves, each Ipopt's and so one factorization at a time per
+    # process (scalf_opt.workers): they run side by side in worker processes
+    settings = Settings(ipopt=ipopt_options)
+    jobs: list[tuple[str, Any]] = []
     if not pipeline.load_model.couples_legs:
-        step(f"{DEFAULT_FAMILY} under whole-body loads")
-        whole = optimize_swings(
-            pipeline.with_loads(DEFAULT_LOADS),
-            PAIR,
-            make_family(DEFAULT_FAMILY),
-            Settings(ipopt=ipopt_options),
+        jobs.append(
+            (WHOLE_BODY_JOB, (pipeline.with_loads(DEFAULT_LOADS), DEFAULT_FAMILY, settings))
         )
-        trunk_reference = whole.pipeline.with_loads(pipeline.loads).robot_cycle(
-            make_family("reference")
-        )
-        out.whole_body = WholeBody(trunk_reference, whole)
-    if beyond and all(out.runs[k].success for k in ("ipopt", "ipopt_rich")):
+    bounded = beyond and all(out.runs[k].success for k in ("ipopt", "ipopt_rich"))
+    if bounded:
         seeds = {
             leg: [
                 (out.runs[k].family, out.runs[k].legs[leg].best.theta)
@@ -219,16 +217,47 @@ def reproduce(
             ]
             for leg in PAIR
         }
-        out.bounds.update(bounds_for(pipeline, PAIR, seeds, progress=progress))
+        jobs += [(BOUND_JOB, job) for job in bound_jobs(pipeline, PAIR, seeds)]
+        jobs.append((FREE_STANCE_JOB, (pipeline, DEFAULT_FAMILY, settings)))
+    step("the whole-body line, the bounds and the free stance" if bounded else WHOLE_BODY_LABEL)
+    results = iter(map_in_processes(independent_solve, jobs, len(jobs), progress))
+    if not pipeline.load_model.couples_legs:
+        whole = next(results)
+        trunk_reference = whole.pipeline.with_loads(pipeline.loads).robot_cycle(
+            make_family("reference")
+        )
+        out.whole_body = WholeBody(trunk_reference, whole)
+    if bounded:
+        out.bounds.update({leg: next(results) for leg in PAIR})
         for leg in PAIR:
             for run in out.runs.values():
                 run.legs[leg].bound_check_energy_j = out.bounds[leg].check_energy_j
-        step("the free stance")
-        out.free_stance = optimize_stance(
-            pipeline, make_family(DEFAULT_FAMILY), Settings(ipopt=ipopt_options)
-        )
+        out.free_stance = next(results)
     out.wall_time_s = time.perf_counter() - start
     return out
+
+
+WHOLE_BODY_JOB, BOUND_JOB, FREE_STANCE_JOB = "whole-body line", "bound", "free stance"
+WHOLE_BODY_LABEL = f"{DEFAULT_FAMILY} under whole-body loads"
+
+
+def independent_solve(job: tuple[str, Any]) -> Any:
+    """One of ``paper``'s solves beyond Tables 5 and 6, in a worker process of :func:`reproduce`.
+
+    A family's swings under whole-body loads (a :class:`SwingOptimization`; ``job`` is
+    ``(WHOLE_BODY_JOB, (pipeline, family name, settings))``), one leg's bound
+    (:class:`FreeBound`; ``(BOUND_JOB, bound job)``) or the free stance with a family's swings
+    (:class:`FreeStance`; ``(FREE_STANCE_JOB, (pipeline, family name, settings))``).
+    """
+    kind, args = job
+    if kind == BOUND_JOB:
+        return leg_bound(args)
+    pipeline, family, settings = args
+    if kind == WHOLE_BODY_JOB:
+        worker_progress(f"{family} under whole-body loads")
+        return optimize_swings(pipeline, PAIR, make_family(family), settings)
+    worker_progress("the free stance")
+    return optimize_stance(pipeline, make_family(family), settings)
 
 
 def free_stance_label(result: FreeStance) -> str:

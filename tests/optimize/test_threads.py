@@ -77,3 +77,26 @@ def test_a_solve_on_a_worker_thread_stops_when_the_main_thread_unwinds(model):
     assert seen["stopped"] is True
     assert seen["status"] == "User_Requested_Stop"
     assert seen["iterations"] < full.iterations
+
+
+def test_paper_s_independent_solves_in_processes_are_bitwise_those_in_this_one(scalf):
+    """``paper`` runs its whole-body line and its free stance beside the bounds in worker
+    processes: the same answers, to the bit, as in this process (the paper family: quick)."""
+    from scalf_opt.optimize.driver import Settings
+    from scalf_opt.studies.paper import FREE_STANCE_JOB, WHOLE_BODY_JOB, independent_solve
+    from scalf_opt.workers import map_in_processes
+
+    trunk = EnergyPipeline(scalf, Gait(), loads="trunk")
+    jobs = [
+        (WHOLE_BODY_JOB, (trunk.with_loads("whole-body"), "paper", Settings())),
+        (FREE_STANCE_JOB, (trunk, "paper", Settings())),
+    ]
+    labels: list[str] = []
+    whole, stance = map_in_processes(independent_solve, jobs, 2, labels.append)
+    whole_here, stance_here = (independent_solve(job) for job in jobs)
+    assert whole.pipeline.load_model.couples_legs and whole.success
+    for leg in ("RF", "LH"):
+        np.testing.assert_array_equal(whole.legs[leg].best.theta, whole_here.legs[leg].best.theta)
+    assert stance.best.gait == stance_here.best.gait and stance.success
+    assert stance.cycle().energy_j == stance_here.cycle().energy_j
+    assert {"paper under whole-body loads", "the free stance"} <= set(labels)
