@@ -219,26 +219,28 @@ def reproduce(
         }
         jobs += [(BOUND_JOB, job) for job in bound_jobs(pipeline, PAIR, seeds)]
         jobs.append((FREE_STANCE_JOB, (pipeline, DEFAULT_FAMILY, settings)))
-    step("the whole-body line, the bounds and the free stance" if bounded else WHOLE_BODY_LABEL)
-    results = iter(map_in_processes(independent_solve, jobs, len(jobs), progress))
-    if not pipeline.load_model.couples_legs:
-        whole = next(results)
-        trunk_reference = whole.pipeline.with_loads(pipeline.loads).robot_cycle(
-            make_family("reference")
-        )
-        out.whole_body = WholeBody(trunk_reference, whole)
-    if bounded:
-        out.bounds.update({leg: next(results) for leg in PAIR})
-        for leg in PAIR:
-            for run in out.runs.values():
-                run.legs[leg].bound_check_energy_j = out.bounds[leg].check_energy_j
-        out.free_stance = next(results)
+    if jobs:
+        step(", ".join(dict.fromkeys(kind for kind, _ in jobs)))
+    solved = map_in_processes(independent_solve, jobs, len(jobs), progress)
+    for (kind, args), result in zip(jobs, solved, strict=True):
+        if kind == WHOLE_BODY_JOB:
+            trunk_reference = result.pipeline.with_loads(pipeline.loads).robot_cycle(
+                make_family("reference")
+            )
+            out.whole_body = WholeBody(trunk_reference, result)
+        elif kind == BOUND_JOB:
+            out.bounds[args[1]] = result  # a bound job names its leg second
+        else:
+            out.free_stance = result
+    for leg, bound in out.bounds.items():
+        for run in out.runs.values():
+            run.legs[leg].bound_check_energy_j = bound.check_energy_j
     out.wall_time_s = time.perf_counter() - start
     return out
 
 
-WHOLE_BODY_JOB, BOUND_JOB, FREE_STANCE_JOB = "whole-body line", "bound", "free stance"
-WHOLE_BODY_LABEL = f"{DEFAULT_FAMILY} under whole-body loads"
+WHOLE_BODY_JOB, BOUND_JOB, FREE_STANCE_JOB = "the whole-body line", "the bounds", "the free stance"
+"""The kinds of :func:`independent_solve`'s jobs, which also name them in the progress line."""
 
 
 def independent_solve(job: tuple[str, Any]) -> Any:
@@ -256,7 +258,7 @@ def independent_solve(job: tuple[str, Any]) -> Any:
     if kind == WHOLE_BODY_JOB:
         worker_progress(f"{family} under whole-body loads")
         return optimize_swings(pipeline, PAIR, make_family(family), settings)
-    worker_progress("the free stance")
+    worker_progress(FREE_STANCE_JOB)
     return optimize_stance(pipeline, make_family(family), settings)
 
 
