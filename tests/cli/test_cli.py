@@ -233,6 +233,31 @@ def test_evaluate_swing_refuses_what_is_not_an_optimum(tmp_path, capsys):
     assert code == 2 and "optimization.RF.success" in err
 
 
+def test_commands_that_read_a_saved_optimum_take_its_catalog_robot(tmp_path, capsys):
+    """Without --robot or --urdf, a saved result's robot is the one its provenance names, when
+    that is a catalog robot; another name needs --urdf, and a --robot that differs is refused."""
+    opt = tmp_path / "go1"
+    argv = ["optimize", "--robot", "go1", "--family", "paper", "--leg", "RF", "--loads", "trunk"]
+    assert run([*argv, "--out", str(opt), "-q"], capsys)[0] == 0
+    saved = json.loads((opt / "summary.json").read_text())
+    code, out, _ = run(["evaluate", "--swing", str(opt), "--json"], capsys)
+    again = json.loads(out)
+    assert code == 0 and again["provenance"]["robot"] == "go1"
+    assert again["legs"]["RF"]["swing_energy_j"] == saved["legs"]["RF"]["swing_energy_j"]
+    plan = tmp_path / "plan.csv"
+    code, out, _ = run(["export", "--from", str(opt), "--rate", "500", "--out", str(plan)], capsys)
+    assert code == 0 and "RL_calf_joint" in out and plan.exists()
+    code, _, err = run(["evaluate", "--swing", str(opt), "--robot", "scalf"], capsys)
+    assert code == 2 and err.count("\n") == 1
+    assert "field provenance.robot is 'go1', not 'scalf'" in err
+    # a name the catalog does not know (a robot loaded from its URDF): SCalf unless --urdf
+    saved["provenance"]["robot"] = "my_dog"
+    (tmp_path / "mine.json").write_text(json.dumps(saved))
+    code, _, err = run(["evaluate", "--swing", str(tmp_path / "mine.json")], capsys)
+    assert code == 2 and err.count("\n") == 1
+    assert "field provenance.robot is 'my_dog', not 'scalf': give the same --robot or --urdf" in err
+
+
 def test_paper_and_optimize_give_the_same_optimum(tmp_path, capsys):
     from scalf_opt.energy.pipeline import EnergyPipeline
     from scalf_opt.locomotion.gait import Gait

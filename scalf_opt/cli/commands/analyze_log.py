@@ -73,8 +73,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--plan",
         type=Path,
         metavar="DIR",
-        help="the optimum the robot ran (DIR/summary.json): its gait is used, and its energy "
-        "and power are compared with the log's",
+        help="the optimum the robot ran (DIR/summary.json): its gait, and its robot when the "
+        "catalog has it, are used, and its energy and power are compared with the log's",
     )
     parser.add_argument(
         "--figure",
@@ -108,7 +108,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     if args.figure is not None and args.figure.suffix != ".png":
         raise ConfigError(f"--figure {args.figure}: give a .png file")
     check_output_file(args.figure, "--figure")
-    robot = load_robot(args)
+    robot = load_robot(args, args.plan)
     # --period is the log's period; without it, the contacts', the motion's, the gait's
     period = args.period_s
     if args.plan is not None:

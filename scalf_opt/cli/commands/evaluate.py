@@ -35,8 +35,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         type=Path,
         metavar="FILE",
         help="evaluate the optimum saved in FILE (the summary.json of optimize --out, or its "
-        "folder) instead of the reference: at its gait by default; any rate and accounting, "
-        "the same timing and stance",
+        "folder) instead of the reference: at its gait and on its robot (a catalog robot's "
+        "name) by default; any rate and accounting, the same timing and stance",
     )
     parser.add_argument(
         "--out", type=Path, metavar="DIR", help="write summary.json and samples.csv in DIR"
@@ -51,7 +51,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.viz.report import evaluate_report
 
     check_output_dir(args.out)
-    robot = load_robot(args)
+    robot = load_robot(args, args.swing)
     warn_without_effect(args, robot)
     base = read_saved_swings(args.swing).gait if args.swing is not None else None
     gait = load_gait(args, robot, base)

@@ -48,8 +48,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         type=Path,
         required=True,
         metavar="DIR",
-        help="the optimum: DIR/summary.json as `optimize --out DIR` writes it (give the same "
-        "--robot or --urdf)",
+        help="the optimum: DIR/summary.json as `optimize --out DIR` writes it (its robot by "
+        "default when the catalog has it, else give the same --urdf)",
     )
     parser.add_argument(
         "--rate",
@@ -87,7 +87,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
             f"(give {', '.join(FORMATS)})"
         )
     check_output_file(args.out, "--out")
-    robot = load_robot(args)
+    robot = load_robot(args, args.source)
     result = export_plan(
         args.source, robot, rate_hz=args.rate, cycles=args.cycles, command=args.argv
     )

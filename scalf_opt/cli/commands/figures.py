@@ -41,7 +41,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         action="append",
         default=[],
         help="a directory written by 'optimize --out' (repeat to compare; default: the "
-        "reference and the default optimum, joint-6 by Ipopt)",
+        "reference and the default optimum, joint-6 by Ipopt; the first DIR's robot by default "
+        "when the catalog has it)",
     )
     parser.add_argument(
         "--out",
@@ -79,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
     if args.grid < 3:
         raise ConfigError(f"--grid must be at least 3, got {args.grid}")
     refuse_gait_with_saved(args)
-    robot = load_robot(args)
+    robot = load_robot(args, next(iter(args.from_dirs), None))
     warn_without_effect(args, robot)
     gait = load_gait(args, robot)
     try:

@@ -48,8 +48,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         type=Path,
         metavar="DIR",
         help="simulate the swings and gait of DIR/summary.json (as `optimize --out DIR` "
-        "writes it, a free stance included; give the same --robot or --urdf), and the "
-        "reference beside them where it is possible at that stance (default: the reference "
+        "writes it, a free stance included; its robot by default when the catalog has it), "
+        "and the reference beside them where it is possible at that stance (default: the reference "
         "swing)",
     )
     parser.add_argument(
@@ -100,7 +100,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         raise ConfigError(f"--log {args.log}: give a .csv or an .mcap file")
     if args.source is not None and (args.gait is not None or gait_overrides(args)):
         raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
-    robot = load_robot(args)
+    robot = load_robot(args, args.source)
     warn_without_effect(args, robot)
     if args.log is not None and args.log.suffix == ".csv":
         from scalf_opt.energy.pipeline import EnergyPipeline

@@ -37,7 +37,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         action="append",
         default=[],
         help="a directory written by 'optimize --out' (repeat to compare; default: the "
-        "reference and the default optimum, joint-6 by Ipopt)",
+        "reference and the default optimum, joint-6 by Ipopt; the first DIR's robot by default "
+        "when the catalog has it)",
     )
     parser.add_argument(
         "--out",
@@ -96,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
         n_cycles=args.cycles, color_by=args.color_by, playback_speed=args.playback_speed
     )
     refuse_gait_with_saved(args)
-    robot = load_robot(args)
+    robot = load_robot(args, next(iter(args.from_dirs), None))
     warn_without_effect(args, robot)
     try:
         with ProgressBar(None, "view", enabled=not args.quiet) as bar:
