@@ -13,6 +13,10 @@ work again in each worker, and ``fork`` copies this process's CasADi and Pinocch
 any lock another thread holds. The worker imports the package first (its import-time settings,
 :mod:`scalf_opt.blas_kernels`, hold there too), so the answers are bitwise those of a loop.
 
+:func:`imap_in_processes` keeps its workers for many items (a study's cases: a fresh interpreter
+costs about two seconds of imports and model loading, more than a small case) and yields each
+result as it comes, an item's error in place of its result.
+
 The workers ignore Ctrl-C (the terminal sends it to them too); the main process, stopped by a
 signal or an error, kills them.
 """
@@ -22,14 +26,13 @@ from __future__ import annotations
 import contextlib
 import os
 import pickle
+import queue
 import signal
 import subprocess
 import sys
 import threading
 from collections.abc import Callable, Iterator, Sequence
 from concurrent.futures import ThreadPoolExecutor
-from multiprocessing.context import SpawnContext
-from multiprocessing.queues import SimpleQueue
 from typing import IO, Any, TypeVar
 
 from scalf_opt.errors import ScalfError
@@ -74,36 +77,6 @@ def progress_to(callback: Callable[[str], None]) -> Iterator[None]:
         _progress = previous
 
 
-@contextlib.contextmanager
-def relayed_labels(
-    context: SpawnContext,
-) -> Iterator[tuple[Callable[[SimpleQueue[Any]], None], tuple[SimpleQueue[Any]]]]:
-    """For a pool of ``context``'s processes: its ``(initializer, initargs)``.
-
-    The labels the pool's workers pass to :func:`worker_progress` reach
-    :func:`worker_progress` in this process, relayed by a thread while the block runs.
-    """
-    labels: SimpleQueue[Any] = context.SimpleQueue()
-    relay = threading.Thread(target=_relay, args=(labels,), daemon=True)
-    relay.start()
-    try:
-        yield _send_labels_to, (labels,)
-    finally:
-        labels.put(None)
-        relay.join()
-
-
-def _send_labels_to(labels: SimpleQueue[Any]) -> None:
-    """A pool worker's initializer: its labels go to the queue."""
-    global _progress
-    _progress = labels.put
-
-
-def _relay(labels: SimpleQueue[Any]) -> None:
-    while (label := labels.get()) is not None:
-        worker_progress(label)
-
-
 def map_in_processes(
     fn: Callable[[T], R],
     items: Sequence[T],
@@ -128,11 +101,7 @@ def map_in_processes(
         with lock:
             if stopping.is_set():
                 raise WorkerDiedError("stopped before it started")
-            worker = subprocess.Popen(
-                [sys.executable, "-m", "scalf_opt.workers"],
-                stdin=subprocess.PIPE,
-                stdout=subprocess.PIPE,
-            )
+            worker = _start_worker()
             running.append(worker)
         return _exchange(worker, fn, item, progress)
 
@@ -150,17 +119,99 @@ def map_in_processes(
             worker.wait()
 
 
+def imap_in_processes(
+    fn: Callable[[T], R], items: Sequence[T], workers: int
+) -> Iterator[tuple[int, R | Exception]]:
+    """``(index, fn(items[index]))`` as each finishes, on up to ``workers`` worker processes.
+
+    Each worker takes item after item. An item whose ``fn`` raises yields the error in place of
+    its result and the others go on; a worker that dies yields :class:`WorkerDiedError` for its
+    item, and a fresh worker takes the next. Labels the work passes to :func:`worker_progress`
+    reach :func:`worker_progress` in this process (from a thread). Closing the iterator, an
+    error in the caller, Ctrl-C or SIGTERM kill the workers.
+    """
+    pending = iter(enumerate(items))
+    lock = threading.Lock()
+    stopping = threading.Event()
+    running: list[subprocess.Popen[bytes]] = []
+    done: queue.SimpleQueue[tuple[int, R | Exception] | None] = queue.SimpleQueue()
+
+    def drive() -> None:
+        worker: subprocess.Popen[bytes] | None = None
+        try:
+            while True:
+                with lock:
+                    following = None if stopping.is_set() else next(pending, None)
+                    if following is None:
+                        return
+                    if worker is None:
+                        worker = _start_worker()
+                        running.append(worker)
+                index, item = following
+                outcome: R | Exception
+                try:
+                    outcome = _exchange(worker, fn, item, None, last=False)
+                except WorkerDiedError as exc:
+                    outcome, worker = exc, None
+                except Exception as exc:  # fn's error: the worker serves the next item
+                    outcome = exc
+                done.put((index, outcome))
+        finally:
+            if worker is not None and worker.stdin is not None:
+                with contextlib.suppress(OSError):
+                    worker.stdin.close()  # it ends once it reads the end of its input
+            done.put(None)
+
+    threads = [threading.Thread(target=drive, daemon=True) for _ in range(min(workers, len(items)))]
+    for thread in threads:
+        thread.start()
+    finished = False
+    try:
+        active = len(threads)
+        while active:
+            got = done.get()
+            if got is None:
+                active -= 1
+            else:
+                yield got
+        finished = True
+    finally:
+        with lock:
+            stopping.set()
+            for worker in running:
+                if not finished and worker.poll() is None:
+                    worker.kill()
+        for thread in threads:
+            thread.join()
+        for worker in running:
+            worker.wait()
+
+
+def _start_worker() -> subprocess.Popen[bytes]:
+    """A fresh interpreter serving work on its standard input (:func:`_serve`)."""
+    return subprocess.Popen(
+        [sys.executable, "-m", "scalf_opt.workers"], stdin=subprocess.PIPE, stdout=subprocess.PIPE
+    )
+
+
 def _exchange(
     worker: subprocess.Popen[bytes],
     fn: Callable[[T], R],
     item: T,
     progress: Callable[[str], None] | None,
+    last: bool = True,
 ) -> R:
-    """Send the work to ``worker``, relay its progress, return its result or raise its error."""
+    """Send the work to ``worker``, relay its progress, return its result or raise its error.
+
+    ``last``: the worker gets no more work (its input is closed, and it is waited for).
+    """
     assert worker.stdin is not None and worker.stdout is not None
     try:
         pickle.dump((fn, item), worker.stdin)
-        worker.stdin.close()
+        if last:
+            worker.stdin.close()
+        else:
+            worker.stdin.flush()
     except BrokenPipeError:
         pass  # it died at once: said below
     while True:
@@ -173,12 +224,12 @@ def _exchange(
             ) from exc
         if kind == "progress":
             (progress or worker_progress)(payload)  # none given: to this process's own sink
-        elif kind == "result":
+            continue
+        if last:
             worker.wait()
+        if kind == "result":
             return payload
-        else:
-            worker.wait()
-            raise payload
+        raise payload
 
 
 def _send(kind: str, payload: Any) -> None:
@@ -188,25 +239,28 @@ def _send(kind: str, payload: Any) -> None:
 
 
 def _serve() -> int:
-    """A worker's life: read the work, do it, write the answer."""
+    """A worker's life: read work, do it, write the answer; until its input ends."""
     global _channel
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the main process ends the workers
     # frames go to the original standard output; anything else printed goes to stderr
     _channel = os.fdopen(os.dup(1), "wb")
     os.dup2(2, 1)
     sys.stdout = sys.stderr
-    fn, item = pickle.load(sys.stdin.buffer)
-    try:
-        result = fn(item)
-    except Exception as exc:  # the main process raises it
+    while True:
         try:
-            _send("error", exc)
-        except (pickle.PicklingError, TypeError, AttributeError):  # an error that does not pickle
-            kind = ScalfError if isinstance(exc, ScalfError) else RuntimeError
-            _send("error", kind(f"{type(exc).__name__}: {exc}"))
-        return 1
-    _send("result", result)
-    return 0
+            fn, item = pickle.load(sys.stdin.buffer)
+        except EOFError:  # no more work
+            return 0
+        try:
+            result = fn(item)
+        except Exception as exc:  # the main process raises it
+            try:
+                _send("error", exc)
+            except (pickle.PicklingError, TypeError, AttributeError):  # it does not pickle
+                kind = ScalfError if isinstance(exc, ScalfError) else RuntimeError
+                _send("error", kind(f"{type(exc).__name__}: {exc}"))
+            continue
+        _send("result", result)
 
 
 if __name__ == "__main__":

@@ -42,18 +42,45 @@ def test_a_worker_that_dies_is_an_error_that_says_so():
         map_in_processes(os._exit, [3, 3], 2)
 
 
-def test_labels_of_a_pool_of_spawned_workers_reach_this_process_sink():
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
-
-    from scalf_opt.workers import progress_to, relayed_labels
+def test_imap_yields_every_result_with_its_index_and_an_error_in_place_of_its_result():
+    from scalf_opt.workers import imap_in_processes, progress_to
 
     labels: list[str] = []
-    context = multiprocessing.get_context("spawn")
-    with (
-        progress_to(labels.append),
-        relayed_labels(context) as (initializer, initargs),
-        ProcessPoolExecutor(2, context, initializer, initargs) as pool,
-    ):
-        assert list(pool.map(worker_progress, ["0.5 m/s", "1 m/s"])) == [None, None]
-    assert sorted(labels) == ["0.5 m/s", "1 m/s"]
+    with progress_to(labels.append):
+        got = dict(imap_in_processes(worker_progress, ["0.5 m/s", "1 m/s", "1.5 m/s"], 2))
+    assert got == {0: None, 1: None, 2: None}
+    assert sorted(labels) == ["0.5 m/s", "1 m/s", "1.5 m/s"]
+    got = dict(imap_in_processes(math.sqrt, [9.0, -1.0, 4.0, 16.0], 2))
+    assert (got[0], got[2], got[3]) == (3.0, 2.0, 4.0)
+    assert isinstance(got[1], ValueError) and "math domain error" in str(got[1])
+
+
+def test_imap_workers_serve_many_items_and_a_dead_one_is_replaced():
+    from scalf_opt.workers import imap_in_processes
+
+    pids = dict(imap_in_processes(_pid_after, [0.0] * 6, 2))
+    assert len(set(pids.values())) == 2  # two workers, three items each (not one per item)
+    got = dict(imap_in_processes(_exit_on_three, [1, 3, 2, 4], 1))
+    assert (got[0], got[2], got[3]) == (1, 2, 4)  # a fresh worker took the items after
+    assert isinstance(got[1], WorkerDiedError) and "exit code 3" in str(got[1])
+
+
+def test_closing_imap_early_kills_its_workers():
+    from scalf_opt.workers import imap_in_processes
+
+    results = imap_in_processes(time.sleep, [0.0, 600.0, 600.0], 2)
+    start = time.perf_counter()
+    assert next(results) == (0, None)
+    results.close()
+    assert time.perf_counter() - start < 60.0  # not the 600 s sleeps: the workers were killed
+
+
+def _pid_after(seconds: float) -> int:
+    time.sleep(seconds + 0.2)  # long enough that both workers take items
+    return os.getpid()
+
+
+def _exit_on_three(value: int) -> int:
+    if value == 3:
+        os._exit(3)
+    return value

@@ -14,11 +14,8 @@ that many local processes (default: one per CPU); ``scheduler`` sends them to a 
 
 from __future__ import annotations
 
-import multiprocessing
 import os
 from collections.abc import Callable, Iterator
-from concurrent.futures import ProcessPoolExecutor, as_completed
-from concurrent.futures.process import BrokenProcessPool
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -41,7 +38,7 @@ from scalf_opt.studies.progress import Progress
 from scalf_opt.studies.study_file import Case, Study
 from scalf_opt.viz.figures import save_atomic
 from scalf_opt.viz.study_figures import study_figure
-from scalf_opt.workers import progress_to, relayed_labels
+from scalf_opt.workers import WorkerDiedError, imap_in_processes, progress_to
 
 RESULTS_FILE = "results.csv"
 FIGURE_FILE = "study.png"
@@ -90,22 +87,17 @@ def _serial(cases: list[Case]) -> Iterator[tuple[Case, dict[str, Any]]]:
 
 def _pool(workers: int) -> Runner:
     def run(cases: list[Case]) -> Iterator[tuple[Case, dict[str, Any]]]:
-        # spawn: a fresh interpreter per worker, no fork of this process's CasADi/Pinocchio state
-        context = multiprocessing.get_context("spawn")
-        with (
-            relayed_labels(context) as (initializer, initargs),
-            ProcessPoolExecutor(workers, context, initializer, initargs) as pool,
-        ):
-            futures = {pool.submit(run_case, case): case for case in cases}
-            try:
-                for future in as_completed(futures):
-                    case = futures[future]
-                    try:
-                        yield case, future.result()
-                    except BrokenProcessPool as exc:
-                        yield case, _failure(case, f"worker process died ({exc})")
-            finally:
-                pool.shutdown(wait=True, cancel_futures=True)
+        # fresh interpreters (scalf_opt.workers): no fork of this process's CasADi/Pinocchio
+        # state, and unlike multiprocessing's spawn, the caller's script is not run again in
+        # each worker (a script without an `if __name__ == "__main__":` guard works)
+        for index, row in imap_in_processes(run_case, cases, workers):
+            case = cases[index]
+            if isinstance(row, WorkerDiedError):
+                yield case, _failure(case, f"worker process died ({row})")
+            elif isinstance(row, Exception):
+                raise row  # run_case makes a row of every error of the input: a bug
+            else:
+                yield case, row
 
     return run
 

@@ -1,6 +1,6 @@
 """Study files and their runs: the schema and its errors, the cache (a rerun or a killed run
-completes only the rest), failed cases, and a Dask cluster of two workers that writes the same
-results.csv as the serial run."""
+completes only the rest), failed cases, a local pool and a Dask cluster of two workers that
+write the same results.csv as the serial run."""
 
 import io
 
@@ -142,6 +142,33 @@ def test_a_run_killed_half_way_completes_only_the_rest(serial, tmp_path, monkeyp
     finished = run_study(study, out, choose_runner(workers=1))
     assert finished.cached == 1
     assert finished.results_path.read_text() == result.results_path.read_text()
+
+
+def test_a_pool_of_two_workers_runs_from_a_script_without_a_main_guard(serial, tmp_path):
+    """The local pool's workers are fresh interpreters that do not run the caller's script
+    again (multiprocessing's spawn did: every case was 'worker process died')."""
+    import subprocess
+    import sys
+
+    study, result = serial
+    script = tmp_path / "unguarded.py"
+    script.write_text(
+        "import sys\n"
+        "from scalf_opt.studies.runner import choose_runner, run_study\n"
+        "from scalf_opt.studies.study_file import read_study\n"
+        "print('the script runs')\n"
+        "run_study(read_study(sys.argv[1]), sys.argv[2], choose_runner(workers=2), quiet=True)\n"
+    )
+    out = tmp_path / "out"
+    done = subprocess.run(
+        [sys.executable, str(script), str(study.path), str(out)],
+        capture_output=True,
+        text=True,
+        timeout=600,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout == "the script runs\n" and done.stderr == ""
+    assert (out / "results.csv").read_text() == result.results_path.read_text()
 
 
 def test_a_dask_cluster_of_two_workers_writes_the_same_results(serial, tmp_path):
