@@ -7,7 +7,7 @@ import numpy as np
 from scalf_opt.errors import GaitError, InfeasibleError
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.kinematics import LegKinematics
-from scalf_opt.types import Phase, Space
+from scalf_opt.types import JOINT_ROLES, Phase, Space
 
 JOINT_LIMIT_TOLERANCE_RAD = 1e-9
 """Round-off allowed beyond a joint limit before a motion counts as violating it."""
@@ -31,7 +31,8 @@ def check_joint_limits(kin: LegKinematics, q: np.ndarray, phase: Phase) -> None:
     if bad.size:
         i, j = bad[0]
         raise InfeasibleError(
-            f"leg {leg.name}: the {phase} path takes joint {leg.joint_names[i]} to "
+            f"leg {leg.name}: the {phase} path takes joint {leg.joint_names[i]} "
+            f"(q_{JOINT_ROLES[i]}) to "
             f"{q[i, j]:.4f} rad, outside its limits "
             f"[{leg.lower_limits_rad[i]:.4f}, {leg.upper_limits_rad[i]:.4f}] rad"
         )

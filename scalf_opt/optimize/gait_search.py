@@ -197,14 +197,14 @@ def gait_at(base: Gait, speed_m_s: float, x: np.ndarray) -> Gait:
 
 _LIMIT_PATTERNS: tuple[tuple[re.Pattern[str], str], ...] = (
     (
-        re.compile(r"^the reference swing of \w+ .* takes joint (\S+) to"),
-        r"\1 joint range under the reference swing",
+        re.compile(r"^the reference swing of \w+ .* leg (\w+): .* takes joint \S+ \((q_\w+)\) to"),
+        r"\1 \2: joint range under the reference swing",
     ),
     (
         re.compile(r"^the reference swing of (\w+) .* outside the reach"),
         r"\1 reach, reference swing",
     ),
-    (re.compile(r"takes joint (\S+) to"), r"\1 joint range (URDF)"),
+    (re.compile(r"leg (\w+): .* takes joint \S+ \((q_\w+)\) to"), r"\1 \2: joint range (URDF)"),
     (re.compile(r"leg (\w+): foot target .* outside the reach"), r"\1 reach"),
     (re.compile(r"stance of (\w+): (\S+) beyond its (.*)$"), r"\1 \2: \3"),
     (re.compile(r"^(\w+) (below|above) the search box's (.*)$"), r"\1 \2 the search box's \3"),
@@ -216,8 +216,10 @@ _LIMIT_PATTERNS: tuple[tuple[re.Pattern[str], str], ...] = (
 def limit_name(reason: str) -> str:
     """The short name of the limit an infeasible gait's ``reason`` speaks of.
 
-    ``"leg RF: the stance path takes joint RF_knee to 0.4886 rad, outside ..."`` is
-    ``"RF_knee joint range (URDF)"``; a reason of no known kind is its first 80 characters.
+    ``"leg RF: the stance path takes joint RF_knee (q_knee) to 0.4886 rad, outside ..."`` is
+    ``"RF q_knee: joint range (URDF)"``, the name the stance's own bounds have (a leg's role and
+    the joint's, whatever the URDF calls the joint); a reason of no known kind is its first 80
+    characters.
     """
     for pattern, name in _LIMIT_PATTERNS:
         match = pattern.search(reason)

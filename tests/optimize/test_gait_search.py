@@ -123,18 +123,30 @@ def test_a_pinned_answer_names_its_limits(search):
 
 
 def test_limit_names_are_short_and_name_the_limit():
+    from scalf_opt.energy.pipeline import EnergyPipeline
+    from scalf_opt.energy.workspace import check_joint_limits
+    from scalf_opt.errors import InfeasibleError
+    from scalf_opt.robots.loading import load_robot
+
+    # a joint's range, as the workspace check words it, on Go1 (whose URDF calls LH's knee
+    # RL_calf_joint): named by the leg's and the joint's role, as the stance's own bounds are
+    kin = EnergyPipeline(load_robot("go1"), Gait()).kinematics("LH")
+    q = np.array([[0.0], [10.0]])  # the knee far outside its range
+    with pytest.raises(InfeasibleError) as info:
+        check_joint_limits(kin, q, "swing")
+    joint = str(info.value)
+    assert "RL_calf_joint (q_knee)" in joint
     names = {
-        "gait fields stance_height_m = 0.79 are impossible for this robot: leg RF: the stance "
-        "path takes joint RF_knee to 0.4886 rad, outside its limits [0.4910, 2.5700] rad": (
-            "RF_knee joint range (URDF)"
+        f"gait fields stance_height_m = 0.79 are impossible for this robot: {joint}": (
+            "LH q_knee: joint range (URDF)"
         ),
+        f"the reference swing of LH cannot walk it: gait fields ... {joint}": (
+            "LH q_knee: joint range under the reference swing"
+        ),
+        "stance of LH: q_knee beyond its joint range (URDF)": "LH q_knee: joint range (URDF)",
         "stance of LH: tau_knee beyond its URDF effort limit": "LH tau_knee: URDF effort limit",
         "leg RF: foot target (x=0.1 m, z=0.9 m) is 0.91 m from the hip, outside the reach "
         "[0.1, 0.8] m": "RF reach",
-        "the reference swing of RF cannot walk it: gait fields ... leg RF: the swing path takes "
-        "joint RF_knee to 0.4908 rad, outside its limits": (
-            "RF_knee joint range under the reference swing"
-        ),
         "duty_cycle below the search box's 0.5, a trot's floor": (
             "duty_cycle below the search box's 0.5, a trot's floor"
         ),
