@@ -206,8 +206,9 @@ def _exchange(
     ``last``: the worker gets no more work (its input is closed, and it is waited for).
     """
     assert worker.stdin is not None and worker.stdout is not None
+    frame = pickle.dumps((fn, item))  # work that does not pickle fails here, before a byte is sent
     try:
-        pickle.dump((fn, item), worker.stdin)
+        worker.stdin.write(frame)
         if last:
             worker.stdin.close()
         else:

@@ -2,6 +2,7 @@
 
 import math
 import os
+import pickle
 import time
 
 import pytest
@@ -53,6 +54,9 @@ def test_imap_yields_every_result_with_its_index_and_an_error_in_place_of_its_re
     got = dict(imap_in_processes(math.sqrt, [9.0, -1.0, 4.0, 16.0], 2))
     assert (got[0], got[2], got[3]) == (3.0, 2.0, 4.0)
     assert isinstance(got[1], ValueError) and "math domain error" in str(got[1])
+    # an item that does not pickle is its own error; the worker serves the next ones
+    got = dict(imap_in_processes(_length, ["ab", lambda: None, "abcd"], 1))
+    assert (got[0], got[2]) == (2, 4) and isinstance(got[1], pickle.PicklingError | AttributeError)
 
 
 def test_imap_workers_serve_many_items_and_a_dead_one_is_replaced():
@@ -78,6 +82,10 @@ def test_closing_imap_early_kills_its_workers():
 def _pid_after(seconds: float) -> int:
     time.sleep(seconds + 0.2)  # long enough that both workers take items
     return os.getpid()
+
+
+def _length(text: str) -> int:
+    return len(text)
 
 
 def _exit_on_three(value: int) -> int:
