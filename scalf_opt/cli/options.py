@@ -19,6 +19,7 @@ from scalf_opt.robots.catalog import robot_names
 from scalf_opt.types import LEG_NAMES
 
 if TYPE_CHECKING:
+    from scalf_opt.io.saved import SavedSwings
     from scalf_opt.locomotion.gait import Gait
     from scalf_opt.model.robot import Robot
 
@@ -187,25 +188,25 @@ def add_leg(parser: argparse.ArgumentParser, default: str = "RF") -> None:
     )
 
 
-def load_robot(args: argparse.Namespace, saved: Path | None = None) -> Robot:
+def load_robot(args: argparse.Namespace, saved: Path | SavedSwings | None = None) -> Robot:
     """The robot named by ``--urdf`` or ``--robot``, else the saved result's, else SCalf.
 
     The saved result's robot is taken when its provenance names a catalog robot.
 
     Args:
         args: The command line.
-        saved: A result directory (or its ``summary.json``) the command reads swings from.
-            Its provenance names the robot; only a catalog name is taken from it (a URDF path
-            in a file is not followed), and the swings are still checked against that robot's
-            URDF and mass where they are used.
+        saved: A result directory (or its ``summary.json``) the command reads swings from,
+            or those swings already read. Its provenance names the robot; only a catalog name
+            is taken from it (a URDF path in a file is not followed), and the swings are still
+            checked against that robot's URDF and mass where they are used.
     """
     from scalf_opt.robots.loading import load_robot as load
 
     name = args.robot
     if name is None and args.urdf is None and saved is not None:
-        from scalf_opt.io.saved import read_saved_swings
+        from scalf_opt.io.saved import SavedSwings, read_saved_swings
 
-        recorded = read_saved_swings(saved).robot
+        recorded = (saved if isinstance(saved, SavedSwings) else read_saved_swings(saved)).robot
         if recorded in robot_names():
             name = recorded
     return load(name=name, urdf=args.urdf)

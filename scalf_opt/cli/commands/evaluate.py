@@ -51,9 +51,10 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.viz.report import evaluate_report
 
     check_output_dir(args.out)
-    robot = load_robot(args, args.swing)
+    saved_swings = read_saved_swings(args.swing) if args.swing is not None else None
+    robot = load_robot(args, saved_swings)
     warn_without_effect(args, robot)
-    base = read_saved_swings(args.swing).gait if args.swing is not None else None
+    base = saved_swings.gait if saved_swings is not None else None
     gait = load_gait(args, robot, base)
     result = evaluate(
         robot,
