@@ -65,6 +65,8 @@ class Settings:
             rate and at ten times that rate.
         ipopt: Extra Ipopt options (``{"print_level": 5}``: its iteration log), or ``None``.
         margins: How far inside the joint range and the cylinder stroke every optimum stays.
+        screen: Ipopt leaves out the rows far from their bounds at its start
+            (:mod:`scalf_opt.optimize.screening`): for starts at a neighbouring optimum.
     """
 
     method: Method = DEFAULT_SOLVER
@@ -73,6 +75,7 @@ class Settings:
     sampling_tolerance: float = SAMPLING_TOLERANCE
     ipopt: dict[str, Any] | None = None
     margins: LimitMargins = DEFAULT_MARGINS
+    screen: bool = False
 
     def __post_init__(self) -> None:
         solver(self.method)  # a name no solver has: ConfigError
@@ -82,7 +85,7 @@ class Settings:
     @property
     def solver_options(self) -> SolverOptions:
         """The options the solvers read."""
-        return SolverOptions(self.pattern, self.ipopt)
+        return SolverOptions(self.pattern, self.ipopt, self.screen)
 
 
 @dataclass

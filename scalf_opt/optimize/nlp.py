@@ -40,7 +40,7 @@ import hashlib
 import threading
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import casadi as ca
@@ -140,6 +140,7 @@ class BuiltNlp:
         build_time_s: Time spent building it [s].
         coupled: The shape of the pair's stance term under whole-body loads, else ``None``.
         callback: Its iteration callback (kept alive with the solver).
+        index: The entries of the kernel's ``c`` it constrains (:func:`constraint_index`).
     """
 
     solver: ca.Function
@@ -152,6 +153,7 @@ class BuiltNlp:
     build_time_s: float
     coupled: CoupledShape | None = None
     callback: StopCallback | None = None
+    index: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
     @property
     def n_slack_rows(self) -> int:
@@ -327,20 +329,31 @@ def _sparse_basis(problem: SwingProblem) -> ca.DM | None:
     return ca.DM(sparsity, matrix.data)
 
 
-def constraint_index(problem: SwingProblem, lifted: bool) -> np.ndarray:
+def constraint_index(
+    problem: SwingProblem, lifted: bool, left_out: tuple[int, ...] = ()
+) -> np.ndarray:
     """Flat (column-major) indices of the entries of the kernel's ``c`` the NLP constrains.
 
     Every entry that carries a bound; in the lifted NLP except the bounds on the samples' own
-    coordinates (:attr:`SwingProblem.input_rows`), which bound ``Y`` directly.
+    coordinates (:attr:`SwingProblem.input_rows`), which bound ``Y`` directly; never the rows
+    ``left_out`` (:mod:`scalf_opt.optimize.screening`).
     """
     mask = problem.constraint_mask.copy()
     if lifted:
         mask[list(problem.input_rows)] = False
+    mask[list(left_out)] = False
     return np.flatnonzero(mask.ravel(order="F"))
 
 
-def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None) -> BuiltNlp:
-    """The NLP of ``problem``'s shape: built on first use, then taken from the kernel's cache."""
+def build_nlp(
+    problem: SwingProblem,
+    ipopt_options: dict[str, Any] | None = None,
+    left_out: tuple[int, ...] = (),
+) -> BuiltNlp:
+    """The NLP of ``problem``'s shape: built on first use, then taken from the kernel's cache.
+
+    ``left_out``: rows of the kernel's ``c`` the NLP does not carry (screened out).
+    """
     lifted = problem.n_params > CONDENSED_MAX_PARAMS
     options = {**IPOPT_DEFAULTS, **({} if lifted else CONDENSED_OPTIONS), **(ipopt_options or {})}
     kernel = problem.kernel
@@ -348,7 +361,7 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
         i for i, drive in enumerate(problem.physics.drives) if drive.charges_joint_power
     )
     accounting = problem.pipeline.accounting
-    index = constraint_index(problem, lifted)
+    index = constraint_index(problem, lifted, left_out)
     constant = _sparse_basis(problem)
     shape = coupled_shape(problem)
     # in a worker thread a signal cannot stop the solve: its iteration callback does
@@ -381,6 +394,7 @@ def build_nlp(problem: SwingProblem, ipopt_options: dict[str, Any] | None = None
             time.perf_counter() - start,
             shape,
             callback,
+            index,
         )
     built = kernel.nlps[key]
     assert isinstance(built, BuiltNlp)
@@ -546,7 +560,7 @@ def solve_nlp(built: BuiltNlp, problem: SwingProblem, theta0: np.ndarray) -> Nlp
         ]
     )
     c_lo, c_hi = problem.constraint_bounds
-    index = constraint_index(problem, built.lifted)
+    index = built.index
     slack_lo, slack_hi = rule.slack_row_bounds()
     lbg = np.concatenate(
         [

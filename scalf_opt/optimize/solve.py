@@ -21,6 +21,7 @@ from scalf_opt.optimize.pattern_search import (
     pattern_search,
 )
 from scalf_opt.optimize.problem import SwingProblem
+from scalf_opt.optimize.screening import rows_far_from_bounds
 from scalf_opt.types import Method
 
 
@@ -196,21 +197,45 @@ def run_ipopt(
     problem: SwingProblem,
     theta0: np.ndarray | None = None,
     ipopt_options: dict[str, Any] | None = None,
+    screen: bool = False,
 ) -> SwingOptimum:
     """Solve the smooth NLP with Ipopt and evaluate its answer exactly.
 
     ``success`` is True only if Ipopt reports a solved problem *and* the exact evaluation finds
     the answer feasible.
+
+    With ``screen``, the rows far inside their bounds at ``theta0`` are left out of the NLP
+    (:mod:`scalf_opt.optimize.screening`); an answer that is not a feasible, solved point of the
+    whole problem is discarded and the problem solved again, from ``theta0``, with every row (the
+    time of both solves is the answer's). Its statistics name the rows left out
+    (``rows_left_out``, empty when none was or the second solve answered).
     """
     theta0 = np.zeros(problem.n_params) if theta0 is None else np.asarray(theta0, dtype=float)
     start = time.perf_counter()
-    built = build_nlp(problem, ipopt_options)
+    left_out = rows_far_from_bounds(problem, theta0) if screen else ()
+    if left_out:
+        screened = _run_ipopt(problem, theta0, ipopt_options, left_out, start)
+        if screened.success:
+            return screened
+    return _run_ipopt(problem, theta0, ipopt_options, (), start)
+
+
+def _run_ipopt(
+    problem: SwingProblem,
+    theta0: np.ndarray,
+    ipopt_options: dict[str, Any] | None,
+    left_out: tuple[int, ...],
+    start: float,
+) -> SwingOptimum:
+    """One Ipopt solve of ``problem`` without the rows ``left_out``, evaluated with every row."""
+    built = build_nlp(problem, ipopt_options, left_out)
     solution = solve_nlp(built, problem, theta0)
     elapsed = time.perf_counter() - start
     final = problem.evaluate(solution.theta)
     stats = dict(solution.stats)
     stats["smooth_objective_j"] = solution.objective_j
     stats["solver_time_s"] = solution.wall_time_s
+    stats["rows_left_out"] = ",".join(problem.kernel.rows[row] for row in left_out)
     return SwingOptimum(
         leg=problem.leg,
         family=problem.family.name,

@@ -36,10 +36,14 @@ class SolverOptions:
     Attributes:
         pattern: The pattern search's settings (the paper's by default).
         ipopt: Extra Ipopt options set by the user (``{"print_level": 5}``: its log), or None.
+        screen: Ipopt leaves out of its NLP the rows far inside their bounds at the start and
+            solves again with every row if its answer crosses one
+            (:mod:`scalf_opt.optimize.screening`): for starts near the optimum.
     """
 
     pattern: PatternSearchOptions = field(default_factory=PatternSearchOptions)
     ipopt: dict[str, Any] | None = None
+    screen: bool = False
 
 
 class SwingSolver(ABC):
@@ -143,7 +147,7 @@ class IpoptSolver(SwingSolver):
         for attempt in (IPOPT_WARM_ATTEMPT,) if warm else IPOPT_ATTEMPTS:
             if optimum is not None and any(key in user for key in attempt if key != "max_iter"):
                 continue  # the user chose that option: no other strategy is tried for it
-            optimum = run_ipopt(problem, theta0, {**attempt, **user})
+            optimum = run_ipopt(problem, theta0, {**attempt, **user}, options.screen)
             if optimum.success:
                 break
         assert optimum is not None
