@@ -91,9 +91,9 @@ def test_a_search_s_trial_is_solved_warm_once_and_a_cold_start_with_every_strate
     calls = []
     real = solve_module.run_ipopt
 
-    def spy(problem, theta0=None, ipopt_options=None):
+    def spy(problem, theta0=None, ipopt_options=None, screen=False):
         calls.append((problem.leg, dict(ipopt_options)))
-        return real(problem, theta0, ipopt_options)
+        return real(problem, theta0, ipopt_options, screen)
 
     monkeypatch.setattr(solve_module, "run_ipopt", spy)
     pipeline = EnergyPipeline(scalf, Gait(), loads="trunk")
