@@ -176,11 +176,11 @@ def test_a_failed_start_is_reported_not_fatal(model, monkeypatch):
     seen: list[tuple] = []
     retried = []
 
-    def flaky(problem, theta0, ipopt):
+    def flaky(problem, theta0, ipopt, screen=False):
         key = tuple(theta0)
         if key not in seen:
             seen.append(key)
-        optimum = real(problem, theta0, ipopt)
+        optimum = real(problem, theta0, ipopt, screen)
         if seen.index(key) == 1:  # every solve from the second start fails, its retry too
             optimum.success, optimum.status = False, "Maximum_Iterations_Exceeded"
             retried.append((ipopt or {}).get("mu_strategy"))
