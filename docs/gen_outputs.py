@@ -18,9 +18,11 @@ folder, so a later command can read what an earlier one wrote (``optimize --out`
 the first N lines, ``| tail -N`` the last N. ``<!-- output markdown: ... -->`` marks a command
 that prints Markdown (tables), embedded as it is up to ``<!-- end of output -->``.
 
-Usage: ``python docs/gen_outputs.py [--check] [--fast] [--manual] [FILE.md ...]`` (default: the
-README and every page). ``--check`` changes nothing and exits 1 when a block differs from what
-its command prints now; ``--fast`` leaves out the ``slow`` commands.
+Usage: ``python docs/gen_outputs.py [--check] [--fast] [--manual] [--only TEXT] [FILE.md ...]``
+(default: the README and every page). ``--check`` changes nothing and exits 1 when a block differs
+from what its command prints now; ``--fast`` leaves out the ``slow`` commands; ``--only TEXT``
+runs only the blocks whose command contains TEXT (one benchmark of a page, or a command and the
+one that reads what it wrote).
 """
 
 from __future__ import annotations
@@ -137,12 +139,12 @@ def same_output(a: str, b: str) -> bool:
 
 
 def regenerate(
-    page: Path, fast: bool = False, manual: bool = False
+    page: Path, fast: bool = False, manual: bool = False, only: str | None = None
 ) -> tuple[str, list[tuple[Block, str]]]:
     """The page with every block's output renewed, and the blocks whose output changed.
 
     ``fast`` leaves out the ``slow`` and ``manual`` commands; ``manual`` ones (minutes long) run
-    only when ``manual`` is true.
+    only when ``manual`` is true; with ``only``, just the blocks whose command contains it.
     """
     text = page.read_text(encoding="utf-8")
     changed: list[tuple[Block, str]] = []
@@ -155,7 +157,8 @@ def regenerate(
             pieces.append(text[last : block.start])
             last = block.end
             body = block.body
-            if not ((fast and block.slow) or (block.manual and not manual)):
+            skipped = (fast and block.slow) or (block.manual and not manual)
+            if not skipped and (only is None or only in block.command):
                 renewed = run(block.command, Path(scratch), block.markdown, printed)
                 if not same_output(renewed, block.body):
                     changed.append((block, renewed))
@@ -182,12 +185,13 @@ def main() -> int:
     parser.add_argument(
         "--manual", action="store_true", help="also run the manual ones (minutes each)"
     )
+    parser.add_argument("--only", metavar="TEXT", help="only the commands containing TEXT")
     args = parser.parse_args()
     stale = 0
     for page in args.pages or pages():
         if not blocks(page.read_text(encoding="utf-8")):
             continue
-        text, changed = regenerate(page, fast=args.fast, manual=args.manual)
+        text, changed = regenerate(page, fast=args.fast, manual=args.manual, only=args.only)
         for block, _ in changed:
             print(f"{page}: {block.command}: {'differs' if args.check else 'renewed'}")
         stale += len(changed)
