@@ -256,8 +256,9 @@ def bound_for(
         best: LegResult | None = None
         rate = 0.0
         for theta0 in candidates:
-            # a warm start that fails (Go1's RF at 64 spans ran out of iterations) is tried
-            # again with Ipopt's own start and every retry strategy of the solver
+            # a warm start that fails (Go1's RF at 64 spans ran out of iterations before the
+            # constraint screening) is tried again with Ipopt's own start and every retry
+            # strategy of the solver, with every row
             for ipopt in [WARM_START_OPTIONS, None] if previous is not None else [None]:
                 settings = Settings(ipopt=ipopt, margins=margins, screen=ipopt is not None)
                 run = optimize_swings(
