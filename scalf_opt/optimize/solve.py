@@ -21,7 +21,7 @@ from scalf_opt.optimize.pattern_search import (
     pattern_search,
 )
 from scalf_opt.optimize.problem import SwingProblem
-from scalf_opt.optimize.screening import rows_far_from_bounds
+from scalf_opt.optimize.screening import rows_far_from_bounds, strictly_inside
 from scalf_opt.types import Method
 
 
@@ -206,16 +206,17 @@ def run_ipopt(
 
     With ``screen``, the rows far inside their bounds at ``theta0`` are left out of the NLP
     (:mod:`scalf_opt.optimize.screening`); an answer that is not a feasible, solved point of the
-    whole problem is discarded and the problem solved again, from ``theta0``, with every row (the
-    time of both solves is the answer's). Its statistics name the rows left out
-    (``rows_left_out``, empty when none was or the second solve answered).
+    whole problem with the rows left out strictly inside their bounds is discarded and the
+    problem solved again, from ``theta0``, with every row (the time of both solves is the
+    answer's). Its statistics name the rows left out (``rows_left_out``, empty when none was or
+    the second solve answered).
     """
     theta0 = np.zeros(problem.n_params) if theta0 is None else np.asarray(theta0, dtype=float)
     start = time.perf_counter()
     left_out = rows_far_from_bounds(problem, theta0) if screen else ()
     if left_out:
         screened = _run_ipopt(problem, theta0, ipopt_options, left_out, start)
-        if screened.success:
+        if screened.success and strictly_inside(problem, screened.theta, left_out):
             return screened
     return _run_ipopt(problem, theta0, ipopt_options, (), start)
 

@@ -2,6 +2,8 @@
 is still an answer of the whole problem (the free-trajectory bound's 32-span level of SCalf's
 RF leg, started at the 16-span optimum)."""
 
+import time
+
 import numpy as np
 import pytest
 
@@ -13,7 +15,7 @@ from scalf_opt.locomotion.swing.bspline import BSplineFamily
 from scalf_opt.optimize.bound import WARM_START_OPTIONS, _projection, level_rate_hz
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.sampling import with_rate
-from scalf_opt.optimize.screening import rows_far_from_bounds
+from scalf_opt.optimize.screening import rows_far_from_bounds, strictly_inside
 from scalf_opt.optimize.solve import run_ipopt
 from scalf_opt.optimize.starts import closest_member, reference_path
 
@@ -73,6 +75,7 @@ def test_a_screened_answer_is_an_answer_of_the_whole_problem(warm, whole):
     lower, upper = problem.constraint_bounds
     for i in left_out:
         assert np.all(values[i] > lower[i]) and np.all(values[i] < upper[i])
+    assert strictly_inside(problem, screened.theta, tuple(left_out))
     # here the same local optimum as with every row (to Ipopt's tolerance of 1e-8 relative)
     assert screened.swing_energy_j == pytest.approx(whole.swing_energy_j, rel=1e-8)
 
@@ -83,6 +86,11 @@ def test_an_answer_that_crosses_a_row_left_out_is_solved_again_with_every_row(
     """Leaving out the ground lets the foot dip below it: that answer is discarded."""
     problem, theta0 = warm
     ground = problem.kernel.rows.index("foot_z")
+    without_ground = solve_module._run_ipopt(
+        problem, theta0, WARM_START_OPTIONS, (ground,), time.perf_counter()
+    )
+    assert not without_ground.success  # the exact check with every row refuses it
+    assert not strictly_inside(problem, without_ground.theta, (ground,))
     monkeypatch.setattr(solve_module, "rows_far_from_bounds", lambda p, t: (ground,))
     again = run_ipopt(problem, theta0, WARM_START_OPTIONS, screen=True)
     assert again.success
