@@ -40,7 +40,7 @@ import hashlib
 import threading
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Any
 
 import casadi as ca
@@ -138,9 +138,9 @@ class BuiltNlp:
         accounting: Power accounting.
         constant_basis: ``B`` is built in (sparse family) rather than a parameter.
         build_time_s: Time spent building it [s].
+        index: The entries of the kernel's ``c`` it constrains (:func:`constraint_index`).
         coupled: The shape of the pair's stance term under whole-body loads, else ``None``.
         callback: Its iteration callback (kept alive with the solver).
-        index: The entries of the kernel's ``c`` it constrains (:func:`constraint_index`).
     """
 
     solver: ca.Function
@@ -151,9 +151,9 @@ class BuiltNlp:
     accounting: Accounting
     constant_basis: bool
     build_time_s: float
+    index: np.ndarray
     coupled: CoupledShape | None = None
     callback: StopCallback | None = None
-    index: np.ndarray = field(default_factory=lambda: np.zeros(0, dtype=np.int64))
 
     @property
     def n_slack_rows(self) -> int:
@@ -392,9 +392,9 @@ def build_nlp(
             accounting,
             constant is not None,
             time.perf_counter() - start,
+            index,
             shape,
             callback,
-            index,
         )
     built = kernel.nlps[key]
     assert isinstance(built, BuiltNlp)

@@ -37,7 +37,7 @@ class SolverOptions:
         pattern: The pattern search's settings (the paper's by default).
         ipopt: Extra Ipopt options set by the user (``{"print_level": 5}``: its log), or None.
         screen: Ipopt leaves out of its NLP the rows far inside their bounds at the start and
-            solves again with every row if its answer crosses one
+            solves again with every row unless its answer keeps them strictly inside
             (:mod:`scalf_opt.optimize.screening`): for starts near the optimum.
     """
 
