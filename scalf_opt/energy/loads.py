@@ -50,7 +50,7 @@ from scalf_opt.locomotion.trot import (
     DIAGONAL_PARTNER,
     PHASE_EDGE_TOLERANCE_S,
     stance_start_s,
-    support_legs,
+    support_masks,
     time_since_touchdown_s,
 )
 from scalf_opt.types import LEG_NAMES, Space
@@ -157,19 +157,24 @@ class StanceDistribution:
 
 def stance_distribution(pipeline: EnergyPipeline, leg: str) -> StanceDistribution:
     """The distribution maps of ``leg``'s stance samples (see :class:`StanceDistribution`)."""
-    gait = pipeline.gait
-    cycle_times = stance_start_s(gait, leg) + pipeline.stance_times_s
+    cycle_times = stance_start_s(pipeline.gait, leg) + pipeline.stance_times_s
     n = cycle_times.size
     pair = (leg, DIAGONAL_PARTNER[leg])
     force = {s: np.zeros((n, 3, 6)) for s in pair}
     unbalanced = np.zeros((n, 3, 6))
-    for j, time_s in enumerate(cycle_times):
-        feet_legs = support_legs(gait, float(time_s), leg)
-        feet = np.column_stack([foot_position_m(pipeline, o, float(time_s)) for o in feet_legs])
-        forces, unbalanced[j] = contact_maps(feet)
+    standing = support_masks(pipeline.gait, cycle_times, leg)
+    feet = {other: foot_position_m(pipeline, other, cycle_times) for other in standing}
+    # the samples with the same feet on the ground, as one stack (the pair first among them)
+    patterns = np.array(list(standing.values())).T
+    for pattern in np.unique(patterns, axis=0):
+        at = np.flatnonzero((patterns == pattern).all(axis=1))
+        on = [other for other, down in zip(standing, pattern, strict=True) if down]
+        forces, unbalanced[at] = contact_maps(
+            np.stack([feet[o][:, at] for o in on], axis=-1).swapaxes(0, 1)
+        )
         for s in pair:
-            k = feet_legs.index(s)
-            force[s][j] = forces[3 * k : 3 * k + 3]
+            k = on.index(s)
+            force[s][at] = forces[:, 3 * k : 3 * k + 3]
     return StanceDistribution(force, unbalanced)
 
 
@@ -233,12 +238,14 @@ def static_wrench(robot: Robot) -> np.ndarray:
     return np.concatenate([force, np.cross(np.array(total.lever), force)])
 
 
-def foot_position_m(pipeline: EnergyPipeline, leg: str, cycle_time_s: float) -> np.ndarray:
-    """Position of ``leg``'s stance foot in the trunk frame at a cycle time, (3,) [m]."""
+def foot_position_m(pipeline: EnergyPipeline, leg: str, cycle_times_s: np.ndarray) -> np.ndarray:
+    """Position of ``leg``'s stance foot in the trunk frame at cycle times, (3, n) [m]."""
     model_leg = pipeline.robot.leg(leg)
-    local = time_since_touchdown_s(pipeline.gait, cycle_time_s, leg)
-    xz = stance_path(pipeline.gait, np.array([local]), leg)[0, :, 0]
-    return model_leg.hip_origin_m + np.array([xz[0], model_leg.foot_lateral_m, xz[1]])
+    times = np.asarray(cycle_times_s, dtype=float)
+    local = time_since_touchdown_s(pipeline.gait, times, leg)
+    xz = stance_path(pipeline.gait, local, leg)[0]
+    lateral = np.full(times.shape, model_leg.foot_lateral_m)
+    return model_leg.hip_origin_m[:, None] + np.vstack([xz[0], lateral, xz[1]])
 
 
 def leg_motion(
@@ -283,7 +290,7 @@ def affine_leg_motion(
     gait = pipeline.gait
     t_stance, t_swing = gait.stance_duration_s, gait.swing_duration_s
     times = np.asarray(cycle_times_s, dtype=float)
-    local = np.array([time_since_touchdown_s(gait, float(t), leg) for t in times])
+    local = time_since_touchdown_s(gait, times, leg)
     tol = PHASE_EDGE_TOLERANCE_S
     in_stance = (local > tol) & (local < t_stance - tol)
     if standing:

@@ -24,41 +24,52 @@ def balance_matrix(feet_xz_m: np.ndarray) -> np.ndarray:
     """The 3 x 2k matrix ``A`` of sagittal force and moment balance.
 
     Args:
-        feet_xz_m: Stance-foot positions relative to the trunk COM, shape (2, k) [m].
+        feet_xz_m: Stance-foot positions relative to the trunk COM, shape (..., 2, k) [m]
+            (leading axes: a stack of stances, one matrix each).
     """
     feet = np.asarray(feet_xz_m, dtype=float)
-    k = feet.shape[1]
-    a = np.zeros((3, 2 * k))
-    a[0, 0::2] = 1.0
-    a[1, 1::2] = 1.0
-    a[2, 0::2] = feet[1]
-    a[2, 1::2] = -feet[0]
+    k = feet.shape[-1]
+    a = np.zeros((*feet.shape[:-2], 3, 2 * k))
+    a[..., 0, 0::2] = 1.0
+    a[..., 1, 1::2] = 1.0
+    a[..., 2, 0::2] = feet[..., 1, :]
+    a[..., 2, 1::2] = -feet[..., 0, :]
     return a
 
 
 def min_norm_foot_forces(
     feet_xz_m: np.ndarray,
     trunk_mass_kg: float,
-    trunk_acceleration_m_s2: float = 0.0,
+    trunk_acceleration_m_s2: float | np.ndarray = 0.0,
     gravity_m_s2: float = GRAVITY_M_S2,
 ) -> np.ndarray:
-    """Ground reaction forces on the stance feet, shape (2, k) [N], rows (F_x, F_z).
+    """Ground reaction forces on the stance feet, shape (..., 2, k) [N], rows (F_x, F_z).
 
     Args:
-        feet_xz_m: Stance-foot positions relative to the trunk COM, shape (2, k) [m].
+        feet_xz_m: Stance-foot positions relative to the trunk COM, shape (..., 2, k) [m]
+            (leading axes: a stack of stances with the same number of feet).
         trunk_mass_kg: Mass M carried by the feet [kg].
-        trunk_acceleration_m_s2: Forward acceleration a of the trunk [m/s^2].
+        trunk_acceleration_m_s2: Forward acceleration a of the trunk [m/s^2], a number or
+            one per stance of the stack (shape ``...``).
         gravity_m_s2: g [m/s^2].
     """
     a = balance_matrix(feet_xz_m)
-    wrench = np.array([trunk_mass_kg * trunk_acceleration_m_s2, trunk_mass_kg * gravity_m_s2, 0.0])
-    forces = np.linalg.pinv(a) @ wrench
-    return forces.reshape(-1, 2).T
+    accel = np.broadcast_to(np.asarray(trunk_acceleration_m_s2, dtype=float), a.shape[:-2])
+    wrench = np.zeros((*a.shape[:-2], 3))
+    wrench[..., 0] = trunk_mass_kg * accel
+    wrench[..., 1] = trunk_mass_kg * gravity_m_s2
+    forces = (np.linalg.pinv(a) @ wrench[..., None])[..., 0]
+    return np.swapaxes(forces.reshape(*forces.shape[:-1], -1, 2), -1, -2)
 
 
 def cross_matrix(r: np.ndarray) -> np.ndarray:
-    """``[r]_x`` (3 x 3): ``r x f = [r]_x f``."""
-    return np.array([[0.0, -r[2], r[1]], [r[2], 0.0, -r[0]], [-r[1], r[0], 0.0]])
+    """``[r]_x`` (..., 3, 3): ``r x f = [r]_x f``, for ``r`` of shape (..., 3)."""
+    r = np.asarray(r, dtype=float)
+    out = np.zeros((*r.shape[:-1], 3, 3))
+    out[..., 0, 1], out[..., 0, 2] = -r[..., 2], r[..., 1]
+    out[..., 1, 0], out[..., 1, 2] = r[..., 2], -r[..., 0]
+    out[..., 2, 0], out[..., 2, 1] = -r[..., 1], r[..., 0]
+    return out
 
 
 def contact_maps(feet_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -77,23 +88,26 @@ def contact_maps(feet_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     Both maps are linear in the wrench ``W`` (force, then moment about the trunk origin):
 
     Args:
-        feet_m: Stance-foot positions in the trunk frame, shape (3, k) [m], k >= 2.
+        feet_m: Stance-foot positions in the trunk frame, shape (..., 3, k) [m], k >= 2
+            (leading axes: a stack of stances with the same number of feet).
 
     Returns:
-        ``(forces, unbalanced)``: ``forces`` (3k, 6) maps ``W`` to the stacked foot forces
-        ``(F_1, ..., F_k)``; ``unbalanced`` (3, 6) maps it to the moment the feet cannot supply.
+        ``(forces, unbalanced)``: ``forces`` (..., 3k, 6) maps ``W`` to the stacked foot
+        forces ``(F_1, ..., F_k)``; ``unbalanced`` (..., 3, 6) maps it to the moment the feet
+        cannot supply.
     """
     feet = np.asarray(feet_m, dtype=float)
-    centroid = feet.mean(axis=1)
-    k = feet.shape[1]
-    a = np.zeros((6, 3 * k))
+    centroid = feet.mean(axis=-1)
+    k = feet.shape[-1]
+    stack = feet.shape[:-2]
+    a = np.zeros((*stack, 6, 3 * k))
     for j in range(k):
-        a[0:3, 3 * j : 3 * j + 3] = np.eye(3)
-        a[3:6, 3 * j : 3 * j + 3] = cross_matrix(feet[:, j] - centroid)
-    shift = np.eye(6)  # W about the trunk origin -> about the centroid: M - c x F
-    shift[3:6, 0:3] = -cross_matrix(centroid)
+        a[..., 0:3, 3 * j : 3 * j + 3] = np.eye(3)
+        a[..., 3:6, 3 * j : 3 * j + 3] = cross_matrix(feet[..., :, j] - centroid)
+    shift = np.broadcast_to(np.eye(6), (*stack, 6, 6)).copy()  # W about the origin -> about c
+    shift[..., 3:6, 0:3] = -cross_matrix(centroid)
     forces = np.linalg.pinv(a, rcond=1e-10) @ shift
-    return forces, shift[3:6] - a[3:6] @ forces
+    return forces, shift[..., 3:6, :] - a[..., 3:6, :] @ forces
 
 
 def min_norm_contact_forces(

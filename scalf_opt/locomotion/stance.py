@@ -23,7 +23,7 @@ from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.trot import (
     DIAGONAL_PARTNER,
     stance_start_s,
-    support_legs,
+    support_masks,
     time_since_touchdown_s,
 )
 
@@ -63,18 +63,21 @@ def stance_forces(
     accel = trunk_acceleration_m_s2(gait, t)
     forces = {}
     for leg in hips_xz_m:
+        cycle_times = stance_start_s(gait, leg) + t
+        standing = support_masks(gait, cycle_times, leg)
+        feet = {}  # every leg's stance foot at every sample (used where it stands)
+        for other in standing:
+            pair = other in (leg, DIAGONAL_PARTNER[leg])
+            local = t if pair else time_since_touchdown_s(gait, cycle_times, other)
+            feet[other] = stance_path(gait, local, other)[0] + hips_xz_m[other][:, None]
         f_leg = np.zeros((2, t.size))
-        for j, t_j in enumerate(t):
-            cycle_time = stance_start_s(gait, leg) + t_j
-            feet = []
-            for other in support_legs(gait, cycle_time, leg):
-                local = (
-                    t_j
-                    if other in (leg, DIAGONAL_PARTNER[leg])
-                    else time_since_touchdown_s(gait, cycle_time, other)
-                )
-                foot = stance_path(gait, np.array([local]), other)[0, :, 0]
-                feet.append(foot + hips_xz_m[other])
-            f_leg[:, j] = min_norm_foot_forces(np.array(feet).T, trunk_mass_kg, accel[j])[:, 0]
+        # the samples with the same feet on the ground, as one stack (leg first among them)
+        patterns = np.array([mask for mask in standing.values()]).T
+        for pattern in np.unique(patterns, axis=0):
+            at = np.flatnonzero((patterns == pattern).all(axis=1))
+            on = [other for other, down in zip(standing, pattern, strict=True) if down]
+            stack = np.stack([feet[other][:, at] for other in on], axis=-1)  # (2, m, k)
+            f = min_norm_foot_forces(np.swapaxes(stack, 0, 1), trunk_mass_kg, accel[at])
+            f_leg[:, at] = f[:, :, 0].T
         forces[leg] = f_leg
     return forces

@@ -6,6 +6,10 @@ later (the paper's precondition d).
 
 from __future__ import annotations
 
+from typing import Any
+
+import numpy as np
+
 from scalf_opt.locomotion.gait import Gait
 
 TROT_PHASE_OFFSET: dict[str, float] = {"RF": 0.0, "LH": 0.0, "LF": 0.5, "RH": 0.5}
@@ -31,8 +35,11 @@ def swing_start_s(gait: Gait, leg: str) -> float:
     return stance_start_s(gait, leg) + gait.stance_duration_s
 
 
-def time_since_touchdown_s(gait: Gait, cycle_time_s: float, leg: str) -> float:
-    """Time since ``leg``'s touch-down at cycle time ``cycle_time_s`` [s], in [0, T)."""
+def time_since_touchdown_s(gait: Gait, cycle_time_s: Any, leg: str) -> Any:
+    """Time since ``leg``'s touch-down at cycle time ``cycle_time_s`` [s], in [0, T).
+
+    A float for a float, an array for an array of times.
+    """
     return (cycle_time_s - stance_start_s(gait, leg)) % gait.period_s
 
 
@@ -42,11 +49,23 @@ def support_legs(gait: Gait, cycle_time_s: float, leg: str) -> list[str]:
     ``leg`` and its diagonal partner always count; another leg counts when the time lies
     strictly inside its stance (a foot exactly at touch-down or lift-off carries nothing).
     """
-    support = [leg, DIAGONAL_PARTNER[leg]]
+    standing = support_masks(gait, np.array([cycle_time_s]), leg)
+    return [other for other, mask in standing.items() if mask[0]]
+
+
+def support_masks(gait: Gait, cycle_times_s: np.ndarray, leg: str) -> dict[str, np.ndarray]:
+    """Which legs are on the ground at each of ``cycle_times_s`` while ``leg`` is in stance.
+
+    :func:`support_legs` for many times at once: per leg, a boolean array over the times, the
+    legs in :func:`support_legs`' order (``leg``, its diagonal partner, then the others).
+    """
+    times = np.asarray(cycle_times_s, dtype=float)
+    out = {leg: np.ones(times.shape, dtype=bool)}
+    out[DIAGONAL_PARTNER[leg]] = np.ones(times.shape, dtype=bool)
     for other in TROT_PHASE_OFFSET:
-        if other in support:
+        if other in out:
             continue
-        local = time_since_touchdown_s(gait, cycle_time_s, other)
-        if PHASE_EDGE_TOLERANCE_S < local < gait.stance_duration_s - PHASE_EDGE_TOLERANCE_S:
-            support.append(other)
-    return support
+        local = time_since_touchdown_s(gait, times, other)
+        edge = PHASE_EDGE_TOLERANCE_S
+        out[other] = (edge < local) & (local < gait.stance_duration_s - edge)
+    return out
