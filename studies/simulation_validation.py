@@ -97,7 +97,10 @@ def print_results(rows: list[dict[str, Any]], cycles: int) -> None:
         )
 
 
-def sensitivity(robot, pipeline, optimum, cycles: int, quick: bool) -> list[dict[str, Any]]:
+def sensitivity(
+    robot, pipeline, optimum, cycles: int, quick: bool, default: tuple[dict, dict]
+) -> list[dict[str, Any]]:
+    """Each setting's reference and optimum runs; ``default``: the two runs at the defaults."""
     cases = [("servo 30 Hz (default)", SimSettings())]
     if not quick:
         cases += [
@@ -109,8 +112,11 @@ def sensitivity(robot, pipeline, optimum, cycles: int, quick: bool) -> list[dict
         ]
     rows = []
     for label, settings in cases:
-        ref = run_trot(robot, pipeline, REFERENCE_SWINGS, settings, cycles).result
-        opt = run_trot(robot, pipeline, optimum, settings, cycles).result
+        if settings == SimSettings():  # simulated already (deterministic: the same numbers)
+            ref, opt = default
+        else:
+            ref = run_trot(robot, pipeline, REFERENCE_SWINGS, settings, cycles).result
+            opt = run_trot(robot, pipeline, optimum, settings, cycles).result
         r, o = ref["total_energy_per_cycle_j"], opt["total_energy_per_cycle_j"]
         rows.append(
             {
@@ -243,15 +249,16 @@ def main(argv: list[str] | None = None) -> int:
     planned.check_robot(robot)
     pipeline, optimum = EnergyPipeline(robot, planned.gait), planned.require_all_legs()
     label = f"optimum ({optimum['RF'][0]})"
-    rows = []
+    rows, runs = [], []
     for name, run in (
         ("reference", so.simulate(robot, planned.gait, cycles=cycles)),
         ("optimum", so.simulate(robot, swings_from=source, cycles=cycles)),
     ):
         run.write(args.out / name)
         rows.append(results_row("reference" if name == "reference" else label, run.data))
+        runs.append(run.data)
     print_results(rows, cycles)
-    sensitivity_rows = sensitivity(robot, pipeline, optimum, cycles, args.quick)
+    sensitivity_rows = sensitivity(robot, pipeline, optimum, cycles, args.quick, tuple(runs))
     recovery = [
         log_recovery(robot, pipeline, REFERENCE_SWINGS, "reference", seeds),
         log_recovery(robot, pipeline, optimum, label, seeds),
