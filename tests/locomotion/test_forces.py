@@ -63,3 +63,27 @@ def test_trunk_acceleration_is_carried_by_horizontal_forces(accel):
     feet = np.array([[0.68, -0.68], [-0.945, -0.945]])
     f = min_norm_foot_forces(feet, M, accel)
     assert f[0].sum() == pytest.approx(M * accel, rel=1e-12)
+
+
+def test_a_stack_of_stances_gives_each_stance_s_forces():
+    rng = np.random.default_rng(0)
+    feet = np.stack([rng.uniform(-1.0, 1.0, (2, 3)) - [[0.0], [1.0]] for _ in range(5)])
+    accel = rng.uniform(-2.0, 2.0, 5)
+    stacked = min_norm_foot_forces(feet, M, accel)
+    assert stacked.shape == (5, 2, 3)
+    for j in range(5):
+        np.testing.assert_array_equal(stacked[j], min_norm_foot_forces(feet[j], M, accel[j]))
+        assert np.max(np.abs(residual(feet[j], stacked[j], M, accel[j]))) < 1e-9
+
+
+def test_a_stack_of_3d_stances_gives_each_stance_s_maps():
+    from scalf_opt.locomotion.forces import contact_maps
+
+    rng = np.random.default_rng(1)
+    feet = rng.uniform(-0.5, 0.5, (4, 3, 2)) - np.array([[0.0], [0.0], [0.9]])
+    forces, unbalanced = contact_maps(feet)
+    assert forces.shape == (4, 6, 6) and unbalanced.shape == (4, 3, 6)
+    for j in range(4):
+        f, u = contact_maps(feet[j])
+        np.testing.assert_array_equal(forces[j], f)
+        np.testing.assert_array_equal(unbalanced[j], u)
