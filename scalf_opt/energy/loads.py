@@ -50,6 +50,7 @@ from scalf_opt.locomotion.trot import (
     DIAGONAL_PARTNER,
     PHASE_EDGE_TOLERANCE_S,
     stance_start_s,
+    support_groups,
     support_masks,
     time_since_touchdown_s,
 )
@@ -165,10 +166,7 @@ def stance_distribution(pipeline: EnergyPipeline, leg: str) -> StanceDistributio
     standing = support_masks(pipeline.gait, cycle_times, leg)
     feet = {other: foot_position_m(pipeline, other, cycle_times) for other in standing}
     # the samples with the same feet on the ground, as one stack (the pair first among them)
-    patterns = np.array(list(standing.values())).T
-    for pattern in np.unique(patterns, axis=0):
-        at = np.flatnonzero((patterns == pattern).all(axis=1))
-        on = [other for other, down in zip(standing, pattern, strict=True) if down]
+    for at, on in support_groups(standing):
         forces, unbalanced[at] = contact_maps(
             np.stack([feet[o][:, at] for o in on], axis=-1).swapaxes(0, 1)
         )

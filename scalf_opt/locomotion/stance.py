@@ -23,6 +23,7 @@ from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.trot import (
     DIAGONAL_PARTNER,
     stance_start_s,
+    support_groups,
     support_masks,
     time_since_touchdown_s,
 )
@@ -72,10 +73,7 @@ def stance_forces(
             feet[other] = stance_path(gait, local, other)[0] + hips_xz_m[other][:, None]
         f_leg = np.zeros((2, t.size))
         # the samples with the same feet on the ground, as one stack (leg first among them)
-        patterns = np.array([mask for mask in standing.values()]).T
-        for pattern in np.unique(patterns, axis=0):
-            at = np.flatnonzero((patterns == pattern).all(axis=1))
-            on = [other for other, down in zip(standing, pattern, strict=True) if down]
+        for at, on in support_groups(standing):
             stack = np.stack([feet[other][:, at] for other in on], axis=-1)  # (2, m, k)
             f = min_norm_foot_forces(np.swapaxes(stack, 0, 1), trunk_mass_kg, accel[at])
             f_leg[:, at] = f[:, :, 0].T

@@ -69,3 +69,18 @@ def support_masks(gait: Gait, cycle_times_s: np.ndarray, leg: str) -> dict[str, 
         edge = PHASE_EDGE_TOLERANCE_S
         out[other] = (edge < local) & (local < gait.stance_duration_s - edge)
     return out
+
+
+def support_groups(standing: dict[str, np.ndarray]) -> list[tuple[np.ndarray, list[str]]]:
+    """The times of :func:`support_masks`' answer grouped by the legs on the ground.
+
+    Returns:
+        Per set of legs on the ground: the indices of its times, and the legs, in ``standing``'s
+        order (so that one stacked computation serves every time of a group).
+    """
+    patterns = np.array(list(standing.values())).T
+    groups = []
+    for pattern in np.unique(patterns, axis=0):
+        at = np.flatnonzero((patterns == pattern).all(axis=1))
+        groups.append((at, [leg for leg, down in zip(standing, pattern, strict=True) if down]))
+    return groups

@@ -7,7 +7,7 @@ from scalf_opt.errors import ConfigError, GaitError
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.gait_file import read_gait
 from scalf_opt.locomotion.stance import stance_path, trunk_acceleration_m_s2
-from scalf_opt.locomotion.trot import support_legs
+from scalf_opt.locomotion.trot import support_groups, support_legs, support_masks
 
 
 def test_paper_defaults():
@@ -99,6 +99,18 @@ def test_trot_support_sets():
     assert sorted(support_legs(g, 0.25, "RF")) == ["LH", "RF"]  # LF touches down: carries 0
     g2 = Gait(duty_cycle=0.6)
     assert sorted(support_legs(g2, 0.28, "RF")) == ["LF", "LH", "RF", "RH"]
+
+
+def test_support_groups_partition_the_times_by_the_legs_on_the_ground():
+    g = Gait(duty_cycle=0.7)
+    times = np.linspace(0.0, g.stance_duration_s, 101)  # RF's stance, both edges
+    groups = support_groups(support_masks(g, times, "RF"))
+    assert sorted(np.concatenate([at for at, _ in groups]).tolist()) == list(range(times.size))
+    assert len(groups) == 2  # RF + LH alone; all four (LF + RH ending, then starting, stance)
+    for at, legs in groups:
+        for j in at:
+            assert legs == support_legs(g, float(times[j]), "RF")
+            assert legs[:2] == ["RF", "LH"]
 
 
 def test_gait_files_that_are_not_gaits(tmp_path):
