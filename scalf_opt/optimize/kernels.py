@@ -231,13 +231,20 @@ def stance_limited_bounds(physics: LegPhysics) -> tuple[Bound, ...]:
     torques, so the swing NLP keeps these inside their limits on the stance samples it loads
     (no margin: a margin is for end stops and stroke ends).
     """
-    q, qd, tau = (ca.SX.sym(n, 2) for n in ("q", "qd", "tau"))
-    return tuple(
-        b
-        for b in leg_bounds(physics)
-        if b.output == "tau"
-        or (b.row is None and ca.depends_on(_bounded_value(physics, b, q, qd, tau), tau))
-    )
+    if physics not in _STANCE_LIMITED_BOUNDS:  # symbolic, so once per leg (a search asks often)
+        q, qd, tau = (ca.SX.sym(n, 2) for n in ("q", "qd", "tau"))
+        _STANCE_LIMITED_BOUNDS[physics] = tuple(
+            b
+            for b in leg_bounds(physics)
+            if b.output == "tau"
+            or (b.row is None and ca.depends_on(_bounded_value(physics, b, q, qd, tau), tau))
+        )
+    return _STANCE_LIMITED_BOUNDS[physics]
+
+
+_STANCE_LIMITED_BOUNDS: weakref.WeakKeyDictionary[LegPhysics, tuple[Bound, ...]] = (
+    weakref.WeakKeyDictionary()
+)
 
 
 _STANCE_LIMIT_FUNCTIONS: weakref.WeakKeyDictionary[LegPhysics, ca.Function] = (
