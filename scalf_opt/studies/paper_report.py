@@ -68,6 +68,7 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         if compare
         else f"# The paper's comparison (Tables 5 and 6) on {robot.name}"
     )
+    power = "`|tau qd| + |F_f v|`" if compare else "`|tau qd|` plus the drives' losses"
     lines = [
         title,
         "",
@@ -75,7 +76,7 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         f"trot T = {g.period_s:g} s, duty {g.duty_cycle:g}, S = {g.step_length_m:g} m, "
         f"H = {g.clearance_m:g} m, "
         f"z0 = {g.stance_height_m:g} m, {g.sample_rate_hz:g} Hz; power "
-        f"{'`|tau qd| + |F_f v|`' if compare else '`|tau qd|` plus the drives losses'}. "
+        f"{power}. "
         "LF and RH repeat RF and LH half a cycle later (the paper's symmetry; checked: "
         f"{rep.reference.symmetry_error:.1e}).",
         "",
