@@ -6,7 +6,7 @@ later (the paper's precondition d).
 
 from __future__ import annotations
 
-from typing import Any
+from typing import TypeVar
 
 import numpy as np
 
@@ -35,7 +35,11 @@ def swing_start_s(gait: Gait, leg: str) -> float:
     return stance_start_s(gait, leg) + gait.stance_duration_s
 
 
-def time_since_touchdown_s(gait: Gait, cycle_time_s: Any, leg: str) -> Any:
+Times = TypeVar("Times", float, np.ndarray)
+"""One time [s] or an array of times."""
+
+
+def time_since_touchdown_s(gait: Gait, cycle_time_s: Times, leg: str) -> Times:
     """Time since ``leg``'s touch-down at cycle time ``cycle_time_s`` [s], in [0, T).
 
     A float for a float, an array for an array of times.
