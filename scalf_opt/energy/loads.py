@@ -167,9 +167,7 @@ def stance_distribution(pipeline: EnergyPipeline, leg: str) -> StanceDistributio
     feet = {other: foot_position_m(pipeline, other, cycle_times) for other in standing}
     # the samples with the same feet on the ground, as one stack (the pair first among them)
     for at, on in support_groups(standing):
-        forces, unbalanced[at] = contact_maps(
-            np.stack([feet[o][:, at] for o in on], axis=-1).swapaxes(0, 1)
-        )
+        forces, unbalanced[at] = contact_maps(np.stack([feet[o][:, at].T for o in on], axis=-1))
         for s in pair:
             k = on.index(s)
             force[s][at] = forces[:, 3 * k : 3 * k + 3]
@@ -279,7 +277,7 @@ def affine_leg_motion(
     touch-down or lift-off (within the phase-edge tolerance) is taken from the swing, its
     value on the side of the edge where the window lies (the other pair lifts off as the
     window begins and touches down as it ends), as
-    :func:`~scalf_opt.locomotion.trot.support_legs` does not count it as standing. The space
+    :func:`~scalf_opt.locomotion.trot.support_masks` does not count it as standing. The space
     is the family's; stance samples of a joint-space family are mapped to joint motion by the
     leg's inverse kinematics.
     """

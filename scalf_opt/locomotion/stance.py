@@ -74,8 +74,8 @@ def stance_forces(
         f_leg = np.zeros((2, t.size))
         # the samples with the same feet on the ground, as one stack (leg first among them)
         for at, on in support_groups(standing):
-            stack = np.stack([feet[other][:, at] for other in on], axis=-1)  # (2, m, k)
-            f = min_norm_foot_forces(np.swapaxes(stack, 0, 1), trunk_mass_kg, accel[at])
+            stack = np.stack([feet[other][:, at].T for other in on], axis=-1)  # (m, 2, k)
+            f = min_norm_foot_forces(stack, trunk_mass_kg, accel[at])
             f_leg[:, at] = f[:, :, 0].T
         forces[leg] = f_leg
     return forces

@@ -47,21 +47,15 @@ def time_since_touchdown_s(gait: Gait, cycle_time_s: Times, leg: str) -> Times:
     return (cycle_time_s - stance_start_s(gait, leg)) % gait.period_s
 
 
-def support_legs(gait: Gait, cycle_time_s: float, leg: str) -> list[str]:
-    """Legs on the ground at ``cycle_time_s`` while ``leg`` is in stance.
-
-    ``leg`` and its diagonal partner always count; another leg counts when the time lies
-    strictly inside its stance (a foot exactly at touch-down or lift-off carries nothing).
-    """
-    standing = support_masks(gait, np.array([cycle_time_s]), leg)
-    return [other for other, mask in standing.items() if mask[0]]
-
-
 def support_masks(gait: Gait, cycle_times_s: np.ndarray, leg: str) -> dict[str, np.ndarray]:
     """Which legs are on the ground at each of ``cycle_times_s`` while ``leg`` is in stance.
 
-    :func:`support_legs` for many times at once: per leg, a boolean array over the times, the
-    legs in :func:`support_legs`' order (``leg``, its diagonal partner, then the others).
+    ``leg`` and its diagonal partner always count; another leg counts when the time lies
+    strictly inside its stance (a foot exactly at touch-down or lift-off carries nothing).
+
+    Returns:
+        Per leg, a boolean array over the times; the legs in the order ``leg``, its diagonal
+        partner, then the others.
     """
     times = np.asarray(cycle_times_s, dtype=float)
     out = {leg: np.ones(times.shape, dtype=bool)}

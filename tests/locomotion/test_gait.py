@@ -7,7 +7,7 @@ from scalf_opt.errors import ConfigError, GaitError
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.gait_file import read_gait
 from scalf_opt.locomotion.stance import stance_path, trunk_acceleration_m_s2
-from scalf_opt.locomotion.trot import support_groups, support_legs, support_masks
+from scalf_opt.locomotion.trot import support_groups, support_masks
 
 
 def test_paper_defaults():
@@ -91,6 +91,12 @@ def test_bad_gait_files_name_file_and_field(tmp_path, text, error, match):
 def test_missing_gait_file(tmp_path):
     with pytest.raises(ConfigError, match=r"nope\.toml"):
         read_gait(tmp_path / "nope.toml")
+
+
+def support_legs(gait, cycle_time_s, leg):
+    """The legs on the ground at one cycle time, in support_masks' order."""
+    masks = support_masks(gait, np.array([cycle_time_s]), leg)
+    return [other for other, down in masks.items() if down[0]]
 
 
 def test_trot_support_sets():
