@@ -1,11 +1,12 @@
 """Parse the command line, dispatch to a command, and turn failures into one line and a code.
 
 Exit codes: 0 success; 1 an unexpected failure (a bug: one line and a hint, ``--debug`` shows the
-traceback); 2 bad input (:class:`~scalf_opt.errors.ScalfError`: one line on stderr naming the
-file or field); 3 an optimizer did not converge (the command says which); 130 interrupted
-(Ctrl-C); 143 terminated (SIGTERM; both remove the temporary files first); 141 the reader of the
-output went away where a command could not go on without it (normally a closed pipe only drops
-the rest of the output: the command finishes and writes its files).
+traceback); 2 bad input (:class:`~scalf_opt.errors.ScalfError`: one line on stderr naming the file
+or field; also an optional part the command needs that is not installed, naming its extra); 3 an
+optimizer did not converge (the command says which); 130 interrupted (Ctrl-C); 143 terminated
+(SIGTERM; both remove the temporary files first); 141 the reader of the output went away where a
+command could not go on without it (normally a closed pipe only drops the rest of the output: the
+command finishes and writes its files).
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ from __future__ import annotations
 import argparse
 import difflib
 import errno
+import importlib.metadata
 import os
 import re
 import sys
@@ -183,6 +185,16 @@ def _run(args: argparse.Namespace, argv: list[str], console: Console) -> int:
         # /dev/null so that Python's own flush at exit does not fail again
         os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
         return 141
+    except ModuleNotFoundError as exc:
+        missing = missing_extra(exc)
+        if missing is None:
+            return _unexpected(args, exc, console)
+        package, extra = missing
+        console.error(
+            f"{package} is not installed: scalf-opt {args.command} needs the optional "
+            f"'{extra}' part (pip install 'scalf-opt[{extra}]')"
+        )
+        return 2
     except OSError as exc:
         if exc.filename is not None and exc.errno in _PATH_ERRORS:
             console.error(f"{exc.filename}: {exc.strerror}")  # a path the system refuses
@@ -209,6 +221,25 @@ _PATH_ERRORS = frozenset(
 )
 """What the system says of a path the user gave (too long, denied, full, read-only, a loop): bad
 input naming the path, wherever in a library it surfaced."""
+
+
+def missing_extra(exc: ModuleNotFoundError) -> tuple[str, str] | None:
+    """The package ``exc`` did not find, and the extra of scalf-opt that provides it (if one does).
+
+    Read from the installed package's metadata (``pyproject.toml``'s optional dependencies), so
+    that a command of an optional part (``simulate``: MuJoCo; ``view``: meshcat) run without it
+    says what to install instead of reporting a bug.
+    """
+    module = (exc.name or "").split(".")[0].lower()
+    try:
+        requirements = importlib.metadata.requires("scalf-opt") or []
+    except importlib.metadata.PackageNotFoundError:
+        return None
+    for requirement in requirements:
+        match = re.match(r"\s*([A-Za-z0-9_.-]+).*;\s*extra\s*==\s*['\"]([\w-]+)['\"]", requirement)
+        if match and re.sub(r"[-.]", "_", match[1].lower()) == module:
+            return module, match[2]
+    return None
 
 
 def _unexpected(args: argparse.Namespace, exc: Exception, console: Console) -> int:

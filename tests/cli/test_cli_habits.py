@@ -195,3 +195,27 @@ def test_a_near_miss_of_the_free_bound_is_named_and_nothing_is_written(tmp_path,
     assert not out.exists()
     assert main(["optimize", "--family", "joint-66"]) == 2  # not near 'free': no suggestion
     assert "did you mean" not in capsys.readouterr().err
+
+
+@pytest.mark.parametrize(
+    ("argv", "module", "extra"),
+    [(["simulate", "--cycles", "1"], "mujoco", "sim"), (["view"], "meshcat", "viz")],
+)
+def test_a_missing_optional_part_is_named_with_its_extra(
+    argv, module, extra, tmp_path, capsys, monkeypatch
+):
+    """Without MuJoCo or meshcat installed, the command says which extra to install (exit 2)."""
+    for name in list(sys.modules):  # as if never installed: importing it fails
+        if name == module or name.startswith(module + "."):
+            monkeypatch.delitem(sys.modules, name)
+    monkeypatch.setitem(sys.modules, module, None)
+    for name in list(sys.modules):  # the package's modules that import it load again
+        if name.startswith(("scalf_opt.sim", "scalf_opt.viz")):
+            monkeypatch.delitem(sys.modules, name)
+    code, _, err = run([*argv, "--out", str(tmp_path / "out")], capsys)
+    assert code == 2, err
+    assert err.strip().splitlines() == [
+        f"scalf-opt: error: {module} is not installed: scalf-opt {argv[0]} needs the optional "
+        f"'{extra}' part (pip install 'scalf-opt[{extra}]')"
+    ]
+    assert not (tmp_path / "out").exists()
