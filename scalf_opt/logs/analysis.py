@@ -80,15 +80,45 @@ def cycle_windows(
     """
     if contact is not None:
         stance = contact
-        downs = touchdowns(contact, t_s)
-        first = float(downs[0]) if downs.size else np.inf
     else:
         offset = stance_start_s(gait, leg) * period_s / gait.period_s
         stance = np.mod(t_s - offset, period_s) < gait.duty_cycle * period_s
-        first = offset + np.ceil((t_s[0] - offset) / period_s) * period_s
+    first = first_touchdown_s(t_s, contact, gait, leg, period_s)
     count = int(np.floor((t_s[-1] - first) / period_s + 1e-9)) if np.isfinite(first) else 0
     windows = [(first + k * period_s, first + (k + 1) * period_s) for k in range(max(count, 0))]
     return stance, windows
+
+
+def first_touchdown_s(
+    t_s: np.ndarray, contact: np.ndarray | None, gait: Gait, leg: str, period_s: float
+) -> float:
+    """Where a leg's first cycle in a log starts: its first touch-down [s].
+
+    With contact flags, the first 0 -> 1 step (``inf`` when there is none: a log that starts in
+    contact may start in mid-stance, so its first sample is no touch-down); without, the first
+    stance start of the gait's schedule (scaled to ``period_s``) at or after the first sample.
+    """
+    if contact is not None:
+        downs = touchdowns(contact, t_s)
+        return float(downs[0]) if downs.size else np.inf
+    offset = stance_start_s(gait, leg) * period_s / gait.period_s
+    return float(offset + np.ceil((t_s[0] - offset) / period_s) * period_s)
+
+
+def no_complete_cycle(
+    source: str, leg: str, t_s: np.ndarray, first_s: float, period_s: float
+) -> LogError:
+    """The error for a leg whose samples hold no complete cycle from its first touch-down."""
+    if not np.isfinite(first_s):
+        return LogError(
+            f"{source}: leg {leg} never touches down in the log (its contact column has no "
+            "0 -> 1 step), so it holds no complete gait cycle"
+        )
+    return LogError(
+        f"{source}: leg {leg} has no complete gait cycle: one period ({period_s:.4g} s) from its "
+        f"first touch-down at t = {first_s:.4g} s ends at {first_s + period_s:.4g} s, after its "
+        f"last sample at {t_s[-1]:.4g} s (log at least one more period)"
+    )
 
 
 def leg_energy(
@@ -334,11 +364,9 @@ def analyze_log(
         t = data.t_s
         stance, windows = cycle_windows(t, data.contact, gait, leg, period)
         if not windows:
-            raise LogError(
-                f"{log.source}: row {data.rows[-1]}, column {TIME}: leg {leg}'s samples span "
-                f"{t[-1] - t[0]:.4g} s, less than one complete gait cycle ({period:.4g} s from "
-                "a touch-down)"
-            )
+            first = first_touchdown_s(t, data.contact, gait, leg, period)
+            where = f"{log.source}: row {data.rows[-1]}, column {TIME}"
+            raise no_complete_cycle(where, leg, t, first, period)
         half = half_window_samples(1.0 / float(np.median(np.diff(t))), half_window_s, degree)
         if t.size < 2 * half + 1:
             raise LogError(

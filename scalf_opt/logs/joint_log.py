@@ -24,7 +24,9 @@ from scalf_opt.logs.analysis import (
     LogAnalysis,
     charged_power,
     cycle_windows,
+    first_touchdown_s,
     leg_energy,
+    no_complete_cycle,
     touchdowns,
 )
 from scalf_opt.logs.derivative import (
@@ -171,10 +173,8 @@ def analyze_joint_log(
         t = data.t_s
         stance, windows = cycle_windows(t, data.contact, gait, leg, period)
         if not windows:
-            raise LogError(
-                f"{log.source}: leg {leg}'s samples span {t[-1] - t[0]:.4g} s, less than one "
-                f"complete gait cycle ({period:.4g} s from a touch-down)"
-            )
+            first = first_touchdown_s(t, data.contact, gait, leg, period)
+            raise no_complete_cycle(log.source, leg, t, first, period)
         qd = data.qd_rad_s
         if qd is None:
             half = half_window_samples(1.0 / float(np.median(np.diff(t))), half_window_s, degree)

@@ -123,6 +123,33 @@ def test_the_csv_at_1000_hz_gives_back_the_plans_energy(optimum, tmp_path, capsy
     assert f"per leg {min(changes):+.2f} % to {max(changes):+.2f} %" in page
 
 
+@pytest.mark.parametrize("cycles", [2, 3])
+def test_an_export_of_n_cycles_holds_n_minus_2_complete_cycles_of_rf(
+    optimum, tmp_path, capsys, cycles
+):
+    """RF's touch-down at t = 0 is not seen in the log, and the last cycle's closing instant is
+    the next cycle's first (docs/plan-to-robot.md): RF and LH hold N - 2 complete cycles, LF
+    and RH N - 1; with none, the refusal names RF and where its first cycle would end."""
+    path = tmp_path / "plan.csv"
+    args = ["--rate", "1000", "--cycles", str(cycles), "--out", str(path), "-q"]
+    assert main(["export", "--from", str(optimum), *args]) == 0
+    if cycles == 2:
+        assert main(["analyze-log", str(path), "--plan", str(optimum)]) == 2
+        err = capsys.readouterr().err
+        assert (
+            "leg RF has no complete gait cycle: one period (0.5 s) from its first touch-down "
+            "at t = 0.5 s ends at 1 s, after its last sample at 0.999 s"
+        ) in err
+        return
+    legs = analyze_log(path, plan=optimum).analysis.legs
+    assert {leg: len(legs[leg].windows_s) for leg in LEG_NAMES} == {
+        "RF": 1,
+        "LH": 1,
+        "LF": 2,
+        "RH": 2,
+    }
+
+
 def test_the_json_and_the_bag_carry_the_urdf_names(export, scalf, tmp_path):
     from rosbags.highlevel import AnyReader
 

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.errors import LogError
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.logs.analysis import analyze_log, leg_cylinders, window_integral, window_integrals
 from scalf_opt.logs.log_file import CylinderLog
@@ -178,3 +179,19 @@ def test_the_motions_period_differences_are_the_direct_ones():
     x = rng.normal(size=(3, 300))
     direct = [np.mean((x[:, lag:] - x[:, : 300 - lag]) ** 2) for lag in range(251)]
     np.testing.assert_allclose(_mean_squared_differences(x, 250), direct, rtol=0, atol=1e-12)
+
+
+def test_a_log_without_a_complete_cycle_says_where_its_first_cycle_would_end(pipeline):
+    """One planned cycle, both ends sampled: RF's cycle starts at its touch-down at T, not at
+    t = 0, where the log starts in contact (it may have started in mid-stance)."""
+    log, _ = model_log(pipeline, REFERENCE_SWINGS, 160.0, cycles=1)
+    with pytest.raises(LogError) as error:
+        analyze_log(log, pipeline)
+    assert str(error.value) == (
+        "model log: row 80, column t_s: leg RF has no complete gait cycle: one period (0.5 s) "
+        "from its first touch-down at t = 0.5 s ends at 1 s, after its last sample at 0.5 s "
+        "(log at least one more period)"
+    )
+    always = {leg: replace(d, contact=np.ones_like(d.contact)) for leg, d in log.legs.items()}
+    with pytest.raises(LogError, match="leg RF never touches down in the log"):
+        analyze_log(replace(log, legs=always), pipeline)

@@ -109,7 +109,10 @@ def test_a_bad_log_is_refused_naming_the_row_and_the_column(good_text, case, cor
             lambda t: replace_cell(t, 20, "knee_length_m", "0.5"),
             "row 20, column knee_length_m: 0.5 m is outside the",
         ),
-        (lambda t: "\n".join(t.splitlines()[:150]) + "\n", "column t_s: leg RF's samples span"),
+        (
+            lambda t: "\n".join(t.splitlines()[:150]) + "\n",
+            "column t_s: leg RF never touches down in the log",
+        ),
     ],
     ids=["length outside the stroke", "shorter than one cycle"],
 )
