@@ -91,3 +91,15 @@ def test_a_bad_record_is_refused_naming_the_file(tmp_path):
     record.write_text('[variant]\nparent_urdf = "missing.urdf"\n')
     with pytest.raises(ConfigError, match="no such file"):
         read_variant_record(record)
+
+
+def test_the_variant_command_names_the_trot_the_variant_walks(tmp_path, capsys):
+    """It printed the trot scaled to the variant's own legs (its staged copy had no parent yet)."""
+    out = tmp_path / "long.urdf"
+    assert main(["variant", "--thigh-length-scale", "1.2", "--out", str(out)]) == 0
+    gait = so.read_gait(robot=so.load_robot(urdf=out))
+    assert gait == so.read_gait(robot=so.load_robot("scalf"))
+    assert (
+        f"the variant walks scalf's default trot (T={gait.period_s:.4g} s, "
+        f"S={gait.step_length_m:.4g} m, z0={gait.stance_height_m:.4g} m)"
+    ) in capsys.readouterr().out

@@ -80,7 +80,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
             ("shank", old.shank_length_m, new.shank_length_m, *_link_masses(old, new, 1)),
         ):
             say(f"{leg:5s} {label:6s}  {a:.5f} -> {b:.5f}    {ma:.4f} -> {mb:.4f}")
-    gait = default_gait_for(derived)
+    gait = default_gait_for(robot)  # a variant walks its parent's (the staged copy knows no parent)
     say(
         f"total mass {robot.total_mass_kg:.3f} -> {derived.total_mass_kg:.3f} kg; the variant "
         f"walks {robot.name}'s default trot (T={gait.period_s:.4g} s, S={gait.step_length_m:.4g} "
