@@ -139,12 +139,18 @@ def same_output(a: str, b: str) -> bool:
 
 
 def regenerate(
-    page: Path, fast: bool = False, manual: bool = False, only: str | None = None
+    page: Path,
+    fast: bool = False,
+    manual: bool = False,
+    only: str | None = None,
+    slow_only: bool = False,
 ) -> tuple[str, list[tuple[Block, str]]]:
     """The page with every block's output renewed, and the blocks whose output changed.
 
     ``fast`` leaves out the ``slow`` and ``manual`` commands; ``manual`` ones (minutes long) run
-    only when ``manual`` is true; with ``only``, just the blocks whose command contains it.
+    only when ``manual`` is true; ``slow_only`` runs the ``slow`` ones alone (the tests check the
+    others apart, and no slow block reads what a fast one writes); with ``only``, just the
+    blocks whose command contains it.
     """
     text = page.read_text(encoding="utf-8")
     changed: list[tuple[Block, str]] = []
@@ -157,7 +163,11 @@ def regenerate(
             pieces.append(text[last : block.start])
             last = block.end
             body = block.body
-            skipped = (fast and block.slow) or (block.manual and not manual)
+            skipped = (
+                (fast and block.slow)
+                or (block.manual and not manual)
+                or (slow_only and not block.slow)
+            )
             if not skipped and (only is None or only in block.command):
                 renewed = run(block.command, Path(scratch), block.markdown, printed)
                 if not same_output(renewed, block.body):
