@@ -45,10 +45,10 @@ import numpy as np
 
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.forces import contact_maps
+from scalf_opt.locomotion.gait import PHASE_EDGE_TOLERANCE_S
 from scalf_opt.locomotion.stance import stance_path
 from scalf_opt.locomotion.trot import (
     DIAGONAL_PARTNER,
-    PHASE_EDGE_TOLERANCE_S,
     stance_start_s,
     support_groups,
     support_masks,

@@ -21,6 +21,15 @@ FRONT_LEGS: tuple[str, ...] = ("RF", "LF")
 MIN_SAMPLES_PER_PHASE = 4
 """The coarsest grid a phase may have (intervals)."""
 
+PHASE_EDGE_TOLERANCE_S = 1e-12
+"""A foot exactly at touch-down or lift-off (within this) carries nothing; a stance grid's
+sample this close to the other pair's touch-down or lift-off is on it."""
+
+EVENT_SIDE_S = 1e-9
+"""A jump of a stance's load (the other pair's lift-off or touch-down) is sampled this close on
+each side [s], so that the trapezoidal rule integrates each side with its own value and every
+limit sees both (the 2 ns between carry a power's 2e-9 J per W)."""
+
 MAX_SAMPLES_PER_PHASE = 20_000
 """The finest grid a phase may have (intervals): 100x the paper's 200 Hz over a 0.5 s phase; the
 energy has converged to 1e-4 relative long before (README, "How it is verified")."""
@@ -141,12 +150,28 @@ class Gait:
 
         The grid is uniform with ``round(duration * sample_rate_hz)`` intervals, rounded up to an
         even number so that mid-phase is a sample (the clearance is checked there); at the
-        paper's 200 Hz a 0.25 s phase has 51 samples 5 ms apart.
+        paper's 200 Hz a 0.25 s phase has 51 samples 5 ms apart. With a duty cycle above 0.5 the
+        stance grid also has a sample on each side of the other pair's lift-off and touch-down,
+        where the stance feet's load jumps (two feet on the ground, or four): without them a
+        limit could be crossed just before a jump that no sample sees, and the trapezoidal rule
+        mixed the two sides' values over the interval holding the jump.
         """
         duration = self.phase_duration_s(phase)
         intervals = max(MIN_SAMPLES_PER_PHASE, round(duration * self.sample_rate_hz))
         intervals += intervals % 2
-        return np.linspace(0.0, duration, intervals + 1)
+        grid = np.linspace(0.0, duration, intervals + 1)
+        if phase == "swing" or self.duty_cycle <= 0.5:
+            return grid
+        # with duty > 0.5 the other pair lifts off and touches down inside this stance, and the
+        # stance feet's load jumps there (four feet on the ground, or two): a sample on each
+        # instant, so that no limit is crossed just before a jump that no sample sees
+        events = (self.stance_duration_s - 0.5 * self.period_s, 0.5 * self.period_s)
+        keep = np.ones(grid.size, dtype=bool)
+        sides = []
+        for event in events:
+            keep &= np.abs(grid - event) > 2.0 * EVENT_SIDE_S
+            sides += [event - EVENT_SIDE_S, event + EVENT_SIDE_S]
+        return np.union1d(grid[keep], sides)
 
 
 def _positive(name: str, value: object) -> None:

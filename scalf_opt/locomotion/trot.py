@@ -10,7 +10,7 @@ from typing import TypeVar
 
 import numpy as np
 
-from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.gait import PHASE_EDGE_TOLERANCE_S, Gait
 
 TROT_PHASE_OFFSET: dict[str, float] = {"RF": 0.0, "LH": 0.0, "LF": 0.5, "RH": 0.5}
 """Start of each leg's stance as a fraction of the period (trot: diagonal pairs)."""
@@ -20,9 +20,6 @@ DIAGONAL_PARTNER: dict[str, str] = {"RF": "LH", "LH": "RF", "LF": "RH", "RH": "L
 
 SYMMETRIC_TWIN: dict[str, str] = {"RF": "LF", "LF": "RF", "RH": "LH", "LH": "RH"}
 """The leg that repeats each leg's motion half a cycle later (the paper's symmetry)."""
-
-PHASE_EDGE_TOLERANCE_S = 1e-12
-"""A foot exactly at touch-down or lift-off (within this) carries nothing."""
 
 
 def stance_start_s(gait: Gait, leg: str) -> float:

@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from scalf_opt.errors import ConfigError, GaitError
-from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.gait import EVENT_SIDE_S, Gait
 from scalf_opt.locomotion.gait_file import read_gait
 from scalf_opt.locomotion.stance import stance_path, trunk_acceleration_m_s2
 from scalf_opt.locomotion.trot import support_groups, support_masks
@@ -134,3 +134,20 @@ def test_resource_limits_are_named(tmp_path):
         Gait(sample_rate_hz=1e8)
     with pytest.raises(GaitError, match=r"cycles = 10000 must be an integer in 1\.\.1000"):
         Gait(cycles=10000)
+
+
+def test_a_stance_longer_than_half_a_cycle_is_sampled_on_each_side_of_the_other_pairs_events():
+    """Duty 0.6, T = 0.5 s: LF and RH lift off 0.05 s and touch down 0.25 s into RF's stance."""
+    g = Gait(duty_cycle=0.6, period_s=0.5)
+    t = g.phase_times_s("stance")
+    uniform = np.linspace(0.0, g.stance_duration_s, 61)  # round(0.3 s x 200 Hz) intervals
+    sides = [0.05 - EVENT_SIDE_S, 0.05 + EVENT_SIDE_S, 0.25 - EVENT_SIDE_S, 0.25 + EVENT_SIDE_S]
+    far = np.min(np.abs(uniform[:, None] - np.array([0.05, 0.25])), axis=1) > 2 * EVENT_SIDE_S
+    # the events as the gait computes them (0.3 - 0.25 s): equal to 1e-16 s
+    np.testing.assert_allclose(t, np.union1d(uniform[far], sides), rtol=0, atol=1e-15)
+    assert t.size == 61 + 4 - 2  # 0.05 s and 0.25 s were samples of the uniform grid
+    feet = [support_legs(g, float(x), "RF") for x in sides]
+    assert [len(f) for f in feet] == [4, 2, 2, 4]  # each side of each event has its own support
+    # at duty 0.5 the events are the stance's own ends: the grid stays uniform; so does a swing
+    assert np.array_equal(Gait().phase_times_s("stance"), np.linspace(0.0, 0.25, 51))
+    assert np.array_equal(g.phase_times_s("swing"), np.linspace(0.0, 0.2, 41))
