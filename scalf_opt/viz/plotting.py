@@ -90,14 +90,17 @@ def cycle_samples(leg: LegCycle, name: str) -> tuple[np.ndarray, np.ndarray]:
 
     Stance and swing samples are joined in time order; the phase boundary, which both phases
     sample, appears once per phase, and a NaN column between the phases keeps a line from
-    joining them where a quantity jumps (torque at touch-down).
+    joining them where a quantity jumps (torque at touch-down). A phase that runs over the end of
+    the cycle (LF's and RH's stance when the duty cycle is above 0.5) wraps to its start: a NaN
+    column there too, so that no line runs back across the cycle.
     """
     parts = sorted((leg.stance, leg.swing), key=lambda p: float(p.t_s[0]))
     times, values = [], []
     for phase in parts:
         v = np.atleast_2d(phase.values[name])
-        times += [phase.t_s, np.array([np.nan])]
-        values += [v, np.full((v.shape[0], 1), np.nan)]
+        wraps = np.flatnonzero(np.diff(phase.t_s) < 0.0) + 1
+        times += [np.insert(phase.t_s, wraps, np.nan), np.array([np.nan])]
+        values += [np.insert(v, wraps, np.nan, axis=1), np.full((v.shape[0], 1), np.nan)]
     return np.concatenate(times[:-1]), np.concatenate(values[:-1], axis=1)
 
 

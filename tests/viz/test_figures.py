@@ -219,3 +219,19 @@ def test_figures_api_default_trajectories(tmp_path, scalf):
     assert all(t.solved for t in shown) and len(files) == len(FIGURE_NAMES)
     with pytest.raises(ConfigError, match="not both"):
         figures(tmp_path, robot=scalf, gait=gait, from_dirs=[tmp_path])
+
+
+def test_a_stance_over_the_cycles_end_is_drawn_without_a_line_back_across_the_cycle(scalf):
+    """Duty 0.6: LF's stance runs from 0.25 s over the cycle's end to 0.05 s of the next."""
+    from scalf_opt.energy.pipeline import EnergyPipeline
+    from scalf_opt.locomotion.gait import Gait
+    from scalf_opt.viz.plotting import cycle_samples
+
+    gait = Gait(duty_cycle=0.6, sample_rate_hz=COARSE_RATE_HZ)
+    cycle = EnergyPipeline(scalf, gait, loads="trunk").robot_cycle(make_family("reference"))
+    t, grf = cycle_samples(cycle.legs["LF"], "grf")
+    assert t.shape[0] == grf.shape[1]
+    runs = np.split(t, np.flatnonzero(np.isnan(t)))
+    assert all(np.all(np.diff(run[~np.isnan(run)]) >= 0.0) for run in runs)  # never backwards
+    assert len(runs) == 3  # the stance's start, its end after the wrap, the swing
+    assert 0.0 <= np.nanmin(t) < 1e-6 and np.nanmax(t) <= gait.period_s
