@@ -22,8 +22,7 @@ MIN_SAMPLES_PER_PHASE = 4
 """The coarsest grid a phase may have (intervals)."""
 
 PHASE_EDGE_TOLERANCE_S = 1e-12
-"""A foot exactly at touch-down or lift-off (within this) carries nothing; a stance grid's
-sample this close to the other pair's touch-down or lift-off is on it."""
+"""A foot exactly at touch-down or lift-off (within this) carries nothing."""
 
 EVENT_SIDE_S = 1e-9
 """A jump of a stance's load (the other pair's lift-off or touch-down) is sampled this close on
@@ -162,10 +161,13 @@ class Gait:
         grid = np.linspace(0.0, duration, intervals + 1)
         if phase == "swing" or self.duty_cycle <= 0.5:
             return grid
-        # with duty > 0.5 the other pair lifts off and touches down inside this stance, and the
-        # stance feet's load jumps there (four feet on the ground, or two): a sample on each
-        # instant, so that no limit is crossed just before a jump that no sample sees
-        events = (self.stance_duration_s - 0.5 * self.period_s, 0.5 * self.period_s)
+        # the other pair's lift-off and touch-down, inside this stance (a duty a hair above 0.5
+        # puts them on the stance's own ends, which are samples already)
+        events = [
+            e
+            for e in (self.stance_duration_s - 0.5 * self.period_s, 0.5 * self.period_s)
+            if 2.0 * EVENT_SIDE_S < e < duration - 2.0 * EVENT_SIDE_S
+        ]
         keep = np.ones(grid.size, dtype=bool)
         sides = []
         for event in events:
