@@ -144,6 +144,24 @@ class Gait:
         check_choice(phase, Phase, "phase")
         return self.stance_duration_s if phase == "stance" else self.swing_duration_s
 
+    def stance_load_jumps_s(self) -> list[float]:
+        """The other pair's lift-off and touch-down inside a stance, since its touch-down [s].
+
+        With a duty cycle above 0.5 the other pair lifts off ``(d - 0.5) T`` and touches down
+        ``T / 2`` into a leg's stance, and the stance feet's load jumps there (four feet on the
+        ground, then two, then four). Empty at 0.5, where both instants are the stance's own
+        ends; an instant within ``2`` :data:`EVENT_SIDE_S` of an end counts as that end.
+
+        Returns:
+            ``[lift-off, touch-down]``, or ``[]``.
+        """
+        duration = self.stance_duration_s
+        return [
+            e
+            for e in (duration - 0.5 * self.period_s, 0.5 * self.period_s)
+            if 2.0 * EVENT_SIDE_S < e < duration - 2.0 * EVENT_SIDE_S
+        ]
+
     def phase_times_s(self, phase: Phase) -> np.ndarray:
         """Sample times inside a phase since its start, both ends included, shape (n,) [s].
 
@@ -159,18 +177,11 @@ class Gait:
         intervals = max(MIN_SAMPLES_PER_PHASE, round(duration * self.sample_rate_hz))
         intervals += intervals % 2
         grid = np.linspace(0.0, duration, intervals + 1)
-        if phase == "swing" or self.duty_cycle <= 0.5:
+        if phase == "swing":
             return grid
-        # the other pair's lift-off and touch-down, inside this stance (a duty a hair above 0.5
-        # puts them on the stance's own ends, which are samples already)
-        events = [
-            e
-            for e in (self.stance_duration_s - 0.5 * self.period_s, 0.5 * self.period_s)
-            if 2.0 * EVENT_SIDE_S < e < duration - 2.0 * EVENT_SIDE_S
-        ]
         keep = np.ones(grid.size, dtype=bool)
         sides = []
-        for event in events:
+        for event in self.stance_load_jumps_s():
             keep &= np.abs(grid - event) > 2.0 * EVENT_SIDE_S
             sides += [event - EVENT_SIDE_S, event + EVENT_SIDE_S]
         return np.union1d(grid[keep], sides)

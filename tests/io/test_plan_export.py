@@ -10,7 +10,8 @@ from scalf_opt.api import analyze_log, export_plan
 from scalf_opt.cli import main
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
-from scalf_opt.io.plan_export import planned_mechanical_energy_j
+from scalf_opt.io.plan_export import planned_mechanical_energy_j, stream_columns
+from scalf_opt.locomotion.gait import EVENT_SIDE_S, Gait
 from scalf_opt.logs.analysis import leg_cylinders
 from scalf_opt.types import LEG_NAMES
 
@@ -198,3 +199,27 @@ def test_bad_exports_are_refused_in_one_line(optimum, tmp_path, capsys):
         err = capsys.readouterr().err
         assert code == 2 and err.count("\n") == 1 and message in err, err
     assert not list(tmp_path.iterdir())
+
+
+def test_the_stream_takes_the_two_feet_side_of_a_stance_load_jump():
+    """Duty 0.6: the stance grid has two samples at each jump, the stream one (its own grid)."""
+    gait = Gait(duty_cycle=0.6, period_s=0.5, sample_rate_hz=200)
+    t = gait.phase_times_s("stance")
+    columns = stream_columns(gait, t, 60)
+    uniform = np.linspace(0.0, 0.3, 61)
+    np.testing.assert_allclose(t[columns], uniform, rtol=0, atol=2 * EVENT_SIDE_S)
+    lift_off, touch_down = gait.stance_load_jumps_s()
+    assert t[columns[10]] > lift_off and t[columns[50]] < touch_down  # two feet on the ground
+
+
+def test_a_plan_with_a_duty_above_a_half_exports_and_reads_back(tmp_path, capsys):
+    saved = tmp_path / "opt"
+    gait = ["--duty", "0.6", "--family", "joint-2", "--loads", "trunk"]
+    assert main(["optimize", *gait, "-q", "--out", str(saved)]) == 0
+    path = tmp_path / "plan.csv"
+    args = ["--from", str(saved), "--rate", "1000", "--cycles", "3", "--out", str(path), "-q"]
+    assert main(["export", *args]) == 0
+    result = analyze_log(path, plan=saved)
+    # the log holds one sample per instant, the plan both sides of each jump of the stance load
+    assert abs(result.to_dict()["plan_comparison"]["change_percent"]) < 3.0
+    capsys.readouterr()
