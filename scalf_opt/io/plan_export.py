@@ -30,6 +30,7 @@ from __future__ import annotations
 import csv
 import io
 import math
+from collections.abc import Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -55,7 +56,7 @@ from scalf_opt.locomotion.gait import (
 )
 from scalf_opt.locomotion.trot import TROT_PHASE_OFFSET
 from scalf_opt.model.robot import Robot
-from scalf_opt.types import JOINT_ROLES, LEG_NAMES, PHASES
+from scalf_opt.types import JOINT_ROLES, LEG_NAMES
 
 EXPORT_FORMATS = (".csv", ".json", ".mcap")
 """Output suffixes :meth:`PlanExport.write` knows."""
@@ -319,20 +320,21 @@ def plan_rate_hz(gait: Gait, rate_hz: float = 1000.0) -> float:
     return fitted_rate(gait, rate_hz)[0]
 
 
-def stream_columns(gait: Gait, t_phase_s: np.ndarray, intervals: int) -> np.ndarray:
+def stream_columns(
+    t_phase_s: np.ndarray, intervals: int, before: Sequence[float] = ()
+) -> np.ndarray:
     """The samples of a phase grid that fall on the stream's uniform grid of ``intervals``.
 
     The phase grids are the stream's own, except that a stance with a duty cycle above 0.5 has
     two samples at each jump of its load (:meth:`~scalf_opt.locomotion.gait.Gait.phase_times_s`)
-    where the stream has one: it takes the side with two feet on the ground (after the other
-    pair's lift-off, before its touch-down), as a foot exactly at touch-down or lift-off
-    carries nothing.
+    where the stream has one. The stream takes the side with two feet on the ground, as a foot
+    exactly at touch-down or lift-off carries nothing: the one after the other pair's lift-off,
+    and the one before each instant of ``before`` (its touch-down).
     """
     uniform = np.linspace(0.0, float(t_phase_s[-1]), intervals + 1)
     columns = np.searchsorted(t_phase_s, uniform - PHASE_EDGE_TOLERANCE_S)
-    if t_phase_s.size != intervals + 1 and len(gait.stance_load_jumps_s()) == 2:
-        touch_down = gait.stance_load_jumps_s()[1]
-        columns[np.abs(uniform - touch_down) <= 2.0 * EVENT_SIDE_S] -= 1  # the side before it
+    for instant in before:
+        columns[np.abs(uniform - instant) <= 2.0 * EVENT_SIDE_S] -= 1
     columns = np.minimum(columns, t_phase_s.size - 1)
     if not np.allclose(t_phase_s[columns], uniform, rtol=0.0, atol=2.0 * EVENT_SIDE_S):
         raise AssertionError("the phase grid is not the export's")  # pragma: no cover
@@ -363,13 +365,14 @@ def export_plan(robot: Robot, saved: SavedSwings, rate_hz: float, cycles: int = 
     cycle = _evaluate_cycle(robot, saved, replace(gait, sample_rate_hz=factor * rate_hz))
     values: dict[str, dict[str, np.ndarray]] = {}
     joints: dict[str, tuple[str, str]] = {}
+    touch_down = cycle.gait.stance_load_jumps_s()[1:]  # the other pair's, inside a stance
     for leg, leg_cycle in cycle.legs.items():
         one: dict[str, np.ndarray] = {}
         stance, swing = leg_cycle.stance, leg_cycle.swing
-        on_grid = {
-            "stance": stream_columns(cycle.gait, stance.t_phase_s, factor * per_phase[0]),
-            "swing": stream_columns(cycle.gait, swing.t_phase_s, factor * per_phase[1]),
-        }
+        on_grid = (
+            stream_columns(stance.t_phase_s, factor * per_phase[0], touch_down),
+            stream_columns(swing.t_phase_s, factor * per_phase[1]),
+        )
         fields = [name for name, _ in JOINT_FIELDS] + ["foot"]
         fields += [name for name, _ in CYLINDER_FIELDS if f"{name}_hip" in stance.values]
         for name in fields:
@@ -381,7 +384,7 @@ def export_plan(robot: Robot, saved: SavedSwings, rate_hz: float, cycles: int = 
             else:
                 rows = [stance.values[name], swing.values[name]]
             one[name] = np.hstack(
-                [r[:, on_grid[p]][:, ::factor][:, :-1] for r, p in zip(rows, PHASES, strict=True)]
+                [r[:, c][:, ::factor][:, :-1] for r, c in zip(rows, on_grid, strict=True)]
             )
         one["contact"] = np.arange(n_cycle) < per_phase[0]
         shift = round(TROT_PHASE_OFFSET[leg] * n_cycle)

@@ -70,13 +70,20 @@ class LegEnergy:
 
 
 def cycle_windows(
-    t_s: np.ndarray, contact: np.ndarray | None, gait: Gait, leg: str, period_s: float
+    t_s: np.ndarray,
+    contact: np.ndarray | None,
+    gait: Gait,
+    leg: str,
+    period_s: float,
+    source: str,
 ) -> tuple[np.ndarray, list[tuple[float, float]]]:
     """A leg's stance samples and its complete cycles ``(start, end)`` [s] in a log.
 
     With contact flags the cycles start at the first touch-down; without, the gait's schedule
-    (scaled to ``period_s``) says where the leg's stance starts and how long it lasts. The list is
-    empty when the samples span less than one complete cycle.
+    (scaled to ``period_s``) says where the leg's stance starts and how long it lasts.
+
+    Raises:
+        LogError: The samples hold no complete cycle (``source`` names where, in the message).
     """
     if contact is not None:
         stance = contact
@@ -85,7 +92,9 @@ def cycle_windows(
         stance = np.mod(t_s - offset, period_s) < gait.duty_cycle * period_s
     first = first_touchdown_s(t_s, contact, gait, leg, period_s)
     count = int(np.floor((t_s[-1] - first) / period_s + 1e-9)) if np.isfinite(first) else 0
-    windows = [(first + k * period_s, first + (k + 1) * period_s) for k in range(max(count, 0))]
+    if count < 1:
+        raise no_complete_cycle(source, leg, t_s, first, period_s)
+    windows = [(first + k * period_s, first + (k + 1) * period_s) for k in range(count)]
     return stance, windows
 
 
@@ -362,11 +371,8 @@ def analyze_log(
         cylinders = leg_cylinders(pipeline, leg)
         _check_stroke(log.source, pipeline, leg, data, cylinders)
         t = data.t_s
-        stance, windows = cycle_windows(t, data.contact, gait, leg, period)
-        if not windows:
-            first = first_touchdown_s(t, data.contact, gait, leg, period)
-            where = f"{log.source}: row {data.rows[-1]}, column {TIME}"
-            raise no_complete_cycle(where, leg, t, first, period)
+        where = f"{log.source}: row {data.rows[-1]}, column {TIME}"
+        stance, windows = cycle_windows(t, data.contact, gait, leg, period, where)
         half = half_window_samples(1.0 / float(np.median(np.diff(t))), half_window_s, degree)
         if t.size < 2 * half + 1:
             raise LogError(

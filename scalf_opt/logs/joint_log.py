@@ -24,9 +24,7 @@ from scalf_opt.logs.analysis import (
     LogAnalysis,
     charged_power,
     cycle_windows,
-    first_touchdown_s,
     leg_energy,
-    no_complete_cycle,
     touchdowns,
 )
 from scalf_opt.logs.derivative import (
@@ -171,10 +169,7 @@ def analyze_joint_log(
     power_of: dict[str, tuple[np.ndarray, np.ndarray]] = {}
     for leg, data in log.legs.items():
         t = data.t_s
-        stance, windows = cycle_windows(t, data.contact, gait, leg, period)
-        if not windows:
-            first = first_touchdown_s(t, data.contact, gait, leg, period)
-            raise no_complete_cycle(log.source, leg, t, first, period)
+        stance, windows = cycle_windows(t, data.contact, gait, leg, period, log.source)
         qd = data.qd_rad_s
         if qd is None:
             half = half_window_samples(1.0 / float(np.median(np.diff(t))), half_window_s, degree)

@@ -205,7 +205,7 @@ def test_the_stream_takes_the_two_feet_side_of_a_stance_load_jump():
     """Duty 0.6: the stance grid has two samples at each jump, the stream one (its own grid)."""
     gait = Gait(duty_cycle=0.6, period_s=0.5, sample_rate_hz=200)
     t = gait.phase_times_s("stance")
-    columns = stream_columns(gait, t, 60)
+    columns = stream_columns(t, 60, gait.stance_load_jumps_s()[1:])
     uniform = np.linspace(0.0, 0.3, 61)
     np.testing.assert_allclose(t[columns], uniform, rtol=0, atol=2 * EVENT_SIDE_S)
     lift_off, touch_down = gait.stance_load_jumps_s()
