@@ -32,7 +32,7 @@ import subprocess
 import sys
 import threading
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import ThreadPoolExecutor
+from concurrent.futures import Future, ThreadPoolExecutor
 from typing import IO, Any, TypeVar
 
 from scalf_opt.errors import ScalfError
@@ -93,30 +93,64 @@ def map_in_processes(
     if workers <= 1 or len(items) <= 1:
         with progress_to(progress) if progress is not None else contextlib.nullcontext():
             return [fn(item) for item in items]
-    running: list[subprocess.Popen[bytes]] = []
-    lock = threading.Lock()
-    stopping = threading.Event()
+    with WorkerProcesses(min(workers, len(items)), progress) as processes:
+        return results_in_order([processes.submit(fn, item) for item in items])
 
-    def run(item: T) -> R:
-        with lock:
-            if stopping.is_set():
-                raise WorkerDiedError("stopped before it started")
-            worker = _start_worker()
-            running.append(worker)
-        return _exchange(worker, fn, item, progress)
 
-    pool = ThreadPoolExecutor(max_workers=min(workers, len(items)))
-    try:
-        return results_in_order([pool.submit(run, item) for item in items])
-    finally:
-        with lock:
-            stopping.set()
-            for worker in running:
+BACKGROUND_NICE = 10
+"""How much lower a background job's scheduling priority is (``nice``): at 10 the kernel gives
+a job of the default priority about nine tenths of a core it shares with one."""
+
+
+class WorkerProcesses:
+    """Work submitted to worker processes, each item a fresh interpreter, collected later.
+
+    At most ``concurrent`` workers run at once (items beyond wait for one to end); each may use
+    ``cores // concurrent`` threads (:func:`thread_budget`), so that the workers do not crowd
+    the cores they share. An item submitted with ``background=True`` runs at a lower scheduling
+    priority (:data:`BACKGROUND_NICE`): where the items outnumber the cores, the others,
+    the critical path, get a core first and the background ones fill what is left (``paper``
+    starts its whole-body line and its free stance before Tables 5 and 6, whose optima the
+    bounds need, and the bounds take the lead once they start).
+
+    Leaving the block (by an error, Ctrl-C or SIGTERM too) kills the workers still running:
+    work whose result was not asked for is dropped.
+    """
+
+    def __init__(self, concurrent: int, progress: Callable[[str], None] | None = None) -> None:
+        concurrent = max(1, concurrent)
+        self._progress = progress
+        self._threads = max(1, (os.cpu_count() or 1) // concurrent)
+        self._pool = ThreadPoolExecutor(max_workers=concurrent)
+        self._lock = threading.Lock()
+        self._stopping = threading.Event()
+        self._running: list[subprocess.Popen[bytes]] = []
+
+    def __enter__(self) -> WorkerProcesses:
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        with self._lock:
+            self._stopping.set()
+            for worker in self._running:
                 if worker.poll() is None:
                     worker.kill()
-        pool.shutdown(wait=True, cancel_futures=True)
-        for worker in running:
+        self._pool.shutdown(wait=True, cancel_futures=True)
+        for worker in self._running:
             worker.wait()
+
+    def submit(self, fn: Callable[[T], R], item: T, background: bool = False) -> Future[R]:
+        """``fn(item)`` in a worker process, started as soon as fewer than ``concurrent`` run."""
+        nice = BACKGROUND_NICE if background else 0
+        return self._pool.submit(self._run, fn, item, nice)
+
+    def _run(self, fn: Callable[[T], R], item: T, nice: int) -> R:
+        with self._lock:
+            if self._stopping.is_set():
+                raise WorkerDiedError("stopped before it started")
+            worker = _start_worker(self._threads, nice)
+            self._running.append(worker)
+        return _exchange(worker, fn, item, self._progress)
 
 
 def imap_in_processes(
@@ -131,6 +165,7 @@ def imap_in_processes(
     error in the caller, Ctrl-C or SIGTERM kill the workers.
     """
     pending = iter(enumerate(items))
+    threads = max(1, (os.cpu_count() or 1) // max(1, min(workers, len(items))))
     lock = threading.Lock()
     stopping = threading.Event()
     running: list[subprocess.Popen[bytes]] = []
@@ -145,7 +180,7 @@ def imap_in_processes(
                     if following is None:
                         return
                     if worker is None:
-                        worker = _start_worker()
+                        worker = _start_worker(threads)
                         running.append(worker)
                 index, item = following
                 outcome: R | Exception
@@ -162,12 +197,12 @@ def imap_in_processes(
                     worker.stdin.close()  # it ends once it reads the end of its input
             done.put(None)
 
-    threads = [threading.Thread(target=drive, daemon=True) for _ in range(min(workers, len(items)))]
-    for thread in threads:
+    drivers = [threading.Thread(target=drive, daemon=True) for _ in range(min(workers, len(items)))]
+    for thread in drivers:
         thread.start()
     finished = False
     try:
-        active = len(threads)
+        active = len(drivers)
         while active:
             got = done.get()
             if got is None:
@@ -181,16 +216,33 @@ def imap_in_processes(
             for worker in running:
                 if not finished and worker.poll() is None:
                     worker.kill()
-        for thread in threads:
+        for thread in drivers:
             thread.join()
         for worker in running:
             worker.wait()
 
 
-def _start_worker() -> subprocess.Popen[bytes]:
-    """A fresh interpreter serving work on its standard input (:func:`_serve`)."""
+THREADS_VARIABLE = "SCALF_OPT_THREADS"
+"""The environment variable that caps the threads a process's solves use (set in workers)."""
+
+
+def thread_budget() -> int:
+    """Threads this process's solves may use at once: :data:`THREADS_VARIABLE`, else the cores."""
+    with contextlib.suppress(KeyError, ValueError):
+        return max(1, int(os.environ[THREADS_VARIABLE]))
+    return os.cpu_count() or 1
+
+
+def _start_worker(threads: int, nice: int = 0) -> subprocess.Popen[bytes]:
+    """A fresh interpreter serving work on its standard input (:func:`_serve`).
+
+    Its solves use at most ``threads`` threads; ``nice``: how much lower its priority is.
+    """
     return subprocess.Popen(
-        [sys.executable, "-m", "scalf_opt.workers"], stdin=subprocess.PIPE, stdout=subprocess.PIPE
+        [sys.executable, "-m", "scalf_opt.workers", str(nice)],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        env={**os.environ, THREADS_VARIABLE: str(threads)},
     )
 
 
@@ -239,9 +291,14 @@ def _send(kind: str, payload: Any) -> None:
     _channel.flush()
 
 
-def _serve() -> int:
-    """A worker's life: read work, do it, write the answer; until its input ends."""
+def _serve(nice: int = 0) -> int:
+    """A worker's life: read work, do it, write the answer; until its input ends.
+
+    ``nice``: how much to lower its scheduling priority first.
+    """
     global _channel
+    if nice:
+        os.nice(nice)
     signal.signal(signal.SIGINT, signal.SIG_IGN)  # the main process ends the workers
     # frames go to the original standard output; anything else printed goes to stderr
     _channel = os.fdopen(os.dup(1), "wb")
@@ -269,4 +326,4 @@ if __name__ == "__main__":
     # worker_progress the work was pickled with
     from scalf_opt.workers import _serve as serve
 
-    sys.exit(serve())
+    sys.exit(serve(int(sys.argv[1]) if len(sys.argv) > 1 else 0))

@@ -92,3 +92,37 @@ def _exit_on_three(value: int) -> int:
     if value == 3:
         os._exit(3)
     return value
+
+
+def test_workers_share_the_cores_and_background_work_yields_to_the_rest():
+    from scalf_opt.workers import (
+        BACKGROUND_NICE,
+        THREADS_VARIABLE,
+        WorkerProcesses,
+        imap_in_processes,
+        thread_budget,
+    )
+
+    cores = os.cpu_count() or 1
+    # each of n workers may use cores // n threads (at least one), what the legs' threads read
+    assert map_in_processes(os.getenv, [THREADS_VARIABLE] * 2, 2) == [str(max(1, cores // 2))] * 2
+    assert dict(imap_in_processes(os.getenv, [THREADS_VARIABLE], 4)) == {0: str(cores)}
+    os.environ.pop(THREADS_VARIABLE, None)
+    assert thread_budget() == cores  # this process: its cores
+    here = os.nice(0)
+    with WorkerProcesses(3) as processes:
+        low = processes.submit(os.nice, 0, background=True)
+        normal = processes.submit(os.nice, 0)
+        assert (low.result(), normal.result()) == (min(19, here + BACKGROUND_NICE), here)
+
+
+def test_leaving_the_block_kills_work_whose_result_was_not_asked_for():
+    from scalf_opt.workers import WorkerProcesses
+
+    start = time.perf_counter()
+    with WorkerProcesses(2) as processes:
+        sleeping = processes.submit(time.sleep, 600.0, background=True)
+        assert processes.submit(math.sqrt, 4.0).result() == 2.0
+    assert time.perf_counter() - start < 60.0  # not the 600 s sleep: its worker was killed
+    with pytest.raises(WorkerDiedError):
+        sleeping.result()

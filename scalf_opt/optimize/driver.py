@@ -6,14 +6,14 @@ converged (:mod:`scalf_opt.optimize.sampling`), runs the extra starts asked for
 (:mod:`scalf_opt.optimize.starts`), and sets every optimum beside the reference swing at the same
 rate. A failed start is reported, not fatal; a leg is solved when its best start converged to
 a feasible point whose energy has converged in the sampling. With Ipopt the legs are solved on
-parallel threads (:data:`LEG_THREADS`); their answers do not depend on it, and their time
-hardly either (Ipopt's MUMPS factorizes one system at a time per process).
+parallel threads, as many as the process may use (:func:`~scalf_opt.workers.thread_budget`:
+its cores, one in a worker process beside others); their answers do not depend on it, and their
+time hardly either (Ipopt's MUMPS factorizes one system at a time per process).
 """
 
 from __future__ import annotations
 
 import math
-import os
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
@@ -47,10 +47,7 @@ from scalf_opt.optimize.solve import SwingOptimum
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SolverOptions, solver
 from scalf_opt.optimize.starts import starts
 from scalf_opt.types import Method
-
-LEG_THREADS = os.cpu_count() or 1
-"""Legs solved at once on parallel threads (a solver that releases the GIL: Ipopt). The legs'
-problems are independent, so the answers are those of one leg after the other."""
+from scalf_opt.workers import thread_budget
 
 
 @dataclass(frozen=True)
@@ -456,7 +453,7 @@ def optimize_swings(
     answers: dict[str, tuple[SwingOptimum, float]] = {}
     rounds = 1
     converged = False
-    workers = LEG_THREADS if solver(settings.method).releases_gil else 1
+    workers = thread_budget() if solver(settings.method).releases_gil else 1
     trial = trial and theta0 is not None and all(leg in theta0 for leg in legs)  # else cold
     while True:
         rates.append(rate)

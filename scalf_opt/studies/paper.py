@@ -26,6 +26,7 @@ import numpy as np
 from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.interrupts import results_in_order
 from scalf_opt.io.provenance import provenance
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
@@ -37,7 +38,7 @@ from scalf_opt.optimize.free_stance import FreeStance, optimize_stance
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.solve import SwingOptimum
 from scalf_opt.types import FIRST_PAIR
-from scalf_opt.workers import map_in_processes, worker_progress
+from scalf_opt.workers import WorkerProcesses, worker_progress
 
 FINE_PRECISION = 1e-4
 """Pattern-search precision of the validation run."""
@@ -191,38 +192,47 @@ def reproduce(
             progress(label)
 
     out = Reproduction(pipeline, pipeline.robot_cycle(make_family("reference")))
-    for key, (family_name, label, settings) in RUNS.items():
-        step(label)
-        settings = replace(settings, ipopt=ipopt_options)
-        run = optimize_swings(pipeline, PAIR, make_family(family_name), settings)
-        out.runs[key] = run
-        out.optima[key] = {leg: r.best for leg, r in run.legs.items()}
-        if run.success:
-            out.cycles[key] = run.cycle()
-            out.references[key] = run.reference_cycle()
     # the rest is independent solves, each Ipopt's and so one factorization at a time per
-    # process (scalf_opt.workers): they run side by side in worker processes
+    # process (scalf_opt.workers): they run side by side in worker processes, those that need
+    # no optimum of the tables from the start, behind the bounds in priority (the longest)
     settings = Settings(ipopt=ipopt_options)
-    jobs: list[tuple[str, Any]] = []
+    early: list[tuple[str, Any]] = []
     if not pipeline.load_model.couples_legs:
-        jobs.append(
+        early.append(
             (WHOLE_BODY_JOB, (pipeline.with_loads(DEFAULT_LOADS), DEFAULT_FAMILY, settings))
         )
-    bounded = beyond and all(out.runs[k].success for k in ("ipopt", "ipopt_rich"))
-    if bounded:
-        seeds = {
-            leg: [
-                (out.runs[k].family, out.runs[k].legs[leg].best.theta)
-                for k in ("ipopt", "ipopt_rich")
-            ]
-            for leg in PAIR
-        }
-        jobs += [(BOUND_JOB, job) for job in bound_jobs(pipeline, PAIR, seeds)]
-        jobs.append((FREE_STANCE_JOB, (pipeline, DEFAULT_FAMILY, settings)))
-    if jobs:
-        step(", ".join(dict.fromkeys(kind for kind, _ in jobs)))
-    solved = map_in_processes(independent_solve, jobs, len(jobs), progress)
-    for (kind, args), result in zip(jobs, solved, strict=True):
+    if beyond:
+        early.append((FREE_STANCE_JOB, (pipeline, DEFAULT_FAMILY, settings)))
+    with WorkerProcesses(len(early) + (len(PAIR) if beyond else 0), progress) as processes:
+        started = [processes.submit(independent_solve, job, background=True) for job in early]
+        for key, (family_name, label, settings_) in RUNS.items():
+            step(label)
+            settings_ = replace(settings_, ipopt=ipopt_options)
+            run = optimize_swings(pipeline, PAIR, make_family(family_name), settings_)
+            out.runs[key] = run
+            out.optima[key] = {leg: r.best for leg, r in run.legs.items()}
+            if run.success:
+                out.cycles[key] = run.cycle()
+                out.references[key] = run.reference_cycle()
+        bounded = beyond and all(out.runs[k].success for k in ("ipopt", "ipopt_rich"))
+        jobs = list(zip(early, started, strict=True))
+        if not bounded:  # nothing beyond the tables to compare with: the free stance is dropped
+            jobs = [(job, future) for job, future in jobs if job[0] != FREE_STANCE_JOB]
+        else:
+            seeds = {
+                leg: [
+                    (out.runs[k].family, out.runs[k].legs[leg].best.theta)
+                    for k in ("ipopt", "ipopt_rich")
+                ]
+                for leg in PAIR
+            }
+            for leg_job in bound_jobs(pipeline, PAIR, seeds):
+                job = (BOUND_JOB, leg_job)
+                jobs.append((job, processes.submit(independent_solve, job)))
+        if jobs:
+            step(", ".join(dict.fromkeys(kind for (kind, _), _ in jobs)))
+        solved = results_in_order([future for _, future in jobs])
+    for ((kind, args), _), result in zip(jobs, solved, strict=True):
         if kind == WHOLE_BODY_JOB:
             trunk_reference = result.pipeline.with_loads(pipeline.loads).robot_cycle(
                 make_family("reference")
