@@ -106,12 +106,12 @@ class WorkerProcesses:
     """Work submitted to worker processes, each item a fresh interpreter, collected later.
 
     At most ``concurrent`` workers run at once (items beyond wait for one to end); each may use
-    ``cores // concurrent`` threads (:func:`thread_budget`), so that the workers do not crowd
-    the cores they share. An item submitted with ``background=True`` runs at a lower scheduling
-    priority (:data:`BACKGROUND_NICE`): where the items outnumber the cores, the others,
-    the critical path, get a core first and the background ones fill what is left (``paper``
-    starts its whole-body line and its free stance before Tables 5 and 6, whose optima the
-    bounds need, and the bounds take the lead once they start).
+    ``cores // concurrent`` threads (this process's :func:`thread_budget`, shared), so that the
+    workers do not crowd the cores they share. An item submitted with ``background=True`` runs
+    at a lower scheduling priority (:data:`BACKGROUND_NICE`): where the items outnumber the
+    cores, the others, the critical path, get a core first and the background ones fill what is
+    left (``paper`` starts its whole-body line and its free stance before Tables 5 and 6, whose
+    optima the bounds need, and the bounds take the lead once they start).
 
     Leaving the block (by an error, Ctrl-C or SIGTERM too) kills the workers still running:
     work whose result was not asked for is dropped.
@@ -120,7 +120,7 @@ class WorkerProcesses:
     def __init__(self, concurrent: int, progress: Callable[[str], None] | None = None) -> None:
         concurrent = max(1, concurrent)
         self._progress = progress
-        self._threads = max(1, (os.cpu_count() or 1) // concurrent)
+        self._threads = _threads_each(concurrent)
         self._pool = ThreadPoolExecutor(max_workers=concurrent)
         self._lock = threading.Lock()
         self._stopping = threading.Event()
@@ -165,7 +165,7 @@ def imap_in_processes(
     error in the caller, Ctrl-C or SIGTERM kill the workers.
     """
     pending = iter(enumerate(items))
-    threads = max(1, (os.cpu_count() or 1) // max(1, min(workers, len(items))))
+    threads = _threads_each(min(workers, len(items)))
     lock = threading.Lock()
     stopping = threading.Event()
     running: list[subprocess.Popen[bytes]] = []
@@ -231,6 +231,11 @@ def thread_budget() -> int:
     with contextlib.suppress(KeyError, ValueError):
         return max(1, int(os.environ[THREADS_VARIABLE]))
     return os.cpu_count() or 1
+
+
+def _threads_each(workers: int) -> int:
+    """Threads each of ``workers`` workers may use: this process's budget shared, at least one."""
+    return max(1, thread_budget() // max(1, workers))
 
 
 def _start_worker(threads: int, nice: int = 0) -> subprocess.Popen[bytes]:

@@ -94,7 +94,7 @@ def _exit_on_three(value: int) -> int:
     return value
 
 
-def test_workers_share_the_cores_and_background_work_yields_to_the_rest():
+def test_workers_share_the_cores_and_background_work_yields_to_the_rest(monkeypatch):
     from scalf_opt.workers import (
         BACKGROUND_NICE,
         THREADS_VARIABLE,
@@ -103,12 +103,15 @@ def test_workers_share_the_cores_and_background_work_yields_to_the_rest():
         thread_budget,
     )
 
+    monkeypatch.delenv(THREADS_VARIABLE, raising=False)  # this process: its cores to share
     cores = os.cpu_count() or 1
     # each of n workers may use cores // n threads (at least one), what the legs' threads read
     assert map_in_processes(os.getenv, [THREADS_VARIABLE] * 2, 2) == [str(max(1, cores // 2))] * 2
     assert dict(imap_in_processes(os.getenv, [THREADS_VARIABLE], 4)) == {0: str(cores)}
-    os.environ.pop(THREADS_VARIABLE, None)
-    assert thread_budget() == cores  # this process: its cores
+    assert thread_budget() == cores
+    monkeypatch.setenv(THREADS_VARIABLE, "4")  # a worker with four threads shares those four
+    assert map_in_processes(os.getenv, [THREADS_VARIABLE] * 2, 2) == ["2", "2"]
+    monkeypatch.delenv(THREADS_VARIABLE)
     here = os.nice(0)
     with WorkerProcesses(3) as processes:
         low = processes.submit(os.nice, 0, background=True)
