@@ -27,6 +27,7 @@ samples and CasADi differentiates through it.
 
 from __future__ import annotations
 
+import threading
 import weakref
 from dataclasses import dataclass, field
 from functools import cached_property
@@ -38,6 +39,12 @@ from scalf_opt.energy.codegen import compile_library, load_external
 from scalf_opt.energy.limits import Bound, leg_bounds
 from scalf_opt.energy.physics import LegPhysics
 from scalf_opt.types import Accounting, Space, casadi_name
+
+SYMBOLIC_LOCK = threading.RLock()
+"""Held while a CasADi graph is built (kernels, NLPs). CasADi's symbolic core is not thread-safe
+and its Python calls release the GIL, so two legs solved on parallel threads must not build at
+once: a test run crashed with a segmentation fault in ``Function.jacobian`` on one leg's thread
+beside a ``reshape`` on the other's. Only the builds wait; the solves still overlap."""
 
 HEAT_SMOOTHING_EPS_M_S = 1e-4
 """Velocity scale of the smooth max in the NLP's drive losses [m/s].
@@ -113,30 +120,32 @@ class Kernel:
 
     def smooth(self) -> ca.Function:
         """``y (6) -> out (5 + m)``: p_mech (2), summed smooth losses (1), c (m); NLP use."""
-        if self._smooth is None:
-            e = self._expressions("paper", HEAT_SMOOTHING_EPS_M_S)
-            name = casadi_name(self.physics.leg.name, self.space, "nlp_sample")
-            fn = ca.Function(
-                name, [self._y], [ca.vertcat(e["p_mech"], ca.sum1(e["p_loss"]), e["c"])]
-            )
-            adjoint = fn.reverse(1)
-            library = compile_library(
-                name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian()]
-            )
-            compiled = load_external(name, library)
-            self.compiled = self.compiled or compiled is not None
-            self._smooth = compiled or fn
+        with SYMBOLIC_LOCK:
+            if self._smooth is None:
+                e = self._expressions("paper", HEAT_SMOOTHING_EPS_M_S)
+                name = casadi_name(self.physics.leg.name, self.space, "nlp_sample")
+                fn = ca.Function(
+                    name, [self._y], [ca.vertcat(e["p_mech"], ca.sum1(e["p_loss"]), e["c"])]
+                )
+                adjoint = fn.reverse(1)
+                library = compile_library(
+                    name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian()]
+                )
+                compiled = load_external(name, library)
+                self.compiled = self.compiled or compiled is not None
+                self._smooth = compiled or fn
         return self._smooth
 
     def exact(self, accounting: Accounting) -> ca.Function:
         """``y (6) -> out (4 + m)``: charged power (2), p_mech (2), c (m); exact energy."""
-        if accounting not in self._exact:
-            e = self._expressions(accounting, None)
-            name = casadi_name(self.physics.leg.name, self.space, accounting, "exact_sample")
-            fn = ca.Function(name, [self._y], [ca.vertcat(e["power"], e["p_mech"], e["c"])])
-            compiled = load_external(name, compile_library(name, [fn]))
-            self.compiled = self.compiled or compiled is not None
-            self._exact[accounting] = compiled or fn
+        with SYMBOLIC_LOCK:
+            if accounting not in self._exact:
+                e = self._expressions(accounting, None)
+                name = casadi_name(self.physics.leg.name, self.space, accounting, "exact_sample")
+                fn = ca.Function(name, [self._y], [ca.vertcat(e["power"], e["p_mech"], e["c"])])
+                compiled = load_external(name, compile_library(name, [fn]))
+                self.compiled = self.compiled or compiled is not None
+                self._exact[accounting] = compiled or fn
         return self._exact[accounting]
 
     def evaluate_exact(self, accounting: Accounting, samples: np.ndarray) -> np.ndarray:
@@ -154,12 +163,13 @@ _KERNELS: weakref.WeakKeyDictionary[LegPhysics, dict[Space, Kernel]] = weakref.W
 def kernel_for(physics: LegPhysics, space: Space) -> Kernel:
     """The leg's kernel in ``space``, built once per leg (and compiled once per machine)."""
     per_leg = _KERNELS.setdefault(physics, {})
-    if space not in per_leg:
-        bounds = leg_bounds(physics)
-        rows = (*(b.name for b in bounds), FOOT_Z, FOOT_Z_ACCEL)
-        if space == "foot":
-            rows = (*rows, REACH)
-        per_leg[space] = Kernel(physics, space, bounds, rows)
+    with SYMBOLIC_LOCK:
+        if space not in per_leg:
+            bounds = leg_bounds(physics)
+            rows = (*(b.name for b in bounds), FOOT_Z, FOOT_Z_ACCEL)
+            if space == "foot":
+                rows = (*rows, REACH)
+            per_leg[space] = Kernel(physics, space, bounds, rows)
     return per_leg[space]
 
 
@@ -184,32 +194,33 @@ def stance_kernel(varying: LegPhysics, space: Space, stance: tuple[LegPhysics, .
     """
     key = (space, tuple(id(s) for s in stance))
     per_leg = _STANCE_KERNELS.setdefault(varying, {})
-    if key not in per_leg:
-        y = ca.SX.sym("y", 6)
-        d = ca.SX.sym("d", STANCE_INPUTS * len(stance))
-        wrench = varying.wrench_function(space)(y[0:2], y[2:4], y[4:6])
-        powers, losses, limited = [], [], []
-        for k, physics in enumerate(stance):
-            block = d[STANCE_INPUTS * k : STANCE_INPUTS * (k + 1)]
-            q, qd, tau0 = block[0:2], block[2:4], block[4:6]
-            gain = ca.reshape(block[6:18], 6, 2).T  # row-major 2 x 6
-            tau = tau0 + ca.mtimes(gain, wrench)
-            powers.append(tau * qd)
-            _, loss = physics.power_expr(q, qd, tau, heat_eps=HEAT_SMOOTHING_EPS_M_S)
-            losses.append(ca.sum1(loss))
-            limited.append(stance_limit_function(physics)(q, qd, tau))
-        names = [varying.leg.name, space, *(s.leg.name for s in stance), "stance_sample"]
-        name = casadi_name(*names)
-        fn = ca.Function(
-            name,
-            [y, d],
-            [ca.vertcat(*powers), ca.sum1(ca.vertcat(*losses)), ca.vertcat(*limited)],
-        )
-        adjoint = fn.reverse(1)
-        library = compile_library(
-            name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian()]
-        )
-        per_leg[key] = load_external(name, library) or fn
+    with SYMBOLIC_LOCK:
+        if key not in per_leg:
+            y = ca.SX.sym("y", 6)
+            d = ca.SX.sym("d", STANCE_INPUTS * len(stance))
+            wrench = varying.wrench_function(space)(y[0:2], y[2:4], y[4:6])
+            powers, losses, limited = [], [], []
+            for k, physics in enumerate(stance):
+                block = d[STANCE_INPUTS * k : STANCE_INPUTS * (k + 1)]
+                q, qd, tau0 = block[0:2], block[2:4], block[4:6]
+                gain = ca.reshape(block[6:18], 6, 2).T  # row-major 2 x 6
+                tau = tau0 + ca.mtimes(gain, wrench)
+                powers.append(tau * qd)
+                _, loss = physics.power_expr(q, qd, tau, heat_eps=HEAT_SMOOTHING_EPS_M_S)
+                losses.append(ca.sum1(loss))
+                limited.append(stance_limit_function(physics)(q, qd, tau))
+            names = [varying.leg.name, space, *(s.leg.name for s in stance), "stance_sample"]
+            name = casadi_name(*names)
+            fn = ca.Function(
+                name,
+                [y, d],
+                [ca.vertcat(*powers), ca.sum1(ca.vertcat(*losses)), ca.vertcat(*limited)],
+            )
+            adjoint = fn.reverse(1)
+            library = compile_library(
+                name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian()]
+            )
+            per_leg[key] = load_external(name, library) or fn
     return per_leg[key]
 
 
@@ -258,10 +269,13 @@ def stance_limit_function(physics: LegPhysics) -> ca.Function:
     The numeric twin of the stance kernel's third output: the pattern search and the limit
     checks evaluate the stance legs' limits with it (map it over the samples).
     """
-    if physics not in _STANCE_LIMIT_FUNCTIONS:
-        q, qd, tau = (ca.SX.sym(n, 2) for n in ("q", "qd", "tau"))
-        values = [_bounded_value(physics, b, q, qd, tau) for b in stance_limited_bounds(physics)]
-        _STANCE_LIMIT_FUNCTIONS[physics] = ca.Function(
-            casadi_name(physics.leg.name, "stance_limits"), [q, qd, tau], [ca.vertcat(*values)]
-        )
+    with SYMBOLIC_LOCK:
+        if physics not in _STANCE_LIMIT_FUNCTIONS:
+            q, qd, tau = (ca.SX.sym(n, 2) for n in ("q", "qd", "tau"))
+            values = [
+                _bounded_value(physics, b, q, qd, tau) for b in stance_limited_bounds(physics)
+            ]
+            _STANCE_LIMIT_FUNCTIONS[physics] = ca.Function(
+                casadi_name(physics.leg.name, "stance_limits"), [q, qd, tau], [ca.vertcat(*values)]
+            )
     return _STANCE_LIMIT_FUNCTIONS[physics]

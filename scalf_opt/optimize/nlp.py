@@ -50,6 +50,7 @@ from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.interrupts import interruptible, stop_requested
 from scalf_opt.optimize.kernels import (
     STANCE_INPUTS,
+    SYMBOLIC_LOCK,
     casadi_name,
     stance_kernel,
     stance_limited_bounds,
@@ -354,49 +355,54 @@ def build_nlp(
 
     ``left_out``: rows of the kernel's ``c`` the NLP does not carry (screened out).
     """
-    lifted = problem.n_params > CONDENSED_MAX_PARAMS
-    options = {**IPOPT_DEFAULTS, **({} if lifted else CONDENSED_OPTIONS), **(ipopt_options or {})}
-    kernel = problem.kernel
-    charged = tuple(
-        i for i, drive in enumerate(problem.physics.drives) if drive.charges_joint_power
-    )
-    accounting = problem.pipeline.accounting
-    index = constraint_index(problem, lifted, left_out)
-    constant = _sparse_basis(problem)
-    shape = coupled_shape(problem)
-    # in a worker thread a signal cannot stop the solve: its iteration callback does
-    stoppable = threading.current_thread() is not threading.main_thread()
-    key = (
-        shape,
-        lifted,
-        problem.n_samples,
-        problem.n_params,
-        charged,
-        accounting,
-        hashlib.sha256(index.tobytes()).hexdigest(),
-        None if constant is None else _digest(constant),
-        tuple(sorted(options.items())),
-        stoppable,
-    )
-    if key not in kernel.nlps:
-        start = time.perf_counter()
-        solver, callback = _build(
-            problem, lifted, index, charged, accounting, constant, options, stoppable, shape
+    with SYMBOLIC_LOCK:  # one CasADi build at a time (leg threads)
+        lifted = problem.n_params > CONDENSED_MAX_PARAMS
+        options = {
+            **IPOPT_DEFAULTS,
+            **({} if lifted else CONDENSED_OPTIONS),
+            **(ipopt_options or {}),
+        }
+        kernel = problem.kernel
+        charged = tuple(
+            i for i, drive in enumerate(problem.physics.drives) if drive.charges_joint_power
         )
-        kernel.nlps[key] = BuiltNlp(
-            solver,
+        accounting = problem.pipeline.accounting
+        index = constraint_index(problem, lifted, left_out)
+        constant = _sparse_basis(problem)
+        shape = coupled_shape(problem)
+        # in a worker thread a signal cannot stop the solve: its iteration callback does
+        stoppable = threading.current_thread() is not threading.main_thread()
+        key = (
+            shape,
             lifted,
-            problem.n_params,
             problem.n_samples,
+            problem.n_params,
             charged,
             accounting,
-            constant is not None,
-            time.perf_counter() - start,
-            index,
-            shape,
-            callback,
+            hashlib.sha256(index.tobytes()).hexdigest(),
+            None if constant is None else _digest(constant),
+            tuple(sorted(options.items())),
+            stoppable,
         )
-    built = kernel.nlps[key]
+        if key not in kernel.nlps:
+            start = time.perf_counter()
+            solver, callback = _build(
+                problem, lifted, index, charged, accounting, constant, options, stoppable, shape
+            )
+            kernel.nlps[key] = BuiltNlp(
+                solver,
+                lifted,
+                problem.n_params,
+                problem.n_samples,
+                charged,
+                accounting,
+                constant is not None,
+                time.perf_counter() - start,
+                index,
+                shape,
+                callback,
+            )
+        built = kernel.nlps[key]
     assert isinstance(built, BuiltNlp)
     return built
 
