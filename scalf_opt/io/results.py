@@ -139,6 +139,7 @@ def optimization_record(run: SwingOptimization) -> dict[str, Any]:
         "wall_time_s": run.wall_time_s,
         "loads": run.pipeline.loads,
         "alternation_rounds": run.rounds,
+        "alternation_settled": run.alternation_settled,
     }
 
 

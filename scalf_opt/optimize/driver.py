@@ -212,6 +212,9 @@ class SwingOptimization:
         wall_time_s: Time of the whole optimization [s].
         rounds: Rounds of the coupled legs' alternation at the final rate (1 when the legs are
             independent: trunk-only loads, or one leg).
+        alternation_settled: The last round changed the coupled legs' energy by less than
+            :data:`ALTERNATION_RTOL` (always true for independent legs); else the alternation
+            stopped at :data:`MAX_ALTERNATIONS` rounds and the pair is not converged.
     """
 
     family: SwingFamily
@@ -222,6 +225,12 @@ class SwingOptimization:
     converged_sampling: bool
     wall_time_s: float = 0.0
     rounds: int = 1
+    alternation_settled: bool = True
+
+    @property
+    def coupled(self) -> bool:
+        """The legs' problems are coupled (whole-body loads, several legs): solved in turn."""
+        return self.pipeline.load_model.couples_legs and len(self.legs) > 1
 
     @property
     def rate_hz(self) -> float:
@@ -230,14 +239,20 @@ class SwingOptimization:
 
     @property
     def success(self) -> bool:
-        """Every leg solved, with converged energies."""
-        return self.converged_sampling and all(r.success for r in self.legs.values())
+        """Every leg solved, with converged energies (and a settled alternation)."""
+        return (
+            self.converged_sampling
+            and self.alternation_settled
+            and all(r.success for r in self.legs.values())
+        )
 
     def failure(self) -> str:
         """What did not converge, in one phrase ('' when everything did)."""
         parts = [f"{r.leg} ({r.best.status})" for r in self.legs.values() if not r.success]
         if not self.converged_sampling and not parts:
             parts.append(f"the sampling by {self.rate_hz:g} Hz")
+        if not self.alternation_settled and not parts:
+            parts.append(f"the legs' alternation (stopped after {self.rounds} rounds)")
         return ", ".join(parts)
 
     @property
@@ -345,15 +360,16 @@ def _solve_legs(
     current: Mapping[str, np.ndarray | None],
     workers: int = 1,
     trial: bool = False,
-) -> tuple[dict[str, tuple[SwingOptimum, float]], int]:
-    """Optimize every leg at the pipeline's rate; also return the rounds it took.
+) -> tuple[dict[str, tuple[SwingOptimum, float]], int, bool]:
+    """Optimize every leg at the pipeline's rate: the answers, the rounds, whether they settled.
 
     Under trunk loads each leg is its own problem: one round. Under whole-body loads a leg's
     objective depends on the other optimized legs' swings (their twins load the same stance
     feet), so the legs are optimized in turn, each with the others' latest parameters, until a
     round changes their summed objective by less than :data:`ALTERNATION_RTOL` (block
     coordinate descent on the pair's energy: no round makes it worse), at most
-    :data:`MAX_ALTERNATIONS` rounds.
+    :data:`MAX_ALTERNATIONS` rounds; the alternation has settled when its last round met the
+    tolerance (independent legs: always).
     """
     thetas = {leg: current[leg] for leg in legs}
     coupled = pipeline.load_model.couples_legs and len(legs) > 1
@@ -361,32 +377,30 @@ def _solve_legs(
         solved = map_in_threads(
             partial(_solve_one, pipeline, family, settings, current, trial), legs, workers
         )
-        return dict(zip(legs, solved, strict=True)), 1
+        return dict(zip(legs, solved, strict=True)), 1, True
     answers: dict[str, tuple[SwingOptimum, float]] = {}
     previous = math.inf
     for round_ in range(1, MAX_ALTERNATIONS + 1):
         for leg in legs:
-            others: dict[str, np.ndarray] | None = None
-            if coupled:
-                others = {}
-                for o in legs:
-                    theta = thetas[o]
-                    if o != leg:
-                        others[o] = np.zeros(family.n_params) if theta is None else theta
+            others = {
+                o: np.zeros(family.n_params) if theta is None else theta
+                for o, theta in thetas.items()
+                if o != leg
+            }
             answers[leg] = _solve_leg(
                 pipeline, leg, family, settings, thetas[leg], others, trial=trial
             )
             if answers[leg][0].success:
                 thetas[leg] = answers[leg][0].theta
-        if not coupled or not all(o.success for o, _ in answers.values()):
-            return answers, round_
+        if not all(o.success for o, _ in answers.values()):
+            return answers, round_, True  # a failed leg is the run's status
         total = answers[legs[-1]][0].objective_j + sum(
             answers[leg][0].swing_energy_j for leg in legs[:-1]
         )
         if abs(previous - total) <= ALTERNATION_RTOL * abs(total):
-            break
+            return answers, round_, True
         previous = total
-    return answers, round_
+    return answers, MAX_ALTERNATIONS, False
 
 
 def coupled_others(
@@ -451,7 +465,7 @@ def optimize_swings(
         first[leg] = (label, theta)
         current[leg] = theta
     answers: dict[str, tuple[SwingOptimum, float]] = {}
-    rounds = 1
+    rounds, settled = 1, True
     converged = False
     workers = thread_budget() if solver(settings.method).releases_gil else 1
     trial = trial and theta0 is not None and all(leg in theta0 for leg in legs)  # else cold
@@ -460,7 +474,9 @@ def optimize_swings(
         if progress is not None:
             progress(f"{family.name} at {rate:g} Hz")
         at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
-        answers, rounds = _solve_legs(at_rate, legs, family, settings, current, workers, trial)
+        answers, rounds, settled = _solve_legs(
+            at_rate, legs, family, settings, current, workers, trial
+        )
         solved = all(o.success for o, _ in answers.values())
         errors = [relative_difference(o.objective_j, c) for o, c in answers.values()]
         if not solved:
@@ -519,4 +535,5 @@ def optimize_swings(
         converged,
         time.perf_counter() - start,
         rounds,
+        settled,
     )

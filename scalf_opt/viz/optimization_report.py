@@ -6,7 +6,7 @@ import math
 
 from scalf_opt.energy.peaks import CycleViolation, Peak
 from scalf_opt.optimize.bound import FreeBound
-from scalf_opt.optimize.driver import LegResult, SwingOptimization
+from scalf_opt.optimize.driver import ALTERNATION_RTOL, LegResult, SwingOptimization
 from scalf_opt.optimize.free_stance import FreeStance
 from scalf_opt.optimize.sampling import CHECK_FACTOR
 
@@ -160,6 +160,17 @@ def optimization_report(run: SwingOptimization) -> str:
         f"{100 * run.settings.sampling_tolerance:g} %)"
         + ("" if run.converged_sampling else "; NOT CONVERGED")
     ]
+    if run.coupled:
+        settled = (
+            f"until a round changed the pair's energy by less than {ALTERNATION_RTOL:g} relative"
+            if run.alternation_settled
+            else "and stopped there, its energy still changing: NOT CONVERGED"
+        )
+        lines.append(
+            f"whole-body loads couple the legs (each swing loads the other's stance feet): "
+            f"solved in turn, {run.rounds} rounds {settled}; a leg's iterations and time below "
+            f"are its last solve's, the whole optimization took {run.wall_time_s:.2f} s"
+        )
     for result in run.legs.values():
         lines += _leg_lines(result, run.settings.method, run.family.name)
     return "\n".join(lines)

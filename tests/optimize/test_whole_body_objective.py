@@ -11,10 +11,12 @@ import pytest
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.optimize import driver
 from scalf_opt.optimize.driver import Settings, optimize_swings
 from scalf_opt.optimize.free_stance import pair_energy_j
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solvers import SolverOptions, solver
+from scalf_opt.viz.optimization_report import optimization_report
 
 RTOL = 1e-10  # the same formulas through two code paths: round-off only
 
@@ -86,6 +88,19 @@ def test_the_driver_reports_cycles_the_evaluator_reproduces(scalf):
         problem = SwingProblem(run.pipeline, leg, family, {other: thetas[other]})
         again = solver("ipopt").solve(problem, thetas[leg], SolverOptions(Settings().pattern, None))
         assert again.objective_j >= problem.energy_j(thetas[leg]) * (1 - 1e-5)
+    assert run.rounds > 1 and run.alternation_settled
+    assert "rounds until a round changed the pair's energy" in optimization_report(run)
+
+
+def test_an_alternation_cut_short_is_not_converged(scalf, monkeypatch):
+    # one round cannot tell that the legs have settled: the run says so, it is not a success
+    monkeypatch.setattr(driver, "MAX_ALTERNATIONS", 1)
+    pipeline = EnergyPipeline(scalf, Gait(), loads="whole-body")
+    run = optimize_swings(pipeline, ("RF", "LH"), make_family("paper"))
+    assert all(r.success for r in run.legs.values()) and run.converged_sampling
+    assert not run.alternation_settled and not run.success
+    assert run.failure() == "the legs' alternation (stopped after 1 rounds)"
+    assert "NOT CONVERGED" in optimization_report(run)
 
 
 @pytest.mark.slow
