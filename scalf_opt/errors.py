@@ -8,6 +8,9 @@ status and statistics) and the CLI exits 3.
 
 from __future__ import annotations
 
+import difflib
+from collections.abc import Iterable
+
 
 class ScalfError(Exception):
     """Base class of every error scalf-opt raises on purpose.
@@ -41,3 +44,9 @@ class InfeasibleError(ScalfError):
 
 class LogError(ScalfError):
     """A measurement log (cylinder lengths and forces) cannot be read or is invalid."""
+
+
+def did_you_mean(word: str, candidates: Iterable[str]) -> str:
+    """``"; did you mean 'x'?"`` for the candidate closest to a mistyped ``word``, else ``""``."""
+    close = difflib.get_close_matches(word, list(candidates), n=1)
+    return f"; did you mean {close[0]!r}?" if close else ""

@@ -38,9 +38,7 @@ def read_gait(
     """
     unknown = sorted(set(fields) - set(Gait.field_names()))
     if unknown:
-        raise ConfigError(
-            f"unknown gait field {unknown[0]!r} (known: {', '.join(Gait.field_names())})"
-        )
+        raise ConfigError(Gait.unknown_field(unknown[0]))
     gait = base or (default_gait_for(robot) if robot is not None else Gait())
     if path is not None:
         gait = read_gait_file(path, gait)

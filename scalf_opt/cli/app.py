@@ -12,7 +12,6 @@ command finishes and writes its files).
 from __future__ import annotations
 
 import argparse
-import difflib
 import errno
 import importlib.metadata
 import os
@@ -26,7 +25,7 @@ from scalf_opt import __version__
 from scalf_opt.cli.commands import COMMANDS
 from scalf_opt.cli.console import Console, terminal_safe
 from scalf_opt.cli.options import default_outputs
-from scalf_opt.errors import ScalfError
+from scalf_opt.errors import ScalfError, did_you_mean
 from scalf_opt.files import output_set, remove_stale_scratch
 from scalf_opt.interrupts import raise_if_stopped, stop_code, stop_on_signals
 
@@ -40,10 +39,10 @@ class Parser(argparse.ArgumentParser):
         choice = re.search(r"invalid choice: '([^']*)' \(choose from (.*)\)", message)
         unknown = re.match(r"unrecognized arguments: (\S+)", message)
         if choice:
-            hint = _close(choice.group(1), re.findall(r"'([^']*)'", choice.group(2)))
+            hint = did_you_mean(choice.group(1), re.findall(r"'([^']*)'", choice.group(2)))
         elif unknown:
             options = [o for action in self._actions for o in action.option_strings]
-            hint = _close(unknown.group(1), options)
+            hint = did_you_mean(unknown.group(1), options)
         line = terminal_safe(" ".join(f"{message}{hint}".splitlines()))
         sys.stderr.write(f"scalf-opt: error: {line} (see {self.prog} --help)\n")
         sys.exit(2)
@@ -58,11 +57,6 @@ def _naming_the_option(exc: ScalfError, parser: argparse.ArgumentParser, argv: l
     given = any(a == option or a.startswith(option + "=") for a in argv)
     known = any(option in action.option_strings for action in parser._actions)
     return f"{option}: {message}" if given and known else message
-
-
-def _close(word: str, candidates: list[str]) -> str:
-    close = difflib.get_close_matches(word, candidates, n=1)
-    return f"; did you mean {close[0]!r}?" if close else ""
 
 
 def _common_options(with_json: bool, with_verbose: bool) -> Parser:

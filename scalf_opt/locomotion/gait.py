@@ -12,7 +12,7 @@ from dataclasses import dataclass, fields
 
 import numpy as np
 
-from scalf_opt.errors import GaitError
+from scalf_opt.errors import GaitError, did_you_mean
 from scalf_opt.types import Phase, check_choice
 
 FRONT_LEGS: tuple[str, ...] = ("RF", "LF")
@@ -110,6 +110,12 @@ class Gait:
     def field_names(cls) -> tuple[str, ...]:
         """The gait's field names, in order."""
         return tuple(f.name for f in fields(cls))
+
+    @classmethod
+    def unknown_field(cls, name: str) -> str:
+        """The message for a gait field ``name`` that does not exist: the closest and the known."""
+        known = cls.field_names()
+        return f"unknown gait field {name!r}{did_you_mean(name, known)} (known: {', '.join(known)})"
 
     def to_dict(self) -> dict[str, float | int]:
         """The fields as plain data."""

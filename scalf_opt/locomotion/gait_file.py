@@ -34,7 +34,7 @@ def read_gait_fields(path: str | Path) -> dict[str, float | int]:
     values: dict[str, float | int] = {}
     for key, value in table.items():
         if key not in known:
-            raise ConfigError(f"{path}: unknown gait field {key!r} (known: {', '.join(known)})")
+            raise ConfigError(f"{path}: {Gait.unknown_field(key)}")
         if key == "cycles":
             if isinstance(value, bool) or not isinstance(value, int):
                 raise ConfigError(f"{path}: gait field cycles must be an integer, got {value!r}")

@@ -43,7 +43,7 @@ from typing import Any
 
 from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.loads import DEFAULT_LOADS, stance_loads
-from scalf_opt.errors import ConfigError
+from scalf_opt.errors import ConfigError, did_you_mean
 from scalf_opt.files import read_toml
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
@@ -199,18 +199,16 @@ def _check_field(path: Path, key: str, value: Any) -> Any:
     kind, _, name = key.partition(".")
     if kind == "gait":
         if name not in Gait.field_names():
-            raise ConfigError(
-                f"{path}: unknown gait field {name!r} in {key!r} "
-                f"(known: {', '.join(Gait.field_names())})"
-            )
+            raise ConfigError(f"{path}: {key!r}: {Gait.unknown_field(name)}")
         if name == "cycles" and (isinstance(value, bool) or not isinstance(value, int)):
             raise ConfigError(f"{path}: {key} must be an integer, got {value!r}")
         return _number(path, key, value)
     if kind == "variant":
         if name not in VariantScales.field_names():
+            known = VariantScales.field_names()
             raise ConfigError(
-                f"{path}: unknown variant field {name!r} in {key!r} "
-                f"(known: {', '.join(VariantScales.field_names())})"
+                f"{path}: unknown variant field {name!r} in {key!r}"
+                f"{did_you_mean(name, known)} (known: {', '.join(known)})"
             )
         value = _number(path, key, value)
         try:
@@ -283,7 +281,10 @@ def read_study(path: str | Path) -> Study:
     data = read_toml(path, "study")
     extra = sorted(set(data) - set(_TOP_KEYS))
     if extra:
-        raise ConfigError(f"{path}: unknown table [{extra[0]}] (known: {', '.join(_TOP_KEYS)})")
+        raise ConfigError(
+            f"{path}: unknown table [{extra[0]}]{did_you_mean(extra[0], _TOP_KEYS)} "
+            f"(known: {', '.join(_TOP_KEYS)})"
+        )
     tables = {}
     for key in _TOP_KEYS:
         value = data.get(key, {})
@@ -294,7 +295,8 @@ def read_study(path: str | Path) -> Study:
     unknown = sorted(set(study) - set(_STUDY_KEYS))
     if unknown:
         raise ConfigError(
-            f"{path}: unknown key study.{unknown[0]} (known: {', '.join(_STUDY_KEYS)})"
+            f"{path}: unknown key study.{unknown[0]}{did_you_mean(unknown[0], _STUDY_KEYS)} "
+            f"(known: {', '.join(_STUDY_KEYS)})"
         )
     urdf = _file(path, study, "urdf")
     if urdf is not None and "robot" in study:

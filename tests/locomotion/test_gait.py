@@ -73,7 +73,7 @@ def test_gait_file_round_trip(tmp_path):
 @pytest.mark.parametrize(
     ("text", "error", "match"),
     [
-        ("[gait]\nperiod = 0.5\n", ConfigError, "unknown gait field 'period'"),
+        ("[gait]\nperiod = 0.5\n", ConfigError, "field 'period'; did you mean 'period_s'"),
         ("[gait]\nperiod_s = 'fast'\n", ConfigError, "period_s must be a number"),
         ("[gait]\ncycles = 2.5\n", ConfigError, "cycles must be an integer"),
         ("[gait\nperiod_s = 1\n", ConfigError, "not valid TOML"),

@@ -63,9 +63,9 @@ x = "speed_m_s"
 @pytest.mark.parametrize(
     ("text", "match"),
     [
-        ("[study]\nrobots = 'x'\n", "unknown key study.robots"),
-        ("[studies]\n", r"unknown table \[studies\]"),
-        ("[sweep]\n'gait.speed' = [1]\n", "unknown gait field 'speed'"),
+        ("[study]\nrobots = 'x'\n", "unknown key study.robots; did you mean 'robot'"),
+        ("[studies]\n", r"unknown table \[studies\]; did you mean 'study'"),
+        ("[sweep]\n'gait.speed' = [1]\n", r"unknown gait field 'speed' \(known"),
         ("[sweep]\n'hip' = [1]\n", "unknown sweep key 'hip'"),
         ("[sweep]\n'gait.period_s' = []\n", "must be a non-empty list"),
         ("[sweep]\n'gait.period_s' = ['a']\n", "gait.period_s must be a number"),
