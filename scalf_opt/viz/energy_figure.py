@@ -8,6 +8,7 @@ energy per cycle and its change against the first trajectory (the reference).
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 import matplotlib.pyplot as plt
@@ -39,6 +40,8 @@ def energy_bars_figure(trajectories: Sequence[Trajectory]) -> Figure:
         centers = []
         reference = trajectories[0].cycle.energy_j
         top = max(max(t.cycle.legs[leg].energy_j for leg in legs) for t in trajectories)
+        # every label with the same decimals, four significant digits on the tallest bar
+        decimals = max(0, 3 - math.floor(math.log10(top))) if top > 0.0 else 3
         for group, trajectory in enumerate(trajectories):
             start = group * (len(legs) + gap)
             xs = start + np.arange(len(legs))
@@ -67,10 +70,15 @@ def energy_bars_figure(trajectories: Sequence[Trajectory]) -> Figure:
                             )
                         bottom += energy
                 ax.text(
-                    x, bottom + 0.01 * top, f"{bottom:.4g}", ha="center", va="bottom", fontsize=7
+                    x,
+                    bottom + 0.01 * top,
+                    f"{bottom:.{decimals}f}",
+                    ha="center",
+                    va="bottom",
+                    fontsize=7,
                 )
             total = trajectory.cycle.energy_j
-            note = f"{total:.4g} J per cycle"
+            note = f"{total:.{decimals}f} J per cycle"
             if group > 0:
                 note += f"\n{change_percent(total, reference):+.1f} %"
             ax.text(

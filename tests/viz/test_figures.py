@@ -235,3 +235,18 @@ def test_a_stance_over_the_cycles_end_is_drawn_without_a_line_back_across_the_cy
     assert all(np.all(np.diff(run[~np.isnan(run)]) >= 0.0) for run in runs)  # never backwards
     assert len(runs) == 3  # the stance's start, its end after the wrap, the swing
     assert 0.0 <= np.nanmin(t) < 1e-6 and np.nanmax(t) <= gait.period_s
+
+
+def test_energy_bar_labels_are_the_cycle_energies_with_one_precision(scalf_shown):
+    """Every bar's label is its leg's cycle energy and the totals are the cycles', all printed with
+    the same decimals (``7.340`` beside ``7.408``, not ``7.34``)."""
+    _, shown = scalf_shown
+    fig = energy_bars_figure(shown)
+    texts = [t.get_text() for t in fig.axes[0].texts]
+    bars = [t for t in texts if numeric(t)]
+    legs = [leg for t in shown for leg in t.cycle.legs.values()]
+    assert [float(b) for b in bars] == pytest.approx([leg.energy_j for leg in legs], abs=0.01)
+    totals = [t.split(" J")[0] for t in texts if "J per cycle" in t]
+    assert [float(t) for t in totals] == pytest.approx([t.cycle.energy_j for t in shown], abs=0.01)
+    assert len({len(number.partition(".")[2]) for number in bars + totals}) == 1
+    close(fig)
