@@ -108,7 +108,8 @@ def analyze_log(
         gait: Its duty cycle and period, where the log does not say (default: the robot's).
         period_s: The gait period [s], over the log's contacts and the gait.
         command: The command line, recorded in the result's provenance.
-        topic: A bag's topic of ``sensor_msgs/JointState`` messages (joints or cylinders).
+        topic: A bag's topic of ``sensor_msgs/JointState`` messages (joints or cylinders;
+            default: the bag's only one).
         joint_names: A bag's joint name -> the URDF joint name (default: the URDF's names).
         signals: ``joints`` or ``cylinders``: what the topic holds (default: by its names).
         plan: A directory with the ``summary.json`` of the optimum the robot ran: its gait is

@@ -175,12 +175,15 @@ def _bag_error(path: Path, exc: Exception) -> LogError:
     return LogError(f"{path}: not a readable ROS 2 bag ({reason}; truncated or not a bag?)")
 
 
-def read_joint_states(path: str | Path, topic: str) -> JointStateSeries:
+def read_joint_states(path: str | Path, topic: str | None = None) -> JointStateSeries:
     """Read every ``JointState`` message of ``topic`` in the bag ``path``.
+
+    ``topic`` ``None``: the bag's one ``JointState`` topic.
 
     Raises:
         LogError: The bag cannot be read (truncated, not a bag), has no such topic (the message
-            lists the joint-state topics it has), the topic is of another type, a message's
+            lists the joint-state topics it has), no topic given and not exactly one
+            ``JointState`` topic (the message lists them), the topic is of another type, a message's
             names or arrays disagree with the first's, a value is not finite, or the time stamps
             do not increase (the message names the topic and the message's index).
     """
@@ -217,7 +220,7 @@ def _bounded_copy(path: Path, folder: Path) -> Path:
     return copy
 
 
-def _read_joint_states(path: Path, local: Path, topic: str) -> JointStateSeries:
+def _read_joint_states(path: Path, local: Path, topic: str | None) -> JointStateSeries:
     """:func:`read_joint_states` of the bag's copy ``local``; messages name ``path``."""
     _rosbags()
     from rosbags.highlevel import AnyReader
@@ -228,10 +231,17 @@ def _read_joint_states(path: Path, local: Path, topic: str) -> JointStateSeries:
     except Exception as exc:  # rosbags raises many kinds on a broken file
         raise _bag_error(path, exc) from exc
     try:
+        states = sorted({c.topic for c in reader.connections if c.msgtype == JOINT_STATE})
+        have = ", ".join(states) if states else "none"
+        if topic is None:
+            if len(states) != 1:
+                raise LogError(
+                    f"{path}: the bag has {len(states) or 'no'} JointState topics ({have}); "
+                    "name one with --topic"
+                )
+            topic = states[0]
         connections = [c for c in reader.connections if c.topic == topic]
         if not connections:
-            states = sorted({c.topic for c in reader.connections if c.msgtype == JOINT_STATE})
-            have = ", ".join(states) if states else "none"
             raise LogError(
                 f"{path}: no topic {topic!r} in the bag (its JointState topics: {have}); "
                 "name one with --topic"

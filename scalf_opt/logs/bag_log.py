@@ -96,7 +96,7 @@ def _choose_signals(
 def bag_log(
     path: str | Path,
     pipeline: EnergyPipeline,
-    topic: str,
+    topic: str | None = None,
     signals: Signals | None = None,
     names: Mapping[str, str] | None = None,
 ) -> CylinderLog | JointLog:
@@ -107,7 +107,7 @@ def bag_log(
     Args:
         path: The bag.
         pipeline: The robot (its joints and cylinders).
-        topic: The topic of ``sensor_msgs/JointState`` messages.
+        topic: The topic of ``sensor_msgs/JointState`` messages (``None``: the bag's only one).
         signals: ``joints`` or ``cylinders``; ``None`` decides by the names in the messages.
         names: Bag joint name -> URDF joint name (default: the URDF's own names).
 
@@ -121,7 +121,7 @@ def bag_log(
     chosen = signals or _choose_signals(series, pipeline, names)
     mapping = _names_of(pipeline, chosen, names)
     urdf_to_bag = {urdf: bag for bag, urdf in mapping.items() if bag in series.names}
-    source = f"{path} topic {topic}"
+    source = f"{path} topic {series.topic}"
     what = "effort (torques)" if chosen == "joints" else "effort (forces)"
     if series.effort is None:
         raise LogError(f"{source}: the messages have no {what}: the energy needs them")
@@ -305,15 +305,14 @@ def read_any_log(
     """A bag (by its suffix or folder), ``export``'s CSV, or the cylinder-log CSV.
 
     Raises:
-        LogError: A bag without ``topic``, a topic given for a CSV, and every reader's errors.
+        LogError: A bag without ``topic`` whose JointState topic is not the only one, a topic
+            given for a CSV, and every reader's errors.
     """
     from scalf_opt.io.ros_bag import is_bag
     from scalf_opt.logs.log_file import parse_log
 
     path = Path(path)
     if is_bag(path):
-        if topic is None:
-            raise LogError(f"{path}: a ROS 2 bag: name its joint-state topic with --topic")
         return bag_log(path, pipeline, topic, signals, names)
     if topic is not None or names:
         raise LogError(f"{path}: --topic and --joint are for a ROS 2 bag (.mcap, .db3)")

@@ -26,8 +26,11 @@ def fine(optimum, scalf):
     return export_plan(optimum, scalf, rate_hz=4000, cycles=4).export
 
 
-def write_driver_bag(path, topic, names, stamps_s, position, velocity, effort, storage="mcap"):
-    """A bag as a ROS 2 driver records it: one JointState message per sample."""
+def write_driver_bag(
+    path, topic, names, stamps_s, position, velocity, effort, storage="mcap", also=None
+):
+    """A bag as a ROS 2 driver records it: one JointState message per sample (and the same
+    messages on the topic ``also``, when given)."""
     from rosbags.rosbag2 import StoragePlugin, Writer
     from rosbags.typesys import Stores, get_typestore
 
@@ -38,6 +41,9 @@ def write_driver_bag(path, topic, names, stamps_s, position, velocity, effort, s
     plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
     with Writer(path, version=9, storage_plugin=plugin) as writer:
         connection = writer.add_connection(topic, state.__msgtype__, typestore=store)
+        connections = [connection]
+        if also is not None:
+            connections.append(writer.add_connection(also, state.__msgtype__, typestore=store))
         for k, stamp in enumerate(stamps_s):
             sec = int(stamp)
             message = state(
@@ -48,7 +54,8 @@ def write_driver_bag(path, topic, names, stamps_s, position, velocity, effort, s
                 np.zeros(0) if effort is None else effort[:, k].copy(),
             )
             received = round((EPOCH_S + 0.001 * k + 0.0002) * 1e9)  # monotonic, whatever the stamp
-            writer.write(connection, received, store.serialize_cdr(message, state.__msgtype__))
+            for c in connections:
+                writer.write(c, received, store.serialize_cdr(message, state.__msgtype__))
     suffix = ".mcap" if storage == "mcap" else ".db3"
     return next(path.glob(f"*{suffix}"))
 
@@ -113,6 +120,20 @@ def test_a_drivers_bag_gives_back_the_plan(optimum, fine, scalf, tmp_path, capsy
     for leg in LEG_NAMES:
         assert abs(comparison["legs"][leg]["change_percent"]) < 1.0
     assert figure.stat().st_size > 10_000
+
+
+def test_the_topic_can_be_left_out_when_the_bag_has_one(optimum, fine, scalf, tmp_path, capsys):
+    names, stamps, q, qd, tau, mapping = driver_signals(fine, scalf)
+    one = write_driver_bag(tmp_path / "one", "/robot/js", names, stamps, q, qd, tau)
+    named = analyze_log(one, scalf, topic="/robot/js", joint_names=mapping, plan=optimum)
+    found = analyze_log(one, scalf, joint_names=mapping, plan=optimum)
+    assert found.to_dict() == named.to_dict()
+    # two JointState topics: the user must choose, and is told the choices
+    two = write_driver_bag(tmp_path / "two", "/robot/js", names, stamps, q, qd, tau, also="/js2")
+    code = main(["analyze-log", str(two), *joint_options(mapping)])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1, err
+    assert "the bag has 2 JointState topics (/js2, /robot/js); name one with --topic" in err
 
 
 def test_without_velocities_the_lengths_are_differentiated(optimum, fine, scalf, tmp_path):

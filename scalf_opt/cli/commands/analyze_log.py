@@ -51,7 +51,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "--topic",
         metavar="NAME",
         help="the topic of sensor_msgs/JointState messages: the joints (position, velocity, "
-        "effort = angle, rate, torque) or the cylinders (length, speed, force)",
+        "effort = angle, rate, torque) or the cylinders (length, speed, force); default: the "
+        "bag's only one",
     )
     bag.add_argument(
         "--signals",
