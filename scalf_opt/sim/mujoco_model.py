@@ -1,7 +1,7 @@
 """The MuJoCo model of a robot's sagittal trot, built from its URDF.
 
 MuJoCo reads the URDF itself (masses, inertias, joint placements, axes, limits and effort
-limits), after three edits made here so that it simulates what the energy model describes:
+limits), after four edits made here so that it simulates what the energy model describes:
 
 * every joint except the legs' hip pitch and knee becomes ``fixed`` (the hip roll joints of the
   sagittal model are locked at zero; MuJoCo then merges those links into their parent, which
@@ -16,7 +16,14 @@ limits), after three edits made here so that it simulates what the energy model 
   moments to their mean. Every repair is listed in :attr:`SimModel.repairs` (and so in
   ``simulation.json`` and the command's report);
 * the trunk (the URDF's root link) gets three joints: slide along x, slide along z and a hinge
-  about y, in that order (the paper's assumption (a): the trunk moves in the sagittal plane).
+  about y, in that order (the paper's assumption (a): the trunk moves in the sagittal plane);
+* the joints' ``<dynamics damping friction>`` are left out. In the energy model a joint's
+  friction belongs to its drive (the actuator file's Coulomb and viscous friction, charged as
+  heat on top of ``|tau qd|`` by the power formula); MuJoCo would apply the URDF's as forces, so
+  the simulated torques would carry that friction and the power formula would charge friction a
+  second time. Go1's URDF (0.2 N m friction, 0.01 N m s/rad damping on every joint) made its
+  swing cost MuJoCo's inverse dynamics 30 % more than the model, HyQ's (0.1 N m s/rad) a
+  little. What is left out is listed in :attr:`SimModel.repairs`.
 
 Each leg joint gets a torque motor (gear 1). Ground: the plane ``z = 0``; feet collide only
 with it. Generalised coordinates: ``(x, z, pitch)`` of the trunk, then the leg joints in the
@@ -62,8 +69,9 @@ class SimModel:
         foot_body: Per leg, the body the foot sphere belongs to.
         foot_radius_m: Radius of the foot spheres [m].
         effort_limit_nm: Per leg, the (hip pitch, knee) effort limits of the URDF [N m].
-        repairs: One sentence per URDF inertia changed so that MuJoCo accepts it (empty when
-            MuJoCo takes the URDF as it is).
+        repairs: One sentence per URDF inertia changed so that MuJoCo accepts it, and one for
+            the leg joints' URDF friction and damping left out (empty when MuJoCo takes the URDF
+            as it is).
     """
 
     model: mujoco.MjModel
@@ -158,6 +166,26 @@ def _unbalanced_inertias(root: ET.Element) -> list[str]:
     return repairs
 
 
+def _drop_joint_dynamics(root: ET.Element, legs: set[str]) -> list[str]:
+    """Remove every joint's ``<dynamics>``; one sentence on what the leg joints had.
+
+    (The module docstring says why: joint friction is the drives', charged by the power formula.)
+    """
+    found: dict[tuple[float, float], list[str]] = {}
+    for joint in root.iter("joint"):
+        for dynamics in joint.findall("dynamics"):
+            joint.remove(dynamics)
+            values = (float(dynamics.get("friction", 0.0)), float(dynamics.get("damping", 0.0)))
+            if joint.get("name") in legs and values != (0.0, 0.0):
+                found.setdefault(values, []).append(str(joint.get("name")))
+    return [
+        f"joints {', '.join(sorted(names))}: the URDF's friction {friction:g} N m and damping "
+        f"{damping:g} N m s/rad left out (joint friction is the drives', which the power formula "
+        "charges)"
+        for (friction, damping), names in sorted(found.items())
+    ]
+
+
 def _child_link(root: ET.Element, joint: str) -> str:
     for element in root.iter("joint"):
         if element.get("name") == joint:
@@ -190,6 +218,7 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
             joint.set("type", "fixed")
     repairs = _repair_singular_inertias(root)
     repairs += _unbalanced_inertias(root)
+    repairs += _drop_joint_dynamics(root, sagittal)
     try:
         spec = mujoco.MjSpec.from_string(ET.tostring(root, encoding="unicode"))
     except ValueError as exc:
