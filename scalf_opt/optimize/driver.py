@@ -230,7 +230,7 @@ class SwingOptimization:
     @property
     def coupled(self) -> bool:
         """The legs' problems are coupled (whole-body loads, several legs): solved in turn."""
-        return self.pipeline.load_model.couples_legs and len(self.legs) > 1
+        return legs_coupled(self.pipeline, tuple(self.legs))
 
     @property
     def rate_hz(self) -> float:
@@ -352,6 +352,11 @@ def _solve_one(
     return _solve_leg(pipeline, leg, family, settings, theta0[leg], trial=trial)
 
 
+def legs_coupled(pipeline: EnergyPipeline, legs: tuple[str, ...]) -> bool:
+    """Whether ``legs``' problems depend on each other: whole-body loads and several legs."""
+    return pipeline.load_model.couples_legs and len(legs) > 1
+
+
 def _solve_legs(
     pipeline: EnergyPipeline,
     legs: tuple[str, ...],
@@ -372,8 +377,8 @@ def _solve_legs(
     tolerance (independent legs: always).
     """
     thetas = {leg: current[leg] for leg in legs}
-    coupled = pipeline.load_model.couples_legs and len(legs) > 1
-    if not coupled:  # independent problems: on parallel threads when the solver allows it
+    if not legs_coupled(pipeline, legs):
+        # independent problems: on parallel threads when the solver allows it
         solved = map_in_threads(
             partial(_solve_one, pipeline, family, settings, current, trial), legs, workers
         )
