@@ -14,10 +14,14 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
-
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))
+
+# isort: off
+import scalf_opt  # noqa: E402, F401 (first: it pins OpenBLAS's kernels before numpy loads)
+
+# isort: on
+import numpy as np  # noqa: E402
 
 from scalf_opt.energy.evaluator import CycleEvaluator  # noqa: E402
 from scalf_opt.energy.pipeline import EnergyPipeline  # noqa: E402

@@ -20,14 +20,21 @@ count: on two threads a product is split differently and can differ in its last 
 tutorial's symmetry check printed 0.0e+00 on two threads and 2.0e-16 on one; every other
 documented output was the same).
 
+A program that imports numpy or SciPy before ``scalf_opt`` has loaded OpenBLAS with its own
+kernels already, and they cannot be changed afterwards: :func:`warn_if_kernels_differ` then warns
+once (on an AVX-512 machine the free-trajectory bound's levels took another round-off path and
+stopped one level later, 0.7 % lower), naming the fix.
+
 This module imports nothing but the standard library: it must run before numpy is imported.
 """
 
 from __future__ import annotations
 
+import ctypes
 import os
 import platform
-from collections.abc import MutableMapping
+import warnings
+from collections.abc import Mapping, MutableMapping
 from pathlib import Path
 
 PINNED_CORE = "Haswell"
@@ -79,3 +86,58 @@ def single_blas_thread(environ: MutableMapping[str, str] = os.environ) -> str:
     if not environ.get("OPENBLAS_NUM_THREADS"):
         environ["OPENBLAS_NUM_THREADS"] = "1"
     return environ["OPENBLAS_NUM_THREADS"]
+
+
+def loaded_kernels(maps: Path = Path("/proc/self/maps")) -> dict[str, str]:
+    """The kernels of every OpenBLAS loaded in this process: ``{library file name: core}``.
+
+    Read from the libraries' own ``*_get_corename*`` (numpy's and SciPy's scipy-openblas have
+    it); empty where the process's mappings cannot be read (not Linux) or none names its core.
+    """
+    try:
+        paths = sorted(
+            {line.split()[-1] for line in maps.read_text().splitlines() if "openblas" in line}
+        )
+    except OSError:
+        return {}
+    found: dict[str, str] = {}
+    for path in paths:
+        try:
+            library = ctypes.CDLL(path)  # already loaded: the same handle, nothing runs
+        except OSError:
+            continue
+        for symbol in ("scipy_openblas_get_corename64_", "scipy_openblas_get_corename"):
+            corename = getattr(library, symbol, None)
+            if corename is not None:
+                corename.restype = ctypes.c_char_p
+                found[Path(path).name] = corename().decode()
+                break
+    return found
+
+
+def kernel_mismatch(pinned: str | None, loaded: Mapping[str, str]) -> str | None:
+    """Why results may differ from the command line's, or ``None`` when the kernels agree.
+
+    Args:
+        pinned: The kernels asked for (:func:`pin_blas_kernels`); ``None``: none asked.
+        loaded: The kernels in use (:func:`loaded_kernels`).
+    """
+    if pinned is None:
+        return None
+    other = {lib: core for lib, core in loaded.items() if core.lower() != pinned.lower()}
+    if not other:
+        return None
+    lib, core = sorted(other.items())[0]
+    return (
+        f"OpenBLAS ({lib}) was loaded before scalf_opt and runs its {core} kernels, not "
+        f"{pinned}: numbers can differ from the command line's in their last digits, and a flat "
+        "optimum can end elsewhere. Import scalf_opt before numpy and SciPy, or set "
+        f"OPENBLAS_CORETYPE={pinned} before Python starts."
+    )
+
+
+def warn_if_kernels_differ(pinned: str | None) -> None:
+    """Warn if an OpenBLAS loaded earlier runs other kernels than ``pinned``."""
+    message = kernel_mismatch(pinned, loaded_kernels())
+    if message is not None:
+        warnings.warn(message, RuntimeWarning, stacklevel=3)

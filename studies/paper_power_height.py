@@ -19,6 +19,10 @@ import argparse
 import sys
 from pathlib import Path
 
+# isort: off
+import scalf_opt  # noqa: F401 (first: it pins OpenBLAS's kernels before numpy loads)
+
+# isort: on
 import numpy as np
 from scipy.optimize import brentq
 

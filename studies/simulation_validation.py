@@ -25,9 +25,12 @@ from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
+# isort: off
+import scalf_opt as so  # first: it pins OpenBLAS's kernels before numpy loads
+
+# isort: on
 import numpy as np
 
-import scalf_opt as so
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.files import write_atomic
 from scalf_opt.io.results import to_json

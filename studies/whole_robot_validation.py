@@ -28,9 +28,12 @@ import time
 from pathlib import Path
 from typing import Any
 
+# isort: off
+import scalf_opt as so  # first: it pins OpenBLAS's kernels before numpy loads
+
+# isort: on
 import numpy as np
 
-import scalf_opt as so
 from scalf_opt.files import write_atomic
 from scalf_opt.io.results import to_json
 from scalf_opt.types import LEG_NAMES

@@ -10,7 +10,14 @@ import numpy as np
 import pytest
 
 import scalf_opt  # noqa: F401 (its import pins the kernels)
-from scalf_opt.blas_kernels import PINNED_CORE, cpu_flags, pin_blas_kernels, single_blas_thread
+from scalf_opt.blas_kernels import (
+    PINNED_CORE,
+    cpu_flags,
+    kernel_mismatch,
+    loaded_kernels,
+    pin_blas_kernels,
+    single_blas_thread,
+)
 
 X86 = frozenset({"avx2", "fma", "sse2"})
 
@@ -87,3 +94,45 @@ def test_blas_runs_on_one_thread_unless_the_user_chose():
 
 def test_the_command_line_runs_blas_on_one_thread():
     assert _set_by_the_command_line("OPENBLAS_NUM_THREADS") == "1"
+
+
+def test_a_mismatch_is_named_with_its_fix():
+    message = kernel_mismatch("Haswell", {"libscipy_openblas64_.so": "SkylakeX"})
+    assert message is not None
+    assert "libscipy_openblas64_.so" in message and "SkylakeX" in message
+    assert "OPENBLAS_CORETYPE=Haswell" in message and "\n" not in message
+    assert kernel_mismatch("Haswell", {"a.so": "HASWELL"}) is None  # OpenBLAS's own spelling
+    assert kernel_mismatch(None, {"a.so": "SkylakeX"}) is None  # nothing was pinned
+    assert kernel_mismatch("Haswell", {}) is None
+
+
+def test_the_loaded_kernels_are_read_from_the_process(tmp_path):
+    assert loaded_kernels(tmp_path / "missing") == {}
+    found = loaded_kernels()
+    if not found:
+        pytest.skip("no OpenBLAS that names its kernels is mapped here")
+    assert any(name.startswith("libscipy_openblas") for name in found)
+
+
+def _import_warnings(code: str, core: str) -> str:
+    """stderr of ``code``, run after numpy has loaded OpenBLAS on ``core``'s kernels."""
+    probe = (
+        f"import os; os.environ['OPENBLAS_CORETYPE'] = {core!r}\n"
+        "import numpy\n"
+        "del os.environ['OPENBLAS_CORETYPE']\n" + code
+    )
+    env = {k: v for k, v in os.environ.items() if k != "OPENBLAS_CORETYPE"}
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, env=env)
+    assert out.returncode == 0, out.stderr
+    return out.stderr
+
+
+@needs_avx2
+def test_numpy_loaded_first_on_other_kernels_is_warned_about():
+    # Sandybridge (AVX) runs on every CPU the pin applies to; numpy keeps it, the pin comes late
+    stderr = _import_warnings("import scalf_opt", "Sandybridge")
+    if not loaded_kernels():
+        pytest.skip("this OpenBLAS does not name its kernels")
+    assert "RuntimeWarning" in stderr and "Sandybridge kernels, not Haswell" in stderr
+    assert "Import scalf_opt before numpy" in stderr
+    assert _import_warnings("import scalf_opt", PINNED_CORE) == ""  # the same kernels: silent
