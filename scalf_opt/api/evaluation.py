@@ -107,8 +107,8 @@ def evaluate(
             evaluated instead of the reference, under any rate and accounting; the gait's timing
             and stance must be the file's.
         command: The command line, recorded in the result's provenance.
-        loads: The stance load model (``whole-body`` or ``trunk``); ``None``: the saved
-            optimum's, else ``whole-body``.
+        loads: The stance load model (a name in :data:`~scalf_opt.energy.loads.LOAD_MODELS`);
+            ``None``: the saved optimum's, else ``whole-body``.
 
     Raises:
         ConfigError: The file is not an optimum of this robot, or the timing differs.

@@ -176,7 +176,8 @@ def optimize_gait(
         gait: The base gait (default: the robot's default trot): its clearance, rate and
             cycles are kept, its period, duty and stance are the search's centre.
         command: The command line, recorded in the result's provenance.
-        loads: The stance load model: ``whole-body`` (default) or ``trunk`` (the paper's).
+        loads: The stance load model: ``whole-body`` (default), ``whole-body-sagittal`` or
+            ``trunk`` (the paper's).
 
     Raises:
         ConfigError: A speed out of range, a family without parameters, an unknown load model.

@@ -198,7 +198,8 @@ def optimize_swing(
         progress: Called with a label as each step starts.
         command: The command line, recorded in the result's provenance.
         loads: The stance load model: ``whole-body`` (a swing pays for the loads it puts on
-            the stance legs) or ``trunk`` (the paper's).
+            the stance legs), ``whole-body-sagittal`` (the same, shared in the sagittal plane) or
+            ``trunk`` (the paper's).
         stop_margin_rad: Every optimized joint angle (and the free stance's) stays this far
             inside its range [rad] (default 2 degrees: what the simulated servo needs).
         stroke_margin_m: Every cylinder length stays this far inside its stroke [m] (2 mm).

@@ -127,8 +127,10 @@ def add_loads(parser: argparse.ArgumentParser, saved: bool = False) -> None:
         "--loads",
         choices=tuple(LOAD_MODELS),
         default=None if saved else DEFAULT_LOADS,
-        help="stance loads: the whole robot's dynamics (trunk and all four legs) or the trunk's "
-        f"weight only (the paper's model); default: a saved result's own, else {DEFAULT_LOADS}",
+        help="stance loads: the whole robot's dynamics (trunk and all four legs), shared in 3-D "
+        "or in the sagittal plane (whole-body-sagittal, as the simulation referee's planar "
+        "trunk), or the trunk's weight only (trunk, the paper's model); default: a saved "
+        f"result's own, else {DEFAULT_LOADS}",
     )
 
 

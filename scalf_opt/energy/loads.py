@@ -30,6 +30,15 @@ scalf-opt asks which one it has:
     base RNEA with the foot forces as external forces (the tests check it to 1e-9 on every
     robot).
 
+``whole-body-sagittal``
+    The same wrench, shared by the sagittal minimum norm
+    (:func:`~scalf_opt.locomotion.forces.sagittal_contact_maps`): the feet supply its forward
+    and vertical forces and its pitch moment in full, with no lateral force, and the roll and yaw
+    moments that leaves are reported as unbalanced. That is the distribution of a trunk held in
+    its sagittal plane, the simulation referee's (:mod:`scalf_opt.sim.inverse`; a test checks the
+    two agree): on a diagonal pair it differs from the 3-D one by the moment about the line
+    joining the feet, which the 3-D distribution leaves out and this one supplies as pitch.
+
 Under whole-body loads a stance leg's energy depends on the swinging legs' motion: the stance
 forces are computed for the swings actually chosen (:meth:`StanceLoads.stance_forces`).
 """
@@ -44,7 +53,7 @@ from typing import TYPE_CHECKING, ClassVar
 import numpy as np
 
 from scalf_opt.errors import ConfigError
-from scalf_opt.locomotion.forces import contact_maps
+from scalf_opt.locomotion.forces import contact_maps, sagittal_contact_maps
 from scalf_opt.locomotion.gait import PHASE_EDGE_TOLERANCE_S
 from scalf_opt.locomotion.stance import stance_path
 from scalf_opt.locomotion.trot import (
@@ -91,6 +100,8 @@ class StanceLoads(ABC):
     description: ClassVar[str]
     couples_legs: ClassVar[bool]
     """Whether a stance leg's forces depend on the other legs' swings."""
+    unbalanced: ClassVar[str] = ""
+    """What the moment the feet do not supply is, for the reports (empty: always zero)."""
 
     @abstractmethod
     def stance_forces(self, pipeline: EnergyPipeline, leg: str, swings: Swings) -> StanceForces:
@@ -119,6 +130,12 @@ class WholeBodyLoads(StanceLoads):
     name = "whole-body"
     description = "the whole robot's inverse dynamics (trunk and all four legs), 3-D minimum norm"
     couples_legs = True
+    unbalanced = "two point feet cannot supply the moment about the line joining them"
+
+    @staticmethod
+    def contact_maps(feet_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The maps from the wrench to the feet's forces and to the moment left over."""
+        return contact_maps(feet_m)
 
     def stance_forces(  # noqa: D102
         self, pipeline: EnergyPipeline, leg: str, swings: Swings
@@ -165,16 +182,37 @@ def stance_distribution(pipeline: EnergyPipeline, leg: str) -> StanceDistributio
     unbalanced = np.zeros((n, 3, 6))
     standing = support_masks(pipeline.gait, cycle_times, leg)
     feet = {other: foot_position_m(pipeline, other, cycle_times) for other in standing}
+    model = pipeline.load_model
+    assert isinstance(model, WholeBodyLoads), "only the whole-body models share a wrench"
     # the samples with the same feet on the ground, as one stack (the pair first among them)
     for at, on in support_groups(standing):
-        forces, unbalanced[at] = contact_maps(np.stack([feet[o][:, at].T for o in on], axis=-1))
+        stacked = np.stack([feet[o][:, at].T for o in on], axis=-1)
+        forces, unbalanced[at] = model.contact_maps(stacked)
         for s in pair:
             k = on.index(s)
             force[s][at] = forces[:, 3 * k : 3 * k + 3]
     return StanceDistribution(force, unbalanced)
 
 
-LOAD_MODELS: dict[str, StanceLoads] = {m.name: m for m in (WholeBodyLoads(), TrunkLoads())}
+class SagittalWholeBodyLoads(WholeBodyLoads):
+    """The whole robot's inverse dynamics on the stance feet, sagittal minimum norm."""
+
+    name = "whole-body-sagittal"
+    description = (
+        "the whole robot's inverse dynamics, sagittal minimum norm (forward and vertical "
+        "forces, pitch moment: a planar trunk's, as the simulation referee's)"
+    )
+    unbalanced = "the roll and yaw moments the sagittal forces leave to the trunk"
+
+    @staticmethod
+    def contact_maps(feet_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The maps from the wrench to the feet's forces and to the moment left over."""
+        return sagittal_contact_maps(feet_m)
+
+
+LOAD_MODELS: dict[str, StanceLoads] = {
+    m.name: m for m in (WholeBodyLoads(), TrunkLoads(), SagittalWholeBodyLoads())
+}
 """Every load model by name (the choices of ``--loads``, in this order)."""
 
 DEFAULT_LOADS = WholeBodyLoads.name

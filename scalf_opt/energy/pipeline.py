@@ -176,9 +176,10 @@ class EnergyPipeline:
     def stance_distribution(self, leg: str) -> StanceDistribution:
         """How ``leg``'s stance feet share a wrench, per sample (built once per gait)."""
         cache = self.robot_physics.distributions
-        if (self.gait, leg) not in cache:
-            cache[(self.gait, leg)] = stance_distribution(self, leg)
-        return cache[(self.gait, leg)]
+        key = (self.gait, self.loads, leg)
+        if key not in cache:
+            cache[key] = stance_distribution(self, leg)
+        return cache[key]
 
     def stance(self, leg: str, swings: Swings | None = None) -> PhaseResult:
         """Evaluate ``leg``'s stance phase.

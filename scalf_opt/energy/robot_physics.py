@@ -38,7 +38,7 @@ class RobotPhysics:
             dict(drives_for(robot) if drives is None else drives)
         )
         self._legs: dict[str, LegPhysics] = {}
-        self.distributions: dict[tuple[Gait, str], StanceDistribution] = {}
+        self.distributions: dict[tuple[Gait, str, str], StanceDistribution] = {}
         """How each gait's stance feet share a wrench (:mod:`scalf_opt.energy.loads`), kept
         across the pipelines of one gait (the optimizers make many)."""
 

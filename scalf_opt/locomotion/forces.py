@@ -110,6 +110,40 @@ def contact_maps(feet_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return forces, shift[..., 3:6, :] - a[..., 3:6, :] @ forces
 
 
+def sagittal_contact_maps(feet_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The minimum-norm maps of the sagittal distribution, in the shapes of :func:`contact_maps`.
+
+    Only the wrench's forward and vertical forces and its pitch moment (about +y) are supplied:
+    ``F = A^+ (W_x, W_z, M_y)`` with ``A`` the :func:`balance_matrix` of the feet's ``(x, z)``
+    about the trunk origin, and no lateral foot force. This is how the feet share the load of a
+    trunk that moves in its sagittal plane only, such as the simulation referee's planar trunk,
+    whose joint takes the rest: two diagonal feet then supply the whole pitch moment, and the
+    roll moment that their vertical forces' difference makes is left to the trunk.
+
+    Args:
+        feet_m: Stance-foot positions in the trunk frame, shape (..., 3, k) [m], k >= 2.
+
+    Returns:
+        ``(forces, unbalanced)`` as :func:`contact_maps`'s: ``unbalanced`` maps ``W`` to the
+        moment about the trunk origin the forces leave, ``M - sum p_k x F_k`` (a pure moment
+        when ``W_y`` is zero, as for legs that move in their sagittal planes).
+    """
+    feet = np.asarray(feet_m, dtype=float)
+    k = feet.shape[-1]
+    stack = feet.shape[:-2]
+    pick = np.zeros((3, 6))
+    pick[0, 0] = pick[1, 2] = pick[2, 4] = 1.0  # (W_x, W_z, M_y)
+    sagittal = np.linalg.pinv(balance_matrix(feet[..., [0, 2], :]), rcond=1e-10) @ pick
+    forces = np.zeros((*stack, 3 * k, 6))
+    forces[..., 0::3, :] = sagittal[..., 0::2, :]
+    forces[..., 2::3, :] = sagittal[..., 1::2, :]
+    moment = np.zeros((*stack, 3, 6))
+    moment[..., :, 3:6] = np.eye(3)
+    for j in range(k):
+        moment -= cross_matrix(feet[..., :, j]) @ forces[..., 3 * j : 3 * j + 3, :]
+    return forces, moment
+
+
 def min_norm_contact_forces(
     feet_m: np.ndarray, wrench: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray]:

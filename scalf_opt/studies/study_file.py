@@ -11,7 +11,7 @@ A study file is TOML::
     family = "joint-4"        # swing family (default joint-6)
     method = "ipopt"          # a solver: ipopt (default) or pattern
     accounting = "paper"      # paper (default), positive or regenerative
-    loads = "whole-body"      # stance loads: whole-body (default) or trunk (the paper's)
+    loads = "whole-body"      # stance loads: whole-body (default), whole-body-sagittal or trunk
     optimize = "pair"         # legs optimized: pair (default; LF, RH by symmetry), all, RF, ...
 
     [gait]                    # gait fields of every case, over the robot's default gait

@@ -115,10 +115,11 @@ def evaluate_report(
         f"stance feet: mean force {cycle.mean_stance_force_n:.1f} N; {cycle.loads} loads: "
         f"{stance_loads(cycle.loads).description}",
     ]
-    if stance_loads(cycle.loads).couples_legs:
+    model = stance_loads(cycle.loads)
+    if model.unbalanced:
         lines.append(
-            f"unbalanced moment (two point feet cannot supply the moment about the line joining "
-            f"them): peak {cycle.peak_unbalanced_moment_nm:.1f} N m"
+            f"unbalanced moment ({model.unbalanced}): "
+            f"peak {cycle.peak_unbalanced_moment_nm:.1f} N m"
         )
     return "\n".join(lines)
 

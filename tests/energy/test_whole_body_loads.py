@@ -17,7 +17,11 @@ from scalf_opt.energy.loads import LOAD_MODELS, stance_loads, static_wrench
 from scalf_opt.energy.physics import LegPhysics
 from scalf_opt.energy.robot_physics import RobotPhysics
 from scalf_opt.errors import ConfigError
-from scalf_opt.locomotion.forces import min_norm_contact_forces
+from scalf_opt.locomotion.forces import (
+    min_norm_contact_forces,
+    min_norm_foot_forces,
+    sagittal_contact_maps,
+)
 from scalf_opt.model.urdf_file import read_urdf_text
 from scalf_opt.robots.catalog import robot_names
 from scalf_opt.robots.loading import load_robot
@@ -108,8 +112,29 @@ def test_two_feet_leave_only_the_moment_about_the_line_joining_them():
         assert abs(float((forces[:, 0] - forces[:, 1]) @ line)) < 1e-9 * np.abs(wrench).max()
 
 
+def test_the_sagittal_maps_supply_the_forward_and_vertical_forces_and_the_pitch_moment():
+    rng = np.random.default_rng(5)
+    for k in (2, 3, 4):
+        feet = rng.normal(0.0, 0.4, (3, k))
+        forces_map, unbalanced_map = sagittal_contact_maps(feet)
+        for _ in range(5):
+            wrench = rng.normal(0.0, 100.0, 6)
+            wrench[1] = 0.0  # legs that move in their sagittal planes need no lateral force
+            forces = (forces_map @ wrench).reshape(k, 3).T
+            close(forces[1], np.zeros(k))  # no lateral foot force
+            close(forces.sum(axis=1)[[0, 2]], wrench[[0, 2]])
+            moment = np.cross(feet.T, forces.T).sum(axis=0)
+            close(moment[1], wrench[4])  # the whole pitch moment
+            close(moment + unbalanced_map @ wrench, wrench[3:6])  # the rest is reported
+        # a pure weight is shared as the paper's sagittal distribution shares it (Eq. 29-35),
+        # computed there from the (x, z) positions alone
+        weight = np.array([0.0, 0.0, 9.81 * 40.0, 0.0, 0.0, 0.0])
+        paper = min_norm_foot_forces(feet[[0, 2]], 40.0)
+        close((forces_map @ weight).reshape(k, 3).T[[0, 2]], paper)
+
+
 def test_the_registry_names_its_models_and_refuses_others():
-    assert list(LOAD_MODELS) == ["whole-body", "trunk"]
+    assert list(LOAD_MODELS) == ["whole-body", "trunk", "whole-body-sagittal"]
     for name, model in LOAD_MODELS.items():
         assert stance_loads(name) is model
     with pytest.raises(ConfigError, match="whole-body"):
