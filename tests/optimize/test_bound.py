@@ -12,6 +12,7 @@ from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.bspline import BSplineFamily
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.bound import (
+    BOUND_TOLERANCE,
     SAMPLES_PER_SPAN,
     _projection,
     bound_cycle_inputs,
@@ -131,3 +132,25 @@ def test_a_level_whose_warm_start_fails_is_solved_again_from_ipopts_own_start(mo
     coarse, fine = failing_warm.levels
     assert coarse.swing_energy_j == cold.levels[0].swing_energy_j  # the first level is cold anyway
     assert fine.swing_energy_j <= coarse.swing_energy_j + 1e-9 * coarse.swing_energy_j
+
+
+@pytest.mark.slow
+def test_a_level_close_to_convergence_revisits_the_coarser_one(model, monkeypatch):
+    """SCalf's LH: the 64-span optimum reached from the 32-span one is a higher local optimum
+    than the one reached from the 128-span optimum; with it the estimate stayed at 1.1 % and the
+    bound needed 256 spans. Revisited, the 64-span level is lower and the bound converges at 128.
+    """
+    import scalf_opt.optimize.bound as bound_module
+
+    spans = (16, 32, 64, 128)
+    revisited = bound_for(model, "LH", spans=spans)
+    monkeypatch.setattr(bound_module, "REVISIT_WITHIN", 0.0)
+    forward = bound_for(model, "LH", spans=spans)
+    assert [lv.revisited for lv in forward.levels] == [False] * 4
+    assert not forward.converged  # the forward path alone needs a finer level
+    assert [lv.revisited for lv in revisited.levels] == [False, False, True, False]
+    assert revisited.converged and revisited.spans == 128
+    assert revisited.levels[2].check_energy_j < forward.levels[2].check_energy_j
+    # the bound is the same swing: the finest level is not solved again
+    assert revisited.check_energy_j == forward.check_energy_j
+    assert revisited.remaining_j <= BOUND_TOLERANCE * revisited.check_energy_j
