@@ -1,6 +1,6 @@
 """The energy model against MuJoCo on all six robots: reference and default optimum.
 
-python studies/whole_robot_validation.py [--quick] [--robots a,b] [--out DIR]
+python studies/whole_robot_validation.py [--quick] [--robots a,b] [--loads NAME] [--out DIR]
 
 For each robot: its default optimum (`scalf-opt optimize`: joint-6, Ipopt, RF and LH; LF and
 RH repeat them), then `scalf-opt simulate --from` that optimum (the reference is simulated beside
@@ -14,7 +14,8 @@ closest approach to their stops; and how far the verdict (the total's difference
 half and double the servo bandwidth. Beside model and simulation, "plan": MuJoCo's inverse
 dynamics of the whole robot on the plan (``simulate``'s ``plan_inverse_dynamics``), so each gap
 splits into the model's (model vs plan) and the referee's (simulation vs plan). --quick leaves out
-the sensitivity.
+the sensitivity. --loads: the stance load model of the optimum and of both energy models (default
+whole-body; whole-body-sagittal shares the loads as the referee's planar trunk does).
 
 Writes DIR/whole_robot_validation.json, every optimum's summary.json and every simulation.json
 and simulation.png under DIR/<robot>/ (default results/whole_robot_validation).
@@ -34,6 +35,7 @@ import scalf_opt as so  # first: it pins OpenBLAS's kernels before numpy loads
 # isort: on
 import numpy as np
 
+from scalf_opt.energy.loads import DEFAULT_LOADS, LOAD_MODELS
 from scalf_opt.files import write_atomic
 from scalf_opt.io.results import to_json
 from scalf_opt.types import LEG_NAMES
@@ -119,11 +121,13 @@ def goals(name: str, row: dict[str, Any]) -> dict[str, bool]:
     }
 
 
-def run_robot(name: str, out: Path, cycles: int, sensitivity: bool) -> dict[str, Any]:
+def run_robot(
+    name: str, out: Path, cycles: int, sensitivity: bool, loads: str = DEFAULT_LOADS
+) -> dict[str, Any]:
     """Optimize, simulate and condense one robot (module docstring)."""
     robot = so.load_robot(name)
     started = time.perf_counter()
-    optimized = so.optimize_swing(robot)
+    optimized = so.optimize_swing(robot, loads=loads)
     if not optimized.success:
         return {"robot": name, "failure": f"default optimization: {optimized.failure()}"}
     source = out / name / "optimum"
@@ -268,16 +272,17 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true", help="3 cycles, no bandwidth sensitivity")
     parser.add_argument("--robots", default=",".join(ROBOTS), help="comma-separated robots")
+    parser.add_argument("--loads", choices=tuple(LOAD_MODELS), default=DEFAULT_LOADS)
     parser.add_argument("--out", type=Path, default=Path("results/whole_robot_validation"))
     args = parser.parse_args(argv)
     started = time.perf_counter()
     cycles = 3 if args.quick else 10
     names = [n.strip() for n in args.robots.split(",") if n.strip()]
-    results = [run_robot(name, args.out, cycles, not args.quick) for name in names]
+    results = [run_robot(name, args.out, cycles, not args.quick, args.loads) for name in names]
     print_tables(results, cycles)
     write_atomic(
         args.out / "whole_robot_validation.json",
-        to_json({"cycles": cycles, "results": results}),
+        to_json({"cycles": cycles, "loads": args.loads, "results": results}),
     )
     print(f"\nwrote {args.out} ({time.perf_counter() - started:.0f} s)")
     return 0
