@@ -117,7 +117,12 @@ def energy_bars_figure(trajectories: Sequence[Trajectory]) -> Figure:
         ax.legend(
             handles=handles, loc="upper right", ncols=5, fontsize=7, bbox_to_anchor=(1.0, 1.0)
         )
-        ax.set_title("Energy per cycle by leg, phase and joint (the paper's Table 6)")
+        models = sorted(
+            {f"{t.cycle.loads} loads, {t.cycle.accounting} accounting" for t in trajectories}
+        )
+        ax.set_title(
+            "Energy per cycle by leg, phase and joint (the paper's Table 6)\n" + "; ".join(models)
+        )
     return fig
 
 

@@ -82,6 +82,8 @@ class LegendEntry:
         average_power_w: Average total power [W].
         swing_energy_j: Swing energy per leg [J].
         lateral_offset_m: Where its robot walks along y [m].
+        energy_model: What the energies were evaluated with: the stance loads and the power
+            accounting (``whole-body loads, paper accounting``).
     """
 
     label: str
@@ -90,6 +92,7 @@ class LegendEntry:
     average_power_w: float
     swing_energy_j: dict[str, float]
     lateral_offset_m: float
+    energy_model: str = ""
 
 
 @dataclass
@@ -203,6 +206,7 @@ def build_scene(
                 average_power_w=cycle.average_power_w,
                 swing_energy_j={leg: c.swing_energy_j for leg, c in cycle.legs.items()},
                 lateral_offset_m=walk.lateral_offset_m,
+                energy_model=f"{cycle.loads} loads, {cycle.accounting} accounting",
             )
         )
     _send_animation(out, walks, visuals, opts)

@@ -249,4 +249,6 @@ def test_energy_bar_labels_are_the_cycle_energies_with_one_precision(scalf_shown
     totals = [t.split(" J")[0] for t in texts if "J per cycle" in t]
     assert [float(t) for t in totals] == pytest.approx([t.cycle.energy_j for t in shown], abs=0.01)
     assert len({len(number.partition(".")[2]) for number in bars + totals}) == 1
+    # the energies depend on the load model and the accounting: the title names them
+    assert fig.axes[0].get_title().endswith("\nwhole-body loads, paper accounting")
     close(fig)

@@ -172,3 +172,21 @@ def test_bad_options_are_refused():
         SceneOptions(color_by="rainbow")  # type: ignore[arg-type]
     with pytest.raises(ConfigError, match="nothing to show"):
         build_scene(None, [])  # type: ignore[arg-type]
+
+
+def test_the_legend_names_each_trajectorys_loads_and_accounting(scalf, scalf_shown):
+    """The energies depend on the load model (up to a sixth between the two whole-body
+    distributions on ANYmal C): the legend says which model each trajectory was evaluated with."""
+    from scalf_opt.viz.html import legend_html
+    from scalf_opt.viz.trajectories import Trajectory
+
+    pipeline, shown = scalf_shown
+    trunk = pipeline.with_loads("trunk").with_accounting("positive")
+    shown = [*shown, Trajectory("trunk-only", trunk.robot_cycle(make_family("reference")))]
+    scene = build_scene(scalf, shown, SceneOptions(n_cycles=1, frame_rate_hz=20.0))
+    models = [entry.energy_model for entry in scene.legend]
+    assert models == ["whole-body loads, paper accounting"] * 2 + [
+        "trunk loads, positive accounting"
+    ]
+    page = legend_html(scene)
+    assert all(f"({model})" in page for model in models)
