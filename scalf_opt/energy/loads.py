@@ -107,6 +107,10 @@ class StanceLoads(ABC):
     def stance_forces(self, pipeline: EnergyPipeline, leg: str, swings: Swings) -> StanceForces:
         """Forces on ``leg``'s foot over the pipeline's stance grid, for the given swings."""
 
+    @abstractmethod
+    def carried_mass_kg(self, robot: Robot) -> float:
+        """The mass whose weight the stance feet carry on average [kg]."""
+
 
 class TrunkLoads(StanceLoads):
     """The trunk link's weight on the stance feet, sagittal minimum norm (the paper's)."""
@@ -114,6 +118,9 @@ class TrunkLoads(StanceLoads):
     name = "trunk"
     description = "the trunk link's weight only, sagittal minimum norm (the paper's model)"
     couples_legs = False
+
+    def carried_mass_kg(self, robot: Robot) -> float:  # noqa: D102
+        return robot.trunk_mass_kg
 
     def stance_forces(  # noqa: D102
         self, pipeline: EnergyPipeline, leg: str, swings: Swings
@@ -136,6 +143,9 @@ class WholeBodyLoads(StanceLoads):
     def contact_maps(feet_m: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The maps from the wrench to the feet's forces and to the moment left over."""
         return contact_maps(feet_m)
+
+    def carried_mass_kg(self, robot: Robot) -> float:  # noqa: D102
+        return robot.total_mass_kg
 
     def stance_forces(  # noqa: D102
         self, pipeline: EnergyPipeline, leg: str, swings: Swings

@@ -15,7 +15,6 @@ import numpy as np
 from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
-from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.locomotion.forces import GRAVITY_M_S2
 from scalf_opt.types import FIRST_PAIR, JOINT_ROLES, LEG_NAMES
 from scalf_opt.viz.colors import trajectory_color
@@ -103,20 +102,22 @@ def _energy_notes(ax: Axes, trajectories: Sequence[Trajectory], leg: str, row: i
 
 
 def foot_force_figure(
-    cycle: RobotCycle, trunk_mass_kg: float, legs: Sequence[str] = LEG_NAMES
+    trajectory: Trajectory, carried_mass_kg: float, legs: Sequence[str] = LEG_NAMES
 ) -> Figure:
-    """Ground reaction force on each foot over a cycle (the paper's Figure 13).
+    """Ground reaction force on each foot over one trajectory's cycle (the paper's Figure 13).
 
-    The forces do not depend on the swing (the trunk's balance in stance sets them), so one
-    cycle shows them for every trajectory. The half trunk weight ``M g / 2`` is marked: with two
-    feet on the ground in a trot, each carries about that much. The horizontal forces are zero
-    when the trunk does not accelerate (the paper's constant speed); their panel says how close.
+    Under the paper's trunk-only loads the forces do not depend on the swing; under whole-body
+    loads they do, so the title names the trajectory and the load model. Half the carried weight
+    ``M g / 2`` is marked (the trunk's, or the whole robot's under whole-body loads): with two
+    feet on the ground in a trot, each carries about that much. Under trunk-only loads the
+    horizontal forces are zero (the paper's constant speed); their panel says how close.
 
     Args:
-        cycle: Any cycle of the robot and gait.
-        trunk_mass_kg: The mass the stance feet carry [kg].
+        trajectory: The trajectory whose forces are drawn.
+        carried_mass_kg: The mass the stance feet carry [kg] (the load model's).
         legs: The legs drawn.
     """
+    cycle = trajectory.cycle
     colors = {"RF": "#1f77b4", "LH": "#d62728", "LF": "#2ca02c", "RH": "#ff7f0e"}
     with style():
         fig, (ax_z, ax_x) = plt.subplots(
@@ -135,10 +136,10 @@ def foot_force_figure(
             ax_z.plot(t, grf[1], lw=1.5, ls=dash, color=color, label=leg)
             ax_x.plot(t, grf[0], lw=1.2, ls=dash, color=color)
             largest_x = max(largest_x, float(np.nanmax(np.abs(grf[0]))))
-        half = 0.5 * trunk_mass_kg * GRAVITY_M_S2
+        half = 0.5 * carried_mass_kg * GRAVITY_M_S2
         ax_z.axhline(half, color="#555555", ls=":", lw=1)
         ax_z.annotate(
-            f"half the trunk's weight, {half:.4g} N",
+            f"half the weight the stance feet carry ({carried_mass_kg:.4g} kg), {half:.4g} N",
             (0.01, half),
             xycoords=("axes fraction", "data"),
             xytext=(0, 3),
@@ -148,7 +149,7 @@ def foot_force_figure(
         )
         ax_z.set_ylabel("vertical force $F_z$ [N]")
         ax_z.set_title(
-            "Ground reaction force on each foot (minimum-norm distribution); "
+            f"Ground reaction force on each foot: {trajectory.label}, {cycle.loads} loads; "
             f"shaded: {legs[0]}'s swing",
             fontsize=9,
         )

@@ -24,6 +24,7 @@ from pathlib import Path
 
 from matplotlib.figure import Figure
 
+from scalf_opt.energy.loads import stance_loads
 from scalf_opt.errors import ConfigError
 from scalf_opt.model.robot import Robot
 from scalf_opt.types import FIRST_PAIR
@@ -65,7 +66,9 @@ def figure_drawers(
         "joint_angles": lambda: joint_figure(trajectories, "angle", legs),
         "joint_torques": lambda: joint_figure(trajectories, "torque", legs),
         "joint_powers": lambda: joint_figure(trajectories, "power", legs),
-        "foot_forces": lambda: foot_force_figure(trajectories[0].cycle, robot.trunk_mass_kg),
+        "foot_forces": lambda: foot_force_figure(
+            trajectories[0], stance_loads(trajectories[0].cycle.loads).carried_mass_kg(robot)
+        ),
         "foot_paths": lambda: foot_path_figure(trajectories, legs),
         "leg_snapshots": lambda: leg_snapshot_figure(robot, trajectories, legs),
         "search_landscape": lambda: search_figure(search),

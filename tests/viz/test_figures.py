@@ -41,7 +41,7 @@ def every_figure(robot, pipeline, shown, study):
     yield "joint_angles", joint_figure(shown, "angle")
     yield "joint_torques", joint_figure(shown, "torque")
     yield "joint_powers", joint_figure(shown, "power")
-    yield "foot_forces", foot_force_figure(shown[0].cycle, robot.trunk_mass_kg)
+    yield "foot_forces", foot_force_figure(shown[0], robot.total_mass_kg)
     yield "foot_paths", foot_path_figure(shown)
     yield "leg_snapshots", leg_snapshot_figure(robot, shown)
     yield "search_landscape", search_figure(study)
@@ -251,4 +251,27 @@ def test_energy_bar_labels_are_the_cycle_energies_with_one_precision(scalf_shown
     assert len({len(number.partition(".")[2]) for number in bars + totals}) == 1
     # the energies depend on the load model and the accounting: the title names them
     assert fig.axes[0].get_title().endswith("\nwhole-body loads, paper accounting")
+    close(fig)
+
+
+@pytest.mark.parametrize("loads", ["whole-body", "trunk"])
+def test_the_foot_force_figure_marks_half_the_weight_the_feet_carry(scalf, loads):
+    """Two stance feet of a trot carry on average half the weight their load model puts on
+    them: the whole robot's under whole-body loads, the trunk's under the paper's. The marked
+    line is that, and the cycle's mean stance force (its own computation) agrees."""
+    from scalf_opt.energy.loads import stance_loads
+    from scalf_opt.locomotion.forces import GRAVITY_M_S2
+    from scalf_opt.viz.trajectories import Trajectory
+
+    pipeline = coarse_pipeline(scalf).with_loads(loads)
+    cycle = pipeline.robot_cycle(make_family("reference"))
+    mass = stance_loads(loads).carried_mass_kg(scalf)
+    expected = scalf.total_mass_kg if loads == "whole-body" else scalf.trunk_mass_kg
+    assert mass == expected
+    fig = foot_force_figure(Trajectory("reference", cycle), mass)
+    ax = fig.axes[0]
+    (marked,) = [line.get_ydata()[0] for line in ax.lines if line.get_linestyle() == ":"]
+    assert marked == pytest.approx(0.5 * mass * GRAVITY_M_S2, rel=1e-12)
+    assert cycle.mean_stance_force_n == pytest.approx(marked, rel=0.01)
+    assert f"{loads} loads" in ax.get_title()
     close(fig)
