@@ -19,7 +19,7 @@ from scalf_opt.locomotion.forces import GRAVITY_M_S2
 from scalf_opt.types import FIRST_PAIR, JOINT_ROLES, LEG_NAMES
 from scalf_opt.viz.colors import trajectory_color
 from scalf_opt.viz.plotting import cycle_samples, shade_swing, style
-from scalf_opt.viz.trajectories import Trajectory
+from scalf_opt.viz.trajectories import Trajectory, energy_models
 
 JointQuantity = Literal["angle", "torque", "power"]
 
@@ -79,7 +79,7 @@ def joint_figure(
             axes[-1, col].set_xlabel("time in the cycle [s]")
             axes[-1, col].set_xlim(0.0, trajectories[0].cycle.gait.period_s)
         handles, labels = axes[0, 0].get_legend_handles_labels()
-        fig.suptitle(title)
+        fig.suptitle(f"{title}\n{energy_models(trajectories)}")
         fig.legend(handles, labels, loc="outside lower center", ncols=min(len(labels), 3))
     return fig
 

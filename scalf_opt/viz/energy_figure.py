@@ -20,7 +20,7 @@ from scalf_opt.energy.cycle import change_percent
 from scalf_opt.types import JOINT_ROLES, LEG_NAMES
 from scalf_opt.viz.colors import trajectory_color
 from scalf_opt.viz.plotting import style
-from scalf_opt.viz.trajectories import Trajectory
+from scalf_opt.viz.trajectories import Trajectory, energy_models
 
 SEGMENT_COLORS: dict[tuple[str, str], str] = {
     ("stance", "hip"): "#1f77b4",
@@ -117,11 +117,9 @@ def energy_bars_figure(trajectories: Sequence[Trajectory]) -> Figure:
         ax.legend(
             handles=handles, loc="upper right", ncols=5, fontsize=7, bbox_to_anchor=(1.0, 1.0)
         )
-        models = sorted(
-            {f"{t.cycle.loads} loads, {t.cycle.accounting} accounting" for t in trajectories}
-        )
         ax.set_title(
-            "Energy per cycle by leg, phase and joint (the paper's Table 6)\n" + "; ".join(models)
+            "Energy per cycle by leg, phase and joint (the paper's Table 6)\n"
+            + energy_models(trajectories)
         )
     return fig
 

@@ -206,7 +206,7 @@ def build_scene(
                 average_power_w=cycle.average_power_w,
                 swing_energy_j={leg: c.swing_energy_j for leg, c in cycle.legs.items()},
                 lateral_offset_m=walk.lateral_offset_m,
-                energy_model=f"{cycle.loads} loads, {cycle.accounting} accounting",
+                energy_model=trajectory.energy_model,
             )
         )
     _send_animation(out, walks, visuals, opts)

@@ -7,6 +7,7 @@ optimum from the one optimization entry, or the swings saved by ``scalf-opt opti
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from scalf_opt.energy.cycle import RobotCycle
@@ -28,3 +29,13 @@ class Trajectory:
     label: str
     cycle: RobotCycle
     solved: bool = True
+
+    @property
+    def energy_model(self) -> str:
+        """What its energies were evaluated with: ``whole-body loads, paper accounting``."""
+        return f"{self.cycle.loads} loads, {self.cycle.accounting} accounting"
+
+
+def energy_models(trajectories: Sequence[Trajectory]) -> str:
+    """The energy models of ``trajectories``, each once, for a figure's title."""
+    return "; ".join(dict.fromkeys(t.energy_model for t in trajectories))

@@ -275,3 +275,10 @@ def test_the_foot_force_figure_marks_half_the_weight_the_feet_carry(scalf, loads
     assert cycle.mean_stance_force_n == pytest.approx(marked, rel=0.01)
     assert f"{loads} loads" in ax.get_title()
     close(fig)
+
+
+def test_the_joint_figures_name_the_energy_model(scalf_shown):
+    _, shown = scalf_shown
+    fig = joint_figure(shown, "torque")
+    assert fig.get_suptitle() == "Joint torques over a cycle\nwhole-body loads, paper accounting"
+    close(fig)
