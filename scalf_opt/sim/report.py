@@ -77,7 +77,7 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
         f" % of the model's on every leg: {_met(goals['joint_energy_met'])}",
         "",
         "the plan followed exactly (MuJoCo's inverse dynamics of the whole robot on the plan, "
-        "minimum-norm foot forces):",
+        "foot forces by the sagittal minimum norm, as --loads whole-body-sagittal):",
         "leg   stance [J]  swing [J]  mean force [N]   model vs it: stance / swing   "
         "simulation vs it: stance / swing",
         *_inverse_dynamics_rows(result),
