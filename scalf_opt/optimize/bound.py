@@ -282,29 +282,16 @@ def bound_for(
             ):
                 best, rate = leg_result, run_rate
         assert best is not None
-        levels.append(
-            BoundLevel(
-                count,
-                best.best.swing_energy_j,
-                best.check_energy_j,
-                rate,
-                best.best.status,
-                best.success,
-                time.perf_counter() - start,
-            )
-        )
+        levels.append(_level_record(count, best, rate, time.perf_counter() - start))
         if not best.success:  # the finest solved level stays the bound; not converged
             break
         result, previous = (family, best), (family, best.best.theta)
         remaining = remaining_estimate([lv.check_energy_j for lv in levels])
-        if (
-            tolerance * best.check_energy_j
-            < remaining
-            <= REVISIT_WITHIN * tolerance * (best.check_energy_j)
-        ):
+        limit = tolerance * best.check_energy_j
+        if limit < remaining <= REVISIT_WITHIN * limit:
             levels[-2] = _revisit(pipeline, leg, levels[-2], family, best.best.theta, margins)
             remaining = remaining_estimate([lv.check_energy_j for lv in levels])
-        if remaining <= tolerance * best.check_energy_j:
+        if remaining <= limit:
             converged = True
             break
     solved = [lv.check_energy_j for lv in levels if lv.success]
@@ -312,6 +299,22 @@ def bound_for(
         assert best is not None
         return FreeBound(leg, BSplineFamily(spans[0]), best, levels, False)
     return FreeBound(leg, result[0], result[1], levels, converged, remaining_estimate(solved))
+
+
+def _level_record(
+    spans: int, found: LegResult, rate_hz: float, wall_time_s: float, revisited: bool = False
+) -> BoundLevel:
+    """The record of a level solved to ``found`` at ``rate_hz``."""
+    return BoundLevel(
+        spans,
+        found.best.swing_energy_j,
+        found.check_energy_j,
+        rate_hz,
+        found.best.status,
+        found.success,
+        wall_time_s,
+        revisited,
+    )
 
 
 def _solve_level(
@@ -358,16 +361,7 @@ def _revisit(
     spent = coarse.wall_time_s + time.perf_counter() - start
     if not found.success or found.check_energy_j >= coarse.check_energy_j:
         return replace(coarse, wall_time_s=spent, revisited=True)
-    return BoundLevel(
-        coarse.spans,
-        found.best.swing_energy_j,
-        found.check_energy_j,
-        rate,
-        found.best.status,
-        True,
-        spent,
-        revisited=True,
-    )
+    return _level_record(coarse.spans, found, rate, spent, revisited=True)
 
 
 def bounds_for(

@@ -64,7 +64,7 @@ def legend_html(scene: Scene) -> str:
             f"<span class='label'>{html.escape(entry.label)}</span>"
             f"<div class='numbers'>{entry.energy_j:.4g} J per cycle, "
             f"{entry.average_power_w:.4g} W; swing [J]: {swing}"
-            f"{f' ({html.escape(entry.energy_model)})' if entry.energy_model else ''}</div></div>"
+            f" ({html.escape(entry.energy_model)})</div></div>"
         )
     if scene.color_by == "power":
         lo, hi = scene.power_range_w

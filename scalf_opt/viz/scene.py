@@ -92,7 +92,7 @@ class LegendEntry:
     average_power_w: float
     swing_energy_j: dict[str, float]
     lateral_offset_m: float
-    energy_model: str = ""
+    energy_model: str
 
 
 @dataclass
