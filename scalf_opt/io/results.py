@@ -140,6 +140,7 @@ def optimization_record(run: SwingOptimization) -> dict[str, Any]:
         "loads": run.pipeline.loads,
         "alternation_rounds": run.rounds,
         "alternation_settled": run.alternation_settled,
+        "legs_solved_together": run.solved_together,
     }
 
 

@@ -31,8 +31,9 @@ from scalf_opt.errors import ConfigError, GaitError, InfeasibleError
 from scalf_opt.interrupts import map_in_threads, raise_if_stopped
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.locomotion.trot import DIAGONAL_PARTNER
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
-from scalf_opt.optimize.problem import SwingProblem
+from scalf_opt.optimize.problem import PairProblem, SwingProblem
 from scalf_opt.optimize.sampling import (
     BETWEEN_SAMPLES_RTOL,
     CHECK_FACTOR,
@@ -211,10 +212,12 @@ class SwingOptimization:
         converged_sampling: The energies converged within the tolerance.
         wall_time_s: Time of the whole optimization [s].
         rounds: Rounds of the coupled legs' alternation at the final rate (1 when the legs are
-            independent: trunk-only loads, or one leg).
+            independent: trunk-only loads, or one leg; or solved together).
         alternation_settled: The last round changed the coupled legs' energy by less than
             :data:`ALTERNATION_RTOL` (always true for independent legs); else the alternation
             stopped at :data:`MAX_ALTERNATIONS` rounds and the pair is not converged.
+        solved_together: The coupled legs were optimized as one problem (one NLP over both
+            legs' swings, :class:`~scalf_opt.optimize.problem.PairProblem`), not in turn.
     """
 
     family: SwingFamily
@@ -226,10 +229,11 @@ class SwingOptimization:
     wall_time_s: float = 0.0
     rounds: int = 1
     alternation_settled: bool = True
+    solved_together: bool = False
 
     @property
     def coupled(self) -> bool:
-        """The legs' problems are coupled (whole-body loads, several legs): solved in turn."""
+        """The legs' problems are coupled (whole-body loads, several legs)."""
         return legs_coupled(self.pipeline, tuple(self.legs))
 
     @property
@@ -331,14 +335,28 @@ def _solve_leg(
     if theta0 is None:
         theta0 = np.zeros(problem.n_params)
     optimum = solver(settings.method).solve(problem, theta0, settings.solver_options, warm=trial)
-    check = math.inf
-    if optimum.success:
-        fine_pipeline = pipeline.with_gait(with_rate(pipeline.gait, check_rate_hz(pipeline.gait)))
-        fine = SwingProblem(fine_pipeline, leg, family, others, margins=settings.margins)
-        check, crossed = fine.energy_and_bound_excess(optimum.theta)
-        if crossed > BETWEEN_SAMPLES_RTOL:
-            check = math.inf
-    return optimum, check
+    return optimum, _check_energy_j(pipeline, leg, family, settings, optimum, others)
+
+
+def _check_energy_j(
+    pipeline: EnergyPipeline,
+    leg: str,
+    family: SwingFamily,
+    settings: Settings,
+    optimum: SwingOptimum,
+    others: Mapping[str, np.ndarray] | None,
+) -> float:
+    """The optimum's objective at ten times the rate [J].
+
+    ``inf`` when the optimum failed, or crosses a bound between the samples by more than
+    :data:`BETWEEN_SAMPLES_RTOL` of the bound.
+    """
+    if not optimum.success:
+        return math.inf
+    fine_pipeline = pipeline.with_gait(with_rate(pipeline.gait, check_rate_hz(pipeline.gait)))
+    fine = SwingProblem(fine_pipeline, leg, family, others, margins=settings.margins)
+    check, crossed = fine.energy_and_bound_excess(optimum.theta)
+    return math.inf if crossed > BETWEEN_SAMPLES_RTOL else check
 
 
 def _solve_one(
@@ -365,13 +383,16 @@ def _solve_legs(
     current: Mapping[str, np.ndarray | None],
     workers: int = 1,
     trial: bool = False,
-) -> tuple[dict[str, tuple[SwingOptimum, float]], int, bool]:
-    """Optimize every leg at the pipeline's rate: the answers, the rounds, whether they settled.
+) -> tuple[dict[str, tuple[SwingOptimum, float]], int, bool, bool]:
+    """Optimize every leg at the pipeline's rate.
 
-    Under trunk loads each leg is its own problem: one round. Under whole-body loads a leg's
-    objective depends on the other optimized legs' swings (their twins load the same stance
-    feet), so the legs are optimized in turn, each with the others' latest parameters, until a
-    round changes their summed objective by less than :data:`ALTERNATION_RTOL` (block
+    Returns the answers, the rounds, whether they settled, and whether the legs were solved
+    together. Under trunk loads each leg is its own problem: one round. Under whole-body loads
+    a leg's objective depends on the other optimized legs' swings (their twins load the same
+    stance feet). A diagonal pair is then one problem (:class:`PairProblem`) for a solver that
+    takes it (Ipopt: one NLP over both legs' swings, which reaches the pair's optimum in one
+    solve). Otherwise the legs are optimized in turn, each with the others' latest parameters,
+    until a round changes their summed objective by less than :data:`ALTERNATION_RTOL` (block
     coordinate descent on the pair's energy: no round makes it worse), at most
     :data:`MAX_ALTERNATIONS` rounds; the alternation has settled when its last round met the
     tolerance (independent legs: always).
@@ -382,7 +403,37 @@ def _solve_legs(
         solved = map_in_threads(
             partial(_solve_one, pipeline, family, settings, current, trial), legs, workers
         )
-        return dict(zip(legs, solved, strict=True)), 1, True
+        return dict(zip(legs, solved, strict=True)), 1, True, False
+    if one_pair(legs):
+        pair = PairProblem(pipeline, legs, family, settings.margins)
+        start = {
+            leg: np.zeros(family.n_params) if theta is None else theta
+            for leg, theta in thetas.items()
+        }
+        together = solver(settings.method).solve_pair(
+            pair, start, settings.solver_options, warm=trial
+        )
+        if together is not None:  # the solver optimizes the pair in one problem
+            final = {leg: o.theta for leg, o in together.items()}
+            return (
+                {
+                    leg: (
+                        optimum,
+                        _check_energy_j(
+                            pipeline,
+                            leg,
+                            family,
+                            settings,
+                            optimum,
+                            coupled_others(pipeline, legs, leg, final),
+                        ),
+                    )
+                    for leg, optimum in together.items()
+                },
+                1,
+                True,
+                True,
+            )
     answers: dict[str, tuple[SwingOptimum, float]] = {}
     previous = math.inf
     for round_ in range(1, MAX_ALTERNATIONS + 1):
@@ -398,14 +449,19 @@ def _solve_legs(
             if answers[leg][0].success:
                 thetas[leg] = answers[leg][0].theta
         if not all(o.success for o, _ in answers.values()):
-            return answers, round_, True  # a failed leg is the run's status
+            return answers, round_, True, False  # a failed leg is the run's status
         total = answers[legs[-1]][0].objective_j + sum(
             answers[leg][0].swing_energy_j for leg in legs[:-1]
         )
         if abs(previous - total) <= ALTERNATION_RTOL * abs(total):
-            return answers, round_, True
+            return answers, round_, True, False
         previous = total
-    return answers, MAX_ALTERNATIONS, False
+    return answers, MAX_ALTERNATIONS, False, False
+
+
+def one_pair(legs: tuple[str, ...]) -> bool:
+    """Whether ``legs`` are one leg and its diagonal partner (a pair solved as one problem)."""
+    return len(legs) == 2 and DIAGONAL_PARTNER[legs[0]] == legs[1]
 
 
 def coupled_others(
@@ -470,7 +526,7 @@ def optimize_swings(
         first[leg] = (label, theta)
         current[leg] = theta
     answers: dict[str, tuple[SwingOptimum, float]] = {}
-    rounds, settled = 1, True
+    rounds, settled, together = 1, True, False
     converged = False
     workers = thread_budget() if solver(settings.method).releases_gil else 1
     trial = trial and theta0 is not None and all(leg in theta0 for leg in legs)  # else cold
@@ -479,7 +535,7 @@ def optimize_swings(
         if progress is not None:
             progress(f"{family.name} at {rate:g} Hz")
         at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
-        answers, rounds, settled = _solve_legs(
+        answers, rounds, settled, together = _solve_legs(
             at_rate, legs, family, settings, current, workers, trial
         )
         solved = all(o.success for o, _ in answers.values())
@@ -541,4 +597,5 @@ def optimize_swings(
         time.perf_counter() - start,
         rounds,
         settled,
+        together,
     )

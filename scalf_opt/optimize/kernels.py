@@ -181,24 +181,35 @@ _STANCE_KERNELS: weakref.WeakKeyDictionary[LegPhysics, dict[object, ca.Function]
 )
 
 
-def stance_kernel(varying: LegPhysics, space: Space, stance: tuple[LegPhysics, ...]) -> ca.Function:
+def stance_kernel(
+    varying: tuple[LegPhysics, ...], space: Space, stance: tuple[LegPhysics, ...]
+) -> ca.Function:
     """The pair's stance at one sample under whole-body loads, for the NLP (compiled once).
 
-    ``(y (6), d (18 k)) -> (p_mech (2 k), loss (1), limited)``: the varying leg's sample ``y``
-    in ``space``, and per stance leg its joint angles, rates, fixed torques and the 2 x 6 gain
-    of its torques on the varying leg's wrench (row-major); out come the stance joints' signed
-    powers ``tau qd``, their drives' summed losses with the smooth max
-    (:data:`HEAT_SMOOTHING_EPS_M_S`) and, per stance leg, the bounded quantities the swing
-    moves (:func:`stance_limited_bounds`: torques and torque-dependent drive outputs, such as
-    a cylinder's force). See :mod:`scalf_opt.energy.coupling`.
+    ``(y (6 m), d (18 k)) -> (p_mech (2 k), loss (1), limited)``: the samples ``y`` of the ``m``
+    varying legs in ``space`` (one after the other; their wrenches add), and per stance leg its
+    joint angles, rates, fixed torques and the 2 x 6 gain of its torques on the varying legs'
+    wrench (row-major); out come the stance joints' signed powers ``tau qd``, their drives'
+    summed losses with the smooth max (:data:`HEAT_SMOOTHING_EPS_M_S`) and, per stance leg, the
+    bounded quantities the swing moves (:func:`stance_limited_bounds`: torques and
+    torque-dependent drive outputs, such as a cylinder's force). See
+    :mod:`scalf_opt.energy.coupling`.
     """
-    key = (space, tuple(id(s) for s in stance))
-    per_leg = _STANCE_KERNELS.setdefault(varying, {})
+    key = (space, tuple(id(v) for v in varying[1:]), tuple(id(s) for s in stance))
+    per_leg = _STANCE_KERNELS.setdefault(varying[0], {})
     with SYMBOLIC_LOCK:
         if key not in per_leg:
-            y = ca.SX.sym("y", 6)
+            y = ca.SX.sym("y", 6 * len(varying))
             d = ca.SX.sym("d", STANCE_INPUTS * len(stance))
-            wrench = varying.wrench_function(space)(y[0:2], y[2:4], y[4:6])
+            wrenches = [
+                physics.wrench_function(space)(
+                    y[6 * i : 6 * i + 2], y[6 * i + 2 : 6 * i + 4], y[6 * i + 4 : 6 * i + 6]
+                )
+                for i, physics in enumerate(varying)
+            ]
+            wrench = wrenches[0]
+            for more in wrenches[1:]:
+                wrench += more
             powers, losses, limited = [], [], []
             for k, physics in enumerate(stance):
                 block = d[STANCE_INPUTS * k : STANCE_INPUTS * (k + 1)]
@@ -209,8 +220,8 @@ def stance_kernel(varying: LegPhysics, space: Space, stance: tuple[LegPhysics, .
                 _, loss = physics.power_expr(q, qd, tau, heat_eps=HEAT_SMOOTHING_EPS_M_S)
                 losses.append(ca.sum1(loss))
                 limited.append(stance_limit_function(physics)(q, qd, tau))
-            names = [varying.leg.name, space, *(s.leg.name for s in stance), "stance_sample"]
-            name = casadi_name(*names)
+            names = [*(v.leg.name for v in varying), space, *(s.leg.name for s in stance)]
+            name = casadi_name(*names, "stance_sample")
             fn = ca.Function(
                 name,
                 [y, d],

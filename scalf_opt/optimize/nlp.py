@@ -40,7 +40,7 @@ import hashlib
 import threading
 import time
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
 import casadi as ca
@@ -55,7 +55,7 @@ from scalf_opt.optimize.kernels import (
     stance_kernel,
     stance_limited_bounds,
 )
-from scalf_opt.optimize.problem import SwingProblem
+from scalf_opt.optimize.problem import PairProblem, SwingProblem
 from scalf_opt.types import Accounting, Space
 
 IPOPT_DEFAULTS: dict[str, Any] = {
@@ -88,6 +88,14 @@ CONDENSED_OPTIONS: dict[str, Any] = {"mu_oracle": "probing"}
 """Ipopt options of the condensed NLP: Mehrotra's probing for the barrier parameter (paper
 family: 20 iterations instead of 29; on the lifted NLP it took more, 79 instead of 52 for
 ``joint-6``)."""
+
+COUPLED_OPTIONS: dict[str, Any] = {"mumps_pivot_order": 5}
+"""Ipopt options of an NLP with the pair's stance term (whole-body loads): MUMPS orders the KKT
+system by METIS's nested dissection instead of the approximate minimum degree. Every stance row
+depends on all of a leg's parameters (quasi-dense rows), on which the minimum degree ordering
+left large fronts: measured on SCalf's default pair, 59 iterations in 1.7 s instead of 4.9 s,
+and over five robots' default pairs 18 s instead of 30 s; the same on the lifted NLPs without a
+stance term is within the machine's noise of the minimum degree."""
 
 SPARSE_BASIS_DENSITY = 0.25
 """A family's basis with fewer nonzeros than this fraction is built into the NLP as a sparse
@@ -126,47 +134,68 @@ class StopCallback(ca.Callback):
         return [1 if stop_requested() else 0]
 
 
-@dataclass
-class BuiltNlp:
-    """An NLP built for one shape of problem.
+@dataclass(frozen=True)
+class LegBlock:
+    """One leg's part of a built NLP.
+
+    Its variables ``(theta, Y, slacks)``, its rows (the lifted equalities, the slack rows, the
+    kernel's constrained entries) and its parameters ``(Y_0, B, weights)``, in this order.
 
     Attributes:
-        solver: The CasADi Ipopt solver.
         lifted: The samples ``Y`` are variables (else eliminated: the condensed NLP).
         n_theta: Number of family parameters.
         n_samples: Number of swing samples.
         charged: Joints whose mechanical power is charged (they carry the slacks).
-        accounting: Power accounting.
         constant_basis: ``B`` is built in (sparse family) rather than a parameter.
-        build_time_s: Time spent building it [s].
         index: The entries of the kernel's ``c`` it constrains (:func:`constraint_index`).
+    """
+
+    lifted: bool
+    n_theta: int
+    n_samples: int
+    charged: tuple[int, ...]
+    constant_basis: bool
+    index: np.ndarray
+
+    def n_slack_rows(self, accounting: Accounting) -> int:
+        """Slack constraints: one per charged joint and sample when there are slacks."""
+        if not power_accounting(accounting).slacks:
+            return 0
+        return len(self.charged) * self.n_samples
+
+    def n_slacks(self, accounting: Accounting) -> int:
+        """Slack variables after ``theta`` and ``Y``."""
+        return power_accounting(accounting).slacks * len(self.charged) * self.n_samples
+
+    def n_variables(self, accounting: Accounting) -> int:
+        """Variables of the block."""
+        return self.n_theta + (6 * self.n_samples if self.lifted else 0) + self.n_slacks(accounting)
+
+
+@dataclass
+class BuiltNlp:
+    """An NLP built for one shape of problem: one leg, or a pair of legs solved together.
+
+    Attributes:
+        solver: The CasADi Ipopt solver.
+        blocks: Each leg's part, in the order of the problem's legs.
+        accounting: Power accounting.
+        build_time_s: Time spent building it [s].
         coupled: The shape of the pair's stance term under whole-body loads, else ``None``.
         callback: Its iteration callback (kept alive with the solver).
     """
 
     solver: ca.Function
-    lifted: bool
-    n_theta: int
-    n_samples: int
-    charged: tuple[int, ...]
+    blocks: tuple[LegBlock, ...]
     accounting: Accounting
-    constant_basis: bool
     build_time_s: float
-    index: np.ndarray
     coupled: CoupledShape | None = None
     callback: StopCallback | None = None
 
     @property
-    def n_slack_rows(self) -> int:
-        """Slack constraints in ``g``: one per charged joint and sample when there are slacks."""
-        if not power_accounting(self.accounting).slacks:
-            return 0
-        return len(self.charged) * self.n_samples
-
-    @property
-    def n_slacks(self) -> int:
-        """Slack variables after ``theta`` and ``Y``."""
-        return power_accounting(self.accounting).slacks * len(self.charged) * self.n_samples
+    def lifted(self) -> bool:
+        """The samples are variables (every leg of one NLP has the same family)."""
+        return self.blocks[0].lifted
 
 
 @dataclass(frozen=True)
@@ -177,7 +206,7 @@ class CoupledShape:
     their charged power gets slacks like the swing's, their losses the smooth max.
 
     Attributes:
-        varying: The swinging twin whose wrench loads the stance feet.
+        varying: The swinging twins whose wrenches load the stance feet (one per optimized leg).
         space: Its samples' space.
         stance_legs: The pair's legs.
         n_samples: Stance samples.
@@ -186,7 +215,7 @@ class CoupledShape:
             (:func:`~scalf_opt.optimize.kernels.stance_limited_bounds`): constraint rows.
     """
 
-    varying: str
+    varying: tuple[str, ...]
     space: Space
     stance_legs: tuple[str, ...]
     n_samples: int
@@ -207,7 +236,7 @@ class CoupledShape:
         return sum(len(c) for c in self.charged) * self.n_samples
 
 
-def coupled_shape(problem: SwingProblem) -> CoupledShape | None:
+def coupled_shape(problem: SwingProblem | PairProblem) -> CoupledShape | None:
     """The stance term's shape of ``problem`` (``None`` when its loads do not couple the legs)."""
     coupling = problem.coupling
     if coupling is None:
@@ -219,7 +248,7 @@ def coupled_shape(problem: SwingProblem) -> CoupledShape | None:
     )
     return CoupledShape(
         coupling.varying,
-        coupling.motion.space,
+        coupling.motions[0].space,
         tuple(t.leg for t in coupling.terms),
         int(coupling.weights.size),
         charged,
@@ -227,7 +256,7 @@ def coupled_shape(problem: SwingProblem) -> CoupledShape | None:
     )
 
 
-def _stance_limits(problem: SwingProblem) -> tuple[np.ndarray, np.ndarray]:
+def _stance_limits(problem: SwingProblem | PairProblem) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper bounds of the stance legs' limited quantities at one sample."""
     coupling = problem.coupling
     assert coupling is not None
@@ -237,46 +266,60 @@ def _stance_limits(problem: SwingProblem) -> tuple[np.ndarray, np.ndarray]:
     return np.array([b.lower for b in bounds]), np.array([b.upper for b in bounds])
 
 
-def _stance_parameters(problem: SwingProblem) -> list[np.ndarray]:
+def _stance_parameters(problem: SwingProblem | PairProblem) -> list[np.ndarray]:
     """The stance term's parameter values, in :func:`_stance_cost`'s order."""
     coupling = problem.coupling
     assert coupling is not None
     n = coupling.weights.size
-    motion = coupling.motion
     data = np.vstack(
         [np.vstack([t.q, t.qd, t.tau_fixed_nm, t.gain.reshape(n, 12).T]) for t in coupling.terms]
     )
-    return [
-        motion.base.reshape(6, n).ravel(order="F"),
-        motion.dense_basis()
-        .reshape(6, n, -1)
-        .transpose(1, 0, 2)
-        .reshape(6 * n, -1)
-        .ravel(order="F"),
-        coupling.weights,
-        data.ravel(order="F"),
+    motions = [
+        part
+        for motion in coupling.motions
+        for part in (
+            motion.base.reshape(6, n).ravel(order="F"),
+            motion.dense_basis()
+            .reshape(6, n, -1)
+            .transpose(1, 0, 2)
+            .reshape(6 * n, -1)
+            .ravel(order="F"),
+        )
     ]
+    return [*motions, coupling.weights, data.ravel(order="F")]
 
 
 def _stance_cost(
-    problem: SwingProblem, shape: CoupledShape, theta: ca.MX, accounting: Accounting
+    problem: SwingProblem | PairProblem,
+    shape: CoupledShape,
+    thetas: Sequence[ca.MX],
+    accounting: Accounting,
 ) -> tuple[ca.MX, list[ca.MX], list[ca.MX], list[ca.MX]]:
-    """The pair's smooth stance energy: ``(cost, parameters, slack variables, slack rows)``."""
+    """The pair's smooth stance energy: ``(cost, parameters, slack variables, slack rows)``.
+
+    ``thetas``: the parameters of each varying twin's leg, in the order of ``shape.varying``.
+    """
     pipeline = problem.pipeline
-    n, n_theta = shape.n_samples, theta.numel()
-    base = ca.MX.sym("twin_base", 6 * n)
-    basis = ca.MX.sym("twin_basis", 6 * n * n_theta)
+    n = shape.n_samples
+    parameters: list[ca.MX] = []
+    samples = []
+    for twin, theta in zip(shape.varying, thetas, strict=True):
+        n_theta = theta.numel()
+        base = ca.MX.sym(f"{twin}_base", 6 * n)
+        basis = ca.MX.sym(f"{twin}_basis", 6 * n * n_theta)
+        parameters += [base, basis]
+        y = base + ca.mtimes(ca.reshape(basis, 6 * n, n_theta), theta) if n_theta else base
+        samples.append(ca.reshape(y, 6, n))
     weights = ca.MX.sym("stance_weights", n)
     rows_per_sample = STANCE_INPUTS * len(shape.stance_legs)
     data = ca.MX.sym("stance_data", rows_per_sample * n)
-    parameters = [base, basis, weights, data]
-    y = base + ca.mtimes(ca.reshape(basis, 6 * n, n_theta), theta) if n_theta else base
+    parameters += [weights, data]
     kernel = stance_kernel(
-        pipeline.physics(shape.varying),
+        tuple(pipeline.physics(v) for v in shape.varying),
         shape.space,
         tuple(pipeline.physics(s) for s in shape.stance_legs),
     )
-    power, loss, limited = kernel.map(n, "serial")(ca.reshape(y, 6, n), ca.reshape(data, -1, n))
+    power, loss, limited = kernel.map(n, "serial")(ca.vertcat(*samples), ca.reshape(data, -1, n))
     cost: ca.MX = ca.mtimes(loss, weights)
     rule = power_accounting(accounting)
     slack_vars: list[ca.MX] = []
@@ -346,61 +389,79 @@ def constraint_index(
     return np.flatnonzero(mask.ravel(order="F"))
 
 
+def _legs(problem: SwingProblem | PairProblem) -> tuple[SwingProblem, ...]:
+    """The legs' own problems of an NLP: the one leg, or each leg of the pair."""
+    return problem.problems if isinstance(problem, PairProblem) else (problem,)
+
+
+def _block(problem: SwingProblem, left_out: tuple[int, ...]) -> tuple[LegBlock, ca.DM | None]:
+    """The shape of ``problem``'s part of an NLP, and its sparse basis (``None``: dense)."""
+    lifted = problem.n_params > CONDENSED_MAX_PARAMS
+    charged = tuple(
+        i for i, drive in enumerate(problem.physics.drives) if drive.charges_joint_power
+    )
+    constant = _sparse_basis(problem)
+    block = LegBlock(
+        lifted,
+        problem.n_params,
+        problem.n_samples,
+        charged,
+        constant is not None,
+        constraint_index(problem, lifted, left_out),
+    )
+    return block, constant
+
+
 def build_nlp(
-    problem: SwingProblem,
+    problem: SwingProblem | PairProblem,
     ipopt_options: dict[str, Any] | None = None,
     left_out: tuple[int, ...] = (),
 ) -> BuiltNlp:
     """The NLP of ``problem``'s shape: built on first use, then taken from the kernel's cache.
 
-    ``left_out``: rows of the kernel's ``c`` the NLP does not carry (screened out).
+    ``left_out``: rows of the kernel's ``c`` the NLP does not carry (screened out; one leg only).
     """
+    legs = _legs(problem)
+    if left_out and len(legs) > 1:
+        raise ValueError("rows can be left out of one leg's NLP only")
     with SYMBOLIC_LOCK:  # one CasADi build at a time (leg threads)
-        lifted = problem.n_params > CONDENSED_MAX_PARAMS
+        blocks, constants = zip(*(_block(leg, left_out) for leg in legs), strict=True)
+        shape = coupled_shape(problem)
         options = {
             **IPOPT_DEFAULTS,
-            **({} if lifted else CONDENSED_OPTIONS),
+            **({} if blocks[0].lifted else CONDENSED_OPTIONS),
+            **({} if shape is None else COUPLED_OPTIONS),
             **(ipopt_options or {}),
         }
-        kernel = problem.kernel
-        charged = tuple(
-            i for i, drive in enumerate(problem.physics.drives) if drive.charges_joint_power
-        )
+        kernel = legs[0].kernel
         accounting = problem.pipeline.accounting
-        index = constraint_index(problem, lifted, left_out)
-        constant = _sparse_basis(problem)
-        shape = coupled_shape(problem)
         # in a worker thread a signal cannot stop the solve: its iteration callback does
         stoppable = threading.current_thread() is not threading.main_thread()
         key = (
             shape,
-            lifted,
-            problem.n_samples,
-            problem.n_params,
-            charged,
+            tuple(leg.leg for leg in legs[1:]),
+            tuple(
+                (
+                    b.lifted,
+                    b.n_samples,
+                    b.n_theta,
+                    b.charged,
+                    hashlib.sha256(b.index.tobytes()).hexdigest(),
+                    None if c is None else _digest(c),
+                )
+                for b, c in zip(blocks, constants, strict=True)
+            ),
             accounting,
-            hashlib.sha256(index.tobytes()).hexdigest(),
-            None if constant is None else _digest(constant),
             tuple(sorted(options.items())),
             stoppable,
         )
         if key not in kernel.nlps:
             start = time.perf_counter()
             solver, callback = _build(
-                problem, lifted, index, charged, accounting, constant, options, stoppable, shape
+                problem, legs, blocks, constants, accounting, options, stoppable, shape
             )
             kernel.nlps[key] = BuiltNlp(
-                solver,
-                lifted,
-                problem.n_params,
-                problem.n_samples,
-                charged,
-                accounting,
-                constant is not None,
-                time.perf_counter() - start,
-                index,
-                shape,
-                callback,
+                solver, blocks, accounting, time.perf_counter() - start, shape, callback
             )
         built = kernel.nlps[key]
     assert isinstance(built, BuiltNlp)
@@ -419,61 +480,90 @@ def _digest(matrix: ca.DM) -> str:
     return hashlib.sha256(b"".join(p.tobytes() for p in parts)).hexdigest()
 
 
-def _build(
-    problem: SwingProblem,
-    lifted: bool,
-    index: np.ndarray,
-    charged: tuple[int, ...],
-    accounting: Accounting,
-    constant_basis: ca.DM | None,
-    options: dict[str, Any],
-    stoppable: bool,
-    shape: CoupledShape | None = None,
-) -> tuple[ca.Function, StopCallback | None]:
+def _swing_part(
+    problem: SwingProblem, block: LegBlock, constant_basis: ca.DM | None, accounting: Accounting
+) -> tuple[ca.MX, list[ca.MX], list[ca.MX], list[ca.MX], ca.MX]:
+    """One leg's smooth swing energy: ``(theta, variables, parameters, rows, cost)``."""
     kernel = problem.kernel
-    n, n_theta = problem.n_samples, problem.n_params
-    theta = ca.MX.sym("theta", n_theta)
-    base = ca.MX.sym("base", 6 * n)
-    weights = ca.MX.sym("weights", n)
+    n, n_theta = block.n_samples, block.n_theta
+    theta = ca.MX.sym(f"{problem.leg}_theta", n_theta)
+    base = ca.MX.sym(f"{problem.leg}_base", 6 * n)
+    weights = ca.MX.sym(f"{problem.leg}_weights", n)
     parameters = [base]
     if constant_basis is not None:
         affine = base + ca.mtimes(constant_basis, theta)
     else:
-        basis = ca.MX.sym("basis", 6 * n * n_theta)
+        basis = ca.MX.sym(f"{problem.leg}_basis", 6 * n * n_theta)
         parameters.append(basis)
         affine = base + ca.mtimes(ca.reshape(basis, 6 * n, n_theta), theta) if n_theta else base
     parameters.append(weights)
     variables, constraints = [theta], []
     samples = affine
-    if lifted:
-        samples = ca.MX.sym("Y", 6 * n)
+    if block.lifted:
+        samples = ca.MX.sym(f"{problem.leg}_Y", 6 * n)
         variables.append(samples)
         constraints.append(samples - affine)
     out = kernel.smooth().map(n, "serial")(ca.reshape(samples, 6, n))
     p_mech, loss, c = out[0:2, :], out[2, :], out[3:, :]
-    w = weights.T
     cost = ca.mtimes(loss, weights)
-    k = len(charged)
+    k = len(block.charged)
     if k:
-        power = ca.vertcat(*(p_mech[i, :] for i in charged))  # k x n
+        power = ca.vertcat(*(p_mech[i, :] for i in block.charged))  # k x n
         rule = power_accounting(accounting)
-        slacks = [ca.MX.sym(f"slack{j}", k, n) for j in range(rule.slacks)]
+        slacks = [ca.MX.sym(f"{problem.leg}_slack{j}", k, n) for j in range(rule.slacks)]
         variables += [ca.vec(s) for s in slacks]
         rows = rule.slack_rows(power, slacks)
         if rows is not None:
             constraints.append(ca.vec(ca.MX(rows)))
-        cost += ca.sum2(ca.sum1(rule.smooth_cost(power, slacks)) * w)
-    constraints.append(ca.vec(c)[index.tolist()])
+        cost += ca.sum2(ca.sum1(rule.smooth_cost(power, slacks)) * weights.T)
+    constraints.append(ca.vec(c)[block.index.tolist()])
+    return theta, variables, parameters, constraints, cost
+
+
+def _build(
+    problem: SwingProblem | PairProblem,
+    legs: tuple[SwingProblem, ...],
+    blocks: tuple[LegBlock, ...],
+    constants: tuple[ca.DM | None, ...],
+    accounting: Accounting,
+    options: dict[str, Any],
+    stoppable: bool,
+    shape: CoupledShape | None = None,
+) -> tuple[ca.Function, StopCallback | None]:
+    thetas: list[ca.MX] = []
+    variables: list[ca.MX] = []
+    parameters: list[ca.MX] = []
+    constraints: list[ca.MX] = []
+    costs: list[ca.MX] = []
+    for leg, block, constant in zip(legs, blocks, constants, strict=True):
+        theta, leg_vars, leg_params, leg_rows, leg_cost = _swing_part(
+            leg, block, constant, accounting
+        )
+        thetas.append(theta)
+        variables += leg_vars
+        parameters += leg_params
+        constraints += leg_rows
+        costs.append(leg_cost)
+    cost = costs[0]
+    for more in costs[1:]:
+        cost += more
     if shape is not None:
         stance_cost, stance_params, stance_slacks, stance_rows = _stance_cost(
-            problem, shape, theta, accounting
+            problem, shape, thetas, accounting
         )
         cost += stance_cost
         parameters += stance_params
         variables += stance_slacks
         constraints += stance_rows
     x, p, g = ca.vertcat(*variables), ca.vertcat(*parameters), ca.vertcat(*constraints)
-    name = casadi_name(kernel.physics.leg.name, kernel.space, accounting, f"n{n}", f"p{n_theta}")
+    first = blocks[0]
+    name = casadi_name(
+        *(leg.leg for leg in legs),
+        legs[0].kernel.space,
+        accounting,
+        f"n{first.n_samples}",
+        f"p{first.n_theta}",
+    )
     callback = StopCallback(f"{name}_stop") if stoppable else None
     solver = ca.nlpsol(
         name,
@@ -496,7 +586,7 @@ class NlpSolution:
     """Ipopt's answer.
 
     Attributes:
-        theta: Parameters at Ipopt's final iterate (family units).
+        thetas: Parameters of each leg at Ipopt's final iterate (family units).
         success: Ipopt reported a solved problem.
         status: Ipopt's return status.
         iterations: Ipopt iterations.
@@ -505,7 +595,7 @@ class NlpSolution:
         stats: Ipopt's statistics as returned by CasADi.
     """
 
-    theta: np.ndarray
+    thetas: tuple[np.ndarray, ...]
     success: bool
     status: str
     iterations: int
@@ -513,92 +603,141 @@ class NlpSolution:
     wall_time_s: float
     stats: dict[str, Any]
 
+    @property
+    def theta(self) -> np.ndarray:
+        """The parameters of a one-leg NLP."""
+        (theta,) = self.thetas
+        return theta
 
-def solve_nlp(built: BuiltNlp, problem: SwingProblem, theta0: np.ndarray) -> NlpSolution:
-    """Solve ``problem`` with its built NLP from ``theta0`` (``Y`` and slacks consistent)."""
-    theta0 = np.asarray(theta0, dtype=float)
-    n = problem.n_samples
+
+@dataclass
+class _Start:
+    """Start, bounds and parameter values of an NLP, in its variables' and rows' order."""
+
+    x0: list[np.ndarray] = field(default_factory=list)
+    lbx: list[np.ndarray] = field(default_factory=list)
+    ubx: list[np.ndarray] = field(default_factory=list)
+    lbg: list[np.ndarray] = field(default_factory=list)
+    ubg: list[np.ndarray] = field(default_factory=list)
+    p: list[np.ndarray] = field(default_factory=list)
+
+    def variables(self, x0: np.ndarray, lower: np.ndarray, upper: np.ndarray) -> None:
+        self.x0.append(x0)
+        self.lbx.append(lower)
+        self.ubx.append(upper)
+
+    def rows(self, lower: np.ndarray, upper: np.ndarray) -> None:
+        self.lbg.append(lower)
+        self.ubg.append(upper)
+
+
+def _swing_start(
+    start: _Start,
+    block: LegBlock,
+    problem: SwingProblem,
+    theta0: np.ndarray,
+    accounting: Accounting,
+) -> None:
+    """Append one leg's start (``Y`` and slacks consistent with ``theta0``), bounds and values."""
+    n = block.n_samples
     outputs = problem.outputs(theta0)
-    p_mech = np.nan_to_num(outputs["p_mech"][list(built.charged)])  # k x n
-    rule = power_accounting(built.accounting)
+    p_mech = np.nan_to_num(outputs["p_mech"][list(block.charged)])  # k x n
+    rule = power_accounting(accounting)
     slacks = rule.initial_slacks(p_mech)
     y_lo, y_hi = problem.input_bounds
-    m = 6 * n if built.lifted else 0  # lifted samples and their linear equalities
-    stance_slacks: list[np.ndarray] = []
-    n_stance_slacks = n_stance_rows = 0
-    limit_lo = limit_hi = np.zeros(0)
-    if built.coupled is not None:
-        coupling = problem.coupling
-        assert coupling is not None
-        torques = coupling.torques_nm(problem.pipeline, theta0)
-        for term, tau, charged in zip(coupling.terms, torques, built.coupled.charged, strict=True):
-            if charged:
-                p_stance = np.nan_to_num((tau * term.qd)[list(charged)])
-                stance_slacks += [s.ravel(order="F") for s in rule.initial_slacks(p_stance)]
-        n_stance_slacks = built.coupled.n_slacks(built.accounting)
-        n_stance_rows = built.coupled.n_slack_rows(built.accounting)
-        if built.coupled.n_limited:
-            lo, hi = _stance_limits(problem)
-            limit_lo, limit_hi = (
-                np.tile(lo, built.coupled.n_samples),
-                np.tile(hi, built.coupled.n_samples),
-            )
-    x0 = np.concatenate(
-        [
-            theta0,
-            problem.samples(theta0).ravel(order="F")[:m],
-            *(s.ravel(order="F") for s in slacks),
-            *stance_slacks,
-        ]
+    m = 6 * n if block.lifted else 0  # lifted samples and their linear equalities
+    n_slacks = block.n_slacks(accounting)
+    start.variables(theta0, np.full(block.n_theta, -np.inf), np.full(block.n_theta, np.inf))
+    start.variables(
+        problem.samples(theta0).ravel(order="F")[:m],
+        y_lo.ravel(order="F")[:m],
+        y_hi.ravel(order="F")[:m],
     )
-    lbx = np.concatenate(
-        [
-            np.full(built.n_theta, -np.inf),
-            y_lo.ravel(order="F")[:m],
-            np.zeros(built.n_slacks + n_stance_slacks),
-        ]
+    start.variables(
+        np.concatenate([np.zeros(0), *(s.ravel(order="F") for s in slacks)]),
+        np.zeros(n_slacks),
+        np.full(n_slacks, np.inf),
     )
-    ubx = np.concatenate(
-        [
-            np.full(built.n_theta, np.inf),
-            y_hi.ravel(order="F")[:m],
-            np.full(built.n_slacks + n_stance_slacks, np.inf),
-        ]
-    )
-    c_lo, c_hi = problem.constraint_bounds
-    index = built.index
     slack_lo, slack_hi = rule.slack_row_bounds()
-    lbg = np.concatenate(
-        [
-            np.zeros(m),
-            np.full(built.n_slack_rows, slack_lo),
-            c_lo.ravel(order="F")[index],
-            np.full(n_stance_rows, slack_lo),
-            limit_lo,
-        ]
+    c_lo, c_hi = problem.constraint_bounds
+    n_rows = block.n_slack_rows(accounting)
+    start.rows(np.zeros(m), np.zeros(m))
+    start.rows(np.full(n_rows, slack_lo), np.full(n_rows, slack_hi))
+    start.rows(c_lo.ravel(order="F")[block.index], c_hi.ravel(order="F")[block.index])
+    start.p.append(problem.samples_base.ravel(order="F"))
+    if not block.constant_basis:
+        start.p.append(_basis_matrix(problem).ravel(order="F"))
+    start.p.append(problem.weights)
+
+
+def _stance_start(
+    start: _Start,
+    shape: CoupledShape,
+    problem: SwingProblem | PairProblem,
+    thetas0: Sequence[np.ndarray],
+    accounting: Accounting,
+) -> None:
+    """Append the stance term's start (its slacks at ``thetas0``), bounds and values."""
+    coupling = problem.coupling
+    assert coupling is not None
+    rule = power_accounting(accounting)
+    torques = coupling.torques_nm(problem.pipeline, thetas0)
+    slacks = []
+    for term, tau, charged in zip(coupling.terms, torques, shape.charged, strict=True):
+        if charged:
+            p_stance = np.nan_to_num((tau * term.qd)[list(charged)])
+            slacks += [s.ravel(order="F") for s in rule.initial_slacks(p_stance)]
+    n_slacks = shape.n_slacks(accounting)
+    start.variables(
+        np.concatenate([np.zeros(0), *slacks]), np.zeros(n_slacks), np.full(n_slacks, np.inf)
     )
-    ubg = np.concatenate(
-        [
-            np.zeros(m),
-            np.full(built.n_slack_rows, slack_hi),
-            c_hi.ravel(order="F")[index],
-            np.full(n_stance_rows, slack_hi),
-            limit_hi,
-        ]
+    slack_lo, slack_hi = rule.slack_row_bounds()
+    n_rows = shape.n_slack_rows(accounting)
+    start.rows(np.full(n_rows, slack_lo), np.full(n_rows, slack_hi))
+    if shape.n_limited:
+        lo, hi = _stance_limits(problem)
+        start.rows(np.tile(lo, shape.n_samples), np.tile(hi, shape.n_samples))
+    start.p += _stance_parameters(problem)
+
+
+def solve_nlp(
+    built: BuiltNlp,
+    problem: SwingProblem | PairProblem,
+    theta0: np.ndarray | Sequence[np.ndarray],
+) -> NlpSolution:
+    """Solve ``problem`` with its built NLP from ``theta0`` (``Y`` and slacks consistent).
+
+    ``theta0``: the leg's parameters, or for a :class:`PairProblem` each leg's in its order.
+    """
+    legs = _legs(problem)
+    thetas0 = (
+        (np.asarray(theta0, dtype=float),)
+        if isinstance(problem, SwingProblem)
+        else tuple(np.asarray(t, dtype=float) for t in theta0)
     )
-    params = [problem.samples_base.ravel(order="F")]
-    if not built.constant_basis:
-        params.append(_basis_matrix(problem).ravel(order="F"))
-    params.append(problem.weights)
+    start = _Start()
+    for block, leg, theta in zip(built.blocks, legs, thetas0, strict=True):
+        _swing_start(start, block, leg, theta, built.accounting)
     if built.coupled is not None:
-        params += _stance_parameters(problem)
-    start = time.perf_counter()
+        _stance_start(start, built.coupled, problem, thetas0, built.accounting)
+    begin = time.perf_counter()
     with interruptible():  # Ctrl-C stops the program, not just this solve
-        sol = built.solver(x0=x0, p=np.concatenate(params), lbx=lbx, ubx=ubx, lbg=lbg, ubg=ubg)
-    elapsed = time.perf_counter() - start
+        sol = built.solver(
+            x0=np.concatenate(start.x0),
+            p=np.concatenate(start.p),
+            lbx=np.concatenate(start.lbx),
+            ubx=np.concatenate(start.ubx),
+            lbg=np.concatenate(start.lbg),
+            ubg=np.concatenate(start.ubg),
+        )
+    elapsed = time.perf_counter() - begin
     stats = built.solver.stats()
+    x = np.array(sol["x"]).ravel()
+    offsets = np.cumsum([0, *(b.n_variables(built.accounting) for b in built.blocks)])
     return NlpSolution(
-        theta=np.array(sol["x"]).ravel()[: built.n_theta],
+        thetas=tuple(
+            x[offset : offset + b.n_theta] for offset, b in zip(offsets, built.blocks, strict=False)
+        ),
         success=bool(stats.get("success", False)),
         status=str(stats.get("return_status", "unknown")),
         iterations=int(stats.get("iter_count", -1)),

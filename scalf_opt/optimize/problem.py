@@ -87,6 +87,9 @@ class SwingProblem:
             here, they set the loads under whole-body loads (``None``: no other leg, the
             rule of :meth:`~scalf_opt.energy.pipeline.EnergyPipeline.swings`).
         margins: How far inside the joint range and the stroke the swing stays.
+        stance_term: Whether the objective holds the pair's stance energy under whole-body
+            loads (``False``: the leg's own swing alone, the part of a :class:`PairProblem`
+            that owns the stance term).
     """
 
     pipeline: EnergyPipeline
@@ -94,21 +97,22 @@ class SwingProblem:
     family: SwingFamily
     others: Mapping[str, np.ndarray] | None = None
     margins: LimitMargins = DEFAULT_MARGINS
+    stance_term: bool = True
 
     @cached_property
     def coupling(self) -> StanceCoupling | None:
         """The pair's stance as a function of this leg's swing (``None`` under trunk loads)."""
-        if not self.pipeline.load_model.couples_legs:
+        if not (self.stance_term and self.pipeline.load_model.couples_legs):
             return None
         thetas = {**(self.others or {}), self.leg: np.zeros(self.n_params)}
         swings = self.pipeline.swings(self.family, thetas)
-        return stance_coupling(self.pipeline, self.leg, self.family, swings)
+        return stance_coupling(self.pipeline, (self.leg,), self.family, swings)
 
     def stance_energy_j(self, theta: np.ndarray) -> float:
         """The part of the objective in the pair's stance [J] (0 under trunk loads)."""
         if self.coupling is None:
             return 0.0
-        return self.coupling.energy_j(self.pipeline, np.asarray(theta, dtype=float))
+        return self.coupling.energy_j(self.pipeline, (np.asarray(theta, dtype=float),))
 
     def swing_energy_j(self, theta: np.ndarray) -> float:
         """Exact swing energy of a member [J], feasible or not (the leg's own swing only)."""
@@ -272,7 +276,7 @@ class SwingProblem:
         if coupling is None:
             return 0.0, None
         worst, reason = 0.0, None
-        torques = coupling.torques_nm(self.pipeline, np.asarray(theta, dtype=float))
+        torques = coupling.torques_nm(self.pipeline, (np.asarray(theta, dtype=float),))
         for term, tau in zip(coupling.terms, torques, strict=True):
             physics = self.pipeline.physics(term.leg)
             bounds = stance_limited_bounds(physics)
@@ -343,6 +347,53 @@ class SwingProblem:
         if name == FOOT_Z_ACCEL:
             return "foot leaves or meets the ground from below"
         return "foot target out of reach"
+
+
+@dataclass
+class PairProblem:
+    """Both legs of a diagonal pair optimized together, under loads that couple them.
+
+    Under whole-body loads the pair's stance energy depends on both legs' swings (their twins
+    load the same stance feet, :mod:`scalf_opt.energy.coupling`). Its objective is the pair's
+    energy over a cycle up to a constant: both legs' swing energies plus the pair's stance
+    energy; its constraints are each leg's and the loaded stance legs' limits. One NLP over
+    both legs' parameters (:mod:`scalf_opt.optimize.nlp`) reaches the pair's optimum in one
+    solve, where optimizing the legs in turn needs rounds until they settle.
+
+    Attributes:
+        pipeline: The robot's energy pipeline (its load model couples the legs).
+        legs: The pair's legs (a leg and its diagonal partner).
+        family: Their swing family.
+        margins: How far inside the joint range and the stroke the swings stay.
+    """
+
+    pipeline: EnergyPipeline
+    legs: tuple[str, ...]
+    family: SwingFamily
+    margins: LimitMargins = DEFAULT_MARGINS
+
+    @cached_property
+    def problems(self) -> tuple[SwingProblem, ...]:
+        """Each leg's own swing problem, without the stance term (which the pair owns)."""
+        return tuple(
+            SwingProblem(self.pipeline, leg, self.family, margins=self.margins, stance_term=False)
+            for leg in self.legs
+        )
+
+    @cached_property
+    def coupling(self) -> StanceCoupling:
+        """The pair's stance as a function of both legs' swings."""
+        zeros = {leg: np.zeros(self.family.n_params) for leg in self.legs}
+        swings = self.pipeline.swings(self.family, zeros)
+        return stance_coupling(self.pipeline, self.legs, self.family, swings)
+
+    def leg_problem(self, leg: str, thetas: Mapping[str, np.ndarray]) -> SwingProblem:
+        """``leg``'s problem, the other leg's parameters fixed at ``thetas``, its stance term in.
+
+        What a leg's answer is evaluated on, exactly as when the leg is solved alone.
+        """
+        others = {o: np.asarray(thetas[o], dtype=float) for o in self.legs if o != leg}
+        return SwingProblem(self.pipeline, leg, self.family, others, self.margins)
 
 
 def _size(bound: Bound) -> float:

@@ -9,18 +9,19 @@ from __future__ import annotations
 
 import math
 import time
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
 
-from scalf_opt.optimize.nlp import build_nlp, solve_nlp
+from scalf_opt.optimize.nlp import NlpSolution, build_nlp, solve_nlp
 from scalf_opt.optimize.pattern_search import (
     PatternSearchOptions,
     PatternSearchResult,
     pattern_search,
 )
-from scalf_opt.optimize.problem import SwingProblem
+from scalf_opt.optimize.problem import PairProblem, SwingProblem
 from scalf_opt.optimize.screening import rows_far_from_bounds, strictly_inside
 from scalf_opt.types import Method
 
@@ -231,20 +232,56 @@ def _run_ipopt(
     """One Ipopt solve of ``problem`` without the rows ``left_out``, evaluated with every row."""
     built = build_nlp(problem, ipopt_options, left_out)
     solution = solve_nlp(built, problem, theta0)
+    rows = ",".join(problem.kernel.rows[row] for row in left_out)
+    return _ipopt_optimum(problem, solution.theta, solution, time.perf_counter() - start, rows)
+
+
+def run_ipopt_pair(
+    problem: PairProblem,
+    thetas0: Mapping[str, np.ndarray],
+    ipopt_options: dict[str, Any] | None = None,
+) -> dict[str, SwingOptimum]:
+    """Solve both legs of ``problem`` in one NLP with Ipopt; each leg's answer evaluated exactly.
+
+    Each leg's answer is evaluated on its own problem with the other leg's answer fixed
+    (:meth:`PairProblem.leg_problem`), as a leg solved alone would be: its objective is its
+    swing energy plus the pair's stance energy. ``success`` is True for both only if Ipopt
+    reports a solved problem and every leg's answer is feasible.
+    """
+    start = time.perf_counter()
+    built = build_nlp(problem, ipopt_options)
+    solution = solve_nlp(built, problem, [thetas0[leg] for leg in problem.legs])
     elapsed = time.perf_counter() - start
-    final = problem.evaluate(solution.theta)
+    thetas = dict(zip(problem.legs, solution.thetas, strict=True))
+    answers = {
+        leg: _ipopt_optimum(problem.leg_problem(leg, thetas), thetas[leg], solution, elapsed, "")
+        for leg in problem.legs
+    }
+    if not all(a.success for a in answers.values()):  # the pair's answer fails as a whole
+        for answer in answers.values():
+            if answer.success:
+                answer.success = False
+                answer.status = f"{answer.status}; the other leg's answer failed"
+    return answers
+
+
+def _ipopt_optimum(
+    problem: SwingProblem, theta: np.ndarray, solution: NlpSolution, elapsed: float, rows: str
+) -> SwingOptimum:
+    """The answer ``theta`` of an Ipopt solve, evaluated exactly on ``problem``."""
+    final = problem.evaluate(theta)
     stats = dict(solution.stats)
     stats["smooth_objective_j"] = solution.objective_j
     stats["solver_time_s"] = solution.wall_time_s
-    stats["rows_left_out"] = ",".join(problem.kernel.rows[row] for row in left_out)
+    stats["rows_left_out"] = rows
     return SwingOptimum(
         leg=problem.leg,
         family=problem.family.name,
         method="ipopt",
-        theta=solution.theta,
+        theta=theta,
         parameter_names=problem.family.parameter_names,
         unit=problem.family.parameter_unit,
-        swing_energy_j=_swing_energy_j(problem, solution.theta, final.energy_j),
+        swing_energy_j=_swing_energy_j(problem, theta, final.energy_j),
         objective_j=final.energy_j,
         success=solution.success and final.reason is None,
         status=solution.status if final.reason is None else f"{solution.status}; {final.reason}",

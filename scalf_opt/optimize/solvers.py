@@ -16,8 +16,9 @@ its own module, or here) and one line in :data:`SOLVERS`.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING, Any, ClassVar
+from typing import TYPE_CHECKING, Any, ClassVar, TypeVar
 
 import numpy as np
 
@@ -25,7 +26,7 @@ from scalf_opt.errors import ConfigError
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 
 if TYPE_CHECKING:  # the registry's names load without CasADi and Pinocchio (the command line)
-    from scalf_opt.optimize.problem import SwingProblem
+    from scalf_opt.optimize.problem import PairProblem, SwingProblem
     from scalf_opt.optimize.solve import SwingOptimum
 
 
@@ -70,6 +71,19 @@ class SwingSolver(ABC):
         ``warm``: ``theta0`` is a neighbouring problem's optimum and the solve one trial of a
         search; the solver uses its warm strategy alone and does not retry when it fails.
         """
+
+    def solve_pair(
+        self,
+        problem: PairProblem,
+        thetas0: Mapping[str, np.ndarray],
+        options: SolverOptions,
+        warm: bool = False,
+    ) -> dict[str, SwingOptimum] | None:
+        """Minimise both legs of a pair together (``None``: this solver cannot).
+
+        A solver that cannot leaves the driver to optimize the legs in turn until they settle.
+        """
+        return None
 
     def default_start(self, problem: SwingProblem) -> str:
         """Where the first start is: ``zero`` or ``closest to the reference``."""
@@ -142,16 +156,50 @@ class IpoptSolver(SwingSolver):
     ) -> SwingOptimum:
         from scalf_opt.optimize.solve import run_ipopt
 
-        user = options.ipopt or {}
-        optimum: SwingOptimum | None = None
-        for attempt in (IPOPT_WARM_ATTEMPT,) if warm else IPOPT_ATTEMPTS:
-            if optimum is not None and any(key in user for key in attempt if key != "max_iter"):
-                continue  # the user chose that option: no other strategy is tried for it
-            optimum = run_ipopt(problem, theta0, {**attempt, **user}, options.screen)
-            if optimum.success:
-                break
-        assert optimum is not None
-        return optimum
+        return _with_retries(
+            lambda attempt: run_ipopt(problem, theta0, attempt, options.screen),
+            lambda answer: answer.success,
+            options,
+            warm,
+        )
+
+    def solve_pair(  # noqa: D102
+        self,
+        problem: PairProblem,
+        thetas0: Mapping[str, np.ndarray],
+        options: SolverOptions,
+        warm: bool = False,
+    ) -> dict[str, SwingOptimum]:
+        from scalf_opt.optimize.solve import run_ipopt_pair
+
+        return _with_retries(
+            lambda attempt: run_ipopt_pair(problem, thetas0, attempt),
+            lambda answers: all(a.success for a in answers.values()),
+            options,
+            warm,
+        )
+
+
+Answer = TypeVar("Answer")
+
+
+def _with_retries(
+    run: Callable[[dict[str, Any]], Answer],
+    solved: Callable[[Answer], bool],
+    options: SolverOptions,
+    warm: bool,
+) -> Answer:
+    """Ipopt's strategies in turn (:data:`IPOPT_ATTEMPTS`, or the warm one) until one solves."""
+    user = options.ipopt or {}
+    answer: Answer | None = None
+    for attempt in (IPOPT_WARM_ATTEMPT,) if warm else IPOPT_ATTEMPTS:
+        if answer is not None and any(key in user for key in attempt if key != "max_iter"):
+            continue  # the user chose that option: no other strategy is tried for it
+        answer = run({**attempt, **user})
+        if solved(answer):
+            break
+    assert answer is not None
+    return answer
 
 
 SOLVERS: dict[str, SwingSolver] = {s.name: s for s in (IpoptSolver(), PatternSearchSolver())}

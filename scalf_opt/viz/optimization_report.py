@@ -160,7 +160,12 @@ def optimization_report(run: SwingOptimization) -> str:
         f"{100 * run.settings.sampling_tolerance:g} %)"
         + ("" if run.converged_sampling else "; NOT CONVERGED")
     ]
-    if run.coupled:
+    if run.coupled and run.solved_together:
+        lines.append(
+            "whole-body loads couple the legs (each swing loads the other's stance feet): "
+            f"both solved as one problem, the whole optimization took {run.wall_time_s:.2f} s"
+        )
+    elif run.coupled:
         settled = (
             f"until a round changed the pair's energy by less than {ALTERNATION_RTOL:g} relative"
             if run.alternation_settled
