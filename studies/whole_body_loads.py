@@ -70,6 +70,7 @@ def robot_row(name: str, optimize: bool) -> dict[str, float | str]:
             {
                 "solved": str(run_trunk.success and run_whole.success),
                 "alternation_rounds": run_whole.rounds,
+                "legs_solved_together": run_whole.solved_together,
                 "trunk_optimum_under_whole_body_pct": change_percent(e_trunk, ref),
                 "whole_body_optimum_pct": change_percent(e_whole, ref),
                 "optimization_trunk_s": trunk_s,
@@ -120,7 +121,11 @@ def main(argv: list[str] | None = None) -> int:
         print(
             f"\n{r['robot']}: the trunk-only optimization took {r['optimization_trunk_s']:.1f} s, "
             f"the whole-body one took {r['optimization_whole_body_s']:.1f} s "
-            f"({r['alternation_rounds']} rounds of the alternation)"
+            + (
+                "(both legs as one problem)"
+                if r["legs_solved_together"]
+                else f"({r['alternation_rounds']} rounds of the alternation)"
+            )
         )
     args.out.parent.mkdir(parents=True, exist_ok=True)
     write_atomic(args.out, rows_csv_text(rows))

@@ -112,12 +112,11 @@ def test_the_pairs_stance_term_is_the_evaluators_stance_of_both_swings(scalf, fa
     assert all(p.coupling is None for p in pair.problems)  # the pair owns the stance term
 
 
-def test_the_pair_solved_as_one_problem_is_no_worse_than_the_legs_in_turn(scalf, monkeypatch):
+def test_the_pair_solved_as_one_problem_is_no_worse_than_the_legs_in_turn(scalf):
     family = make_family("joint-4")
     pipeline = EnergyPipeline(scalf, Gait(), loads="whole-body")
     together = optimize_swings(pipeline, ("RF", "LH"), family)
-    monkeypatch.setattr(driver, "one_pair", lambda legs: False)
-    in_turn = optimize_swings(pipeline, ("RF", "LH"), family)
+    in_turn = optimize_swings(pipeline, ("RF", "LH"), family, Settings(pair_together=False))
     assert together.success and in_turn.success
     assert together.solved_together and not in_turn.solved_together and in_turn.rounds > 1
     # local optima of one objective: the pair's energy, the same to 1e-5 or lower
@@ -185,3 +184,25 @@ def test_an_optimum_keeps_the_stance_legs_it_loads_inside_their_force_limits(hyq
     for leg in ("RF", "LH"):
         beyond = violations(cycle.legs[leg].stance.values, leg_bounds(run.pipeline.physics(leg)))
         assert [v for v in beyond if v.excess > 1e-6 * abs(v.bound.lower)] == []
+
+
+def test_the_lifted_and_the_condensed_stance_term_reach_the_same_optimum(scalf, monkeypatch):
+    # two transcriptions of one problem: the twins' stance samples eliminated (condensed) or
+    # variables with their linear equalities (lifted, with the lifted swing)
+    from scalf_opt.optimize import nlp
+    from scalf_opt.optimize.solve import run_ipopt_pair
+
+    family = make_family("paper")
+    pipeline = EnergyPipeline(scalf, Gait(), loads="whole-body")
+    pair = PairProblem(pipeline, ("RF", "LH"), family)
+    start = {leg: np.zeros(2) for leg in ("RF", "LH")}
+    condensed = run_ipopt_pair(pair, start)
+    assert not nlp.build_nlp(pair).coupled.lifted
+    monkeypatch.setattr(nlp, "CONDENSED_MAX_PARAMS", 1)
+    lifted_nlp = nlp.build_nlp(pair)
+    assert lifted_nlp.coupled.lifted and lifted_nlp.lifted
+    lifted = run_ipopt_pair(pair, start)
+    for leg in ("RF", "LH"):
+        assert condensed[leg].success and lifted[leg].success
+        assert lifted[leg].objective_j == pytest.approx(condensed[leg].objective_j, rel=1e-7)
+        assert np.abs(lifted[leg].theta - condensed[leg].theta).max() < 1e-3  # deg
