@@ -163,7 +163,8 @@ def optimization_report(run: SwingOptimization) -> str:
     if run.coupled and run.solved_together:
         lines.append(
             "whole-body loads couple the legs (each swing loads the other's stance feet): "
-            f"both solved as one problem, the whole optimization took {run.wall_time_s:.2f} s"
+            "both solved as one problem, from where one round of the legs in turn ended; the "
+            f"whole optimization took {run.wall_time_s:.2f} s"
         )
     elif run.coupled:
         settled = (
