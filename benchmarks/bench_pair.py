@@ -31,7 +31,7 @@ from scalf_opt.optimize.driver import Settings, SwingOptimization, optimize_swin
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.types import FIRST_PAIR
 
-ROBOTS = ("scalf", "anymal_c", "hyq", "go1", "solo12")
+ROBOTS = ("scalf", "anymal_c", "hyq", "go1", "solo12", "a1")
 
 
 def pair_energy_j(run: SwingOptimization) -> float:

@@ -387,6 +387,7 @@ def _solve_legs(
     current: Mapping[str, np.ndarray | None],
     workers: int = 1,
     trial: bool = False,
+    pair_start: bool = False,
 ) -> tuple[dict[str, tuple[SwingOptimum, float]], int, bool, bool]:
     """Optimize every leg at the pipeline's rate.
 
@@ -399,7 +400,8 @@ def _solve_legs(
     until a round changes their summed objective by less than :data:`ALTERNATION_RTOL` (block
     coordinate descent on the pair's energy: no round makes it worse), at most
     :data:`MAX_ALTERNATIONS` rounds; the alternation has settled when its last round met the
-    tolerance (independent legs: always).
+    tolerance (independent legs: always). ``pair_start``: ``current`` is already the pair's
+    optimum (at another rate), so the pair's problem starts there, without a first round.
     """
     thetas = {leg: current[leg] for leg in legs}
     if not legs_coupled(pipeline, legs):
@@ -408,38 +410,24 @@ def _solve_legs(
             partial(_solve_one, pipeline, family, settings, current, trial), legs, workers
         )
         return dict(zip(legs, solved, strict=True)), 1, True, False
-    if settings.pair_together and one_pair(legs):
+    chosen = solver(settings.method)
+    if settings.pair_together and one_pair(legs) and chosen.solves_pairs:
         pair = PairProblem(pipeline, legs, family, settings.margins)
         start = {
             leg: np.zeros(family.n_params) if theta is None else theta
             for leg, theta in thetas.items()
         }
-        if not trial:  # a trial starts at a neighbouring pair's optimum already
+        if not (trial or pair_start):  # else it starts at a (neighbouring) pair's optimum
             start = _first_round(pipeline, legs, family, settings, start)
-        together = solver(settings.method).solve_pair(
-            pair, start, settings.solver_options, warm=trial
-        )
-        if together is not None:  # the solver optimizes the pair in one problem
-            final = {leg: o.theta for leg, o in together.items()}
-            return (
-                {
-                    leg: (
-                        optimum,
-                        _check_energy_j(
-                            pipeline,
-                            leg,
-                            family,
-                            settings,
-                            optimum,
-                            coupled_others(pipeline, legs, leg, final),
-                        ),
-                    )
-                    for leg, optimum in together.items()
-                },
-                1,
-                True,
-                True,
+        together = chosen.solve_pair(pair, start, settings.solver_options, warm=trial)
+        final = {leg: o.theta for leg, o in together.items()}
+        checks = {
+            leg: _check_energy_j(
+                pipeline, leg, family, settings, optimum, coupled_others(pipeline, legs, leg, final)
             )
+            for leg, optimum in together.items()
+        }
+        return {leg: (o, checks[leg]) for leg, o in together.items()}, 1, True, True
     answers: dict[str, tuple[SwingOptimum, float]] = {}
     previous = math.inf
     for round_ in range(1, MAX_ALTERNATIONS + 1):
@@ -568,7 +556,7 @@ def optimize_swings(
             progress(f"{family.name} at {rate:g} Hz")
         at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
         answers, rounds, settled, together = _solve_legs(
-            at_rate, legs, family, settings, current, workers, trial
+            at_rate, legs, family, settings, current, workers, trial, len(rates) > 1
         )
         solved = all(o.success for o, _ in answers.values())
         errors = [relative_difference(o.objective_j, c) for o, c in answers.values()]

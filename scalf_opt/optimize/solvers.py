@@ -57,6 +57,8 @@ class SwingSolver(ABC):
     parallel threads. (Ipopt does, but its MUMPS runs one factorization at a time per process:
     two SCalf legs' ``joint-6`` solves take the same 0.36 s on one thread or two; the large
     solves of the free-trajectory bound run in worker processes instead.)"""
+    solves_pairs: ClassVar[bool] = False
+    """It takes a whole-body pair as one problem (:meth:`solve_pair`)."""
 
     @abstractmethod
     def solve(
@@ -78,12 +80,13 @@ class SwingSolver(ABC):
         thetas0: Mapping[str, np.ndarray],
         options: SolverOptions,
         warm: bool = False,
-    ) -> dict[str, SwingOptimum] | None:
-        """Minimise both legs of a pair together (``None``: this solver cannot).
+    ) -> dict[str, SwingOptimum]:
+        """Minimise both legs of a pair together, from ``thetas0``; each answer evaluated exactly.
 
-        A solver that cannot leaves the driver to optimize the legs in turn until they settle.
+        Only for a solver that :attr:`solves_pairs`; with any other the driver optimizes the
+        pair's legs in turn until they settle.
         """
-        return None
+        raise NotImplementedError(f"{self.name} cannot take a pair as one problem")
 
     def default_start(self, problem: SwingProblem) -> str:
         """Where the first start is: ``zero`` or ``closest to the reference``."""
@@ -146,6 +149,7 @@ class IpoptSolver(SwingSolver):
     name = "ipopt"
     description = "the smooth NLP solved by Ipopt (exact derivatives)"
     releases_gil = True  # CasADi releases it while Ipopt runs
+    solves_pairs = True  # one NLP over both legs' swings
 
     def solve(  # noqa: D102
         self,
