@@ -76,20 +76,3 @@ def test_a_bad_option_is_one_line(argv, message, tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err, err
     assert not (tmp_path / "out").exists()
-
-
-@pytest.mark.parametrize("loads", ["whole-body", "trunk"])
-def test_whole_body_loads_say_a_sweep_is_slow_before_it_starts(
-    loads, tmp_path, monkeypatch, capsys
-):
-    from scalf_opt.studies import runner
-
-    def stop(*args, **kwargs):
-        raise ConfigError("stopped before the search")
-
-    monkeypatch.setattr(runner, "run_cases", stop)
-    argv = ["gait", "--speed", "1.0", "--loads", loads, "--workers", "1", "--out", str(tmp_path)]
-    assert main(argv) == 2
-    err = capsys.readouterr().err
-    assert "stopped before the search" in err
-    assert ("--loads trunk sweeps six speeds in minutes" in err) == (loads == "whole-body")

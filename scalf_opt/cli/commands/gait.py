@@ -177,7 +177,6 @@ def speed_folder(out: Path, speed_m_s: float) -> Path:
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when every speed's search succeeded, 3 when some did not (``gaits.csv`` says why)."""
     from scalf_opt.api.gait_optimization import GaitResult
-    from scalf_opt.energy.loads import LOAD_MODELS
     from scalf_opt.files import write_atomic
     from scalf_opt.io.provenance import run_provenance
     from scalf_opt.io.results import rows_csv_text
@@ -203,11 +202,6 @@ def run(args: argparse.Namespace) -> int:
         loads=args.loads,
     )
     runner = choose_runner(args.workers, args.scheduler)
-    if LOAD_MODELS[args.loads].couples_legs:
-        args.console.note(
-            f"--loads {args.loads}: every gait's two swings are optimized in turn, so a speed's "
-            "search takes tens of minutes; --loads trunk sweeps six speeds in minutes"
-        )
     out: Path = args.out
     full, cached = run_cases(study, out, runner, label=NAME, quiet=args.quiet)
     rows: list[dict[str, Any]] = [{c: full[i].get(c) for c in GAIT_COLUMNS} for i in sorted(full)]
