@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Callable, Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import partial
 from typing import Any
 
@@ -45,7 +45,12 @@ from scalf_opt.optimize.sampling import (
     with_rate,
 )
 from scalf_opt.optimize.solve import SwingOptimum
-from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SolverOptions, solver
+from scalf_opt.optimize.solvers import (
+    DEFAULT_SOLVER,
+    FIRST_ROUND_ITERATIONS,
+    SolverOptions,
+    solver,
+)
 from scalf_opt.optimize.starts import starts
 from scalf_opt.types import Method
 from scalf_opt.workers import thread_budget
@@ -467,13 +472,15 @@ def _first_round(
     pair's stationary point, where the rounds stall short of it. Measured with
     ``benchmarks/bench_pair.py`` on six robots' default pairs: never above the legs in turn,
     0.8 to 0.9 % below them on ANYmal C and HyQ; straight from ``start`` it was 0.8 % above on
-    Go1.
+    Go1. Its solves only start the pair's: Ipopt's first strategy gets
+    :data:`~scalf_opt.optimize.solvers.FIRST_ROUND_ITERATIONS` before the next is tried.
     """
     current = dict(start)
+    options = replace(settings.solver_options, first_strategy_iterations=FIRST_ROUND_ITERATIONS)
     for leg in legs:
         others = {o: current[o] for o in legs if o != leg}
         problem = SwingProblem(pipeline, leg, family, others, margins=settings.margins)
-        answer = solver(settings.method).solve(problem, current[leg], settings.solver_options)
+        answer = solver(settings.method).solve(problem, current[leg], options)
         if answer.success:
             current[leg] = answer.theta
     return current

@@ -206,3 +206,49 @@ def test_the_lifted_and_the_condensed_stance_term_reach_the_same_optimum(scalf, 
         assert condensed[leg].success and lifted[leg].success
         assert lifted[leg].objective_j == pytest.approx(condensed[leg].objective_j, rel=1e-7)
         assert np.abs(lifted[leg].theta - condensed[leg].theta).max() < 1e-3  # deg
+
+
+def test_ipopts_first_strategy_gives_way_sooner_where_asked():
+    # every strategy fails: the order and the iteration limits they were run with
+    from scalf_opt.optimize.solvers import IPOPT_ATTEMPTS, _with_retries
+
+    def attempts(options):
+        seen = []
+        _with_retries(
+            lambda attempt: seen.append(attempt) or attempt, lambda _: False, options, False
+        )
+        return seen
+
+    assert attempts(SolverOptions()) == list(IPOPT_ATTEMPTS)
+    capped = attempts(SolverOptions(first_strategy_iterations=7))
+    assert capped == [{**IPOPT_ATTEMPTS[0], "max_iter": 7}, *IPOPT_ATTEMPTS[1:]]
+    user = {"max_iter": 5}  # the user's limit wins over the cap, as over every strategy's
+    assert attempts(SolverOptions(ipopt=user, first_strategy_iterations=7)) == [
+        {**a, **user} for a in IPOPT_ATTEMPTS
+    ]
+
+
+def test_only_the_first_round_that_starts_a_pair_caps_the_first_strategy(scalf, monkeypatch):
+    # the first round's solves only start the pair's problem; the pair's own solve (its answer)
+    # gets every strategy's full iterations
+    from scalf_opt.optimize import solve as solve_module
+    from scalf_opt.optimize.solvers import FIRST_ROUND_ITERATIONS, IPOPT_ATTEMPTS
+
+    calls = []
+    for name in ("run_ipopt", "run_ipopt_pair"):
+        real = getattr(solve_module, name)
+
+        def spy(problem, start, options=None, *rest, _real=real, _name=name):
+            calls.append((_name, dict(options)))
+            return _real(problem, start, options, *rest)
+
+        monkeypatch.setattr(solve_module, name, spy)
+    pipeline = EnergyPipeline(scalf, Gait(), loads="whole-body")
+    run = optimize_swings(pipeline, ("RF", "LH"), make_family("paper"), Settings())
+    assert run.success and run.solved_together
+    first = {**IPOPT_ATTEMPTS[0], "max_iter": FIRST_ROUND_ITERATIONS}
+    assert calls == [
+        ("run_ipopt", first),
+        ("run_ipopt", first),
+        ("run_ipopt_pair", dict(IPOPT_ATTEMPTS[0])),
+    ]
