@@ -66,8 +66,7 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--keep", type=Path, help="keep each robot's cache in DIR/<robot>")
     parser.add_argument("--workers", type=int, default=2)
-    # trunk-only by default: what docs/gaits.md recommends for sweeps today (under the default
-    # whole-body loads one speed of Go1 had not finished after 21 minutes)
+    # trunk-only by default: the loads of the tables and run times on docs/gaits.md
     parser.add_argument("--loads", default="trunk", help="stance load model (default trunk)")
     args = parser.parse_args()
     print(f"load average before: {os.getloadavg()[0]:.2f} (2 cores, shared)")
