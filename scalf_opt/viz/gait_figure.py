@@ -4,8 +4,8 @@ Top: the cost of transport of the cheapest trot (solid), of the robot's default 
 each speed with optimized swings (dashed) and with the reference swing (dotted); a speed whose
 search did not succeed is marked ``x`` on the axis. Below, one panel each: the cheapest gait's
 period, duty cycle, step length, stance height, stance x-offsets (front and hind) and average
-power against speed, with units; a point pinned by a limit or a search-box edge is a hollow
-marker.
+power against speed, with units; a gait pinned by a limit or a search-box edge is a hollow
+marker, on its cheapest cost of transport and in every panel.
 """
 
 from __future__ import annotations
@@ -64,12 +64,15 @@ def gait_figure(rows: Sequence[dict[str, Any]], title: str) -> Figure:
     fig = plt.figure(figsize=(9.5, 11.5), layout="constrained")
     grid = fig.add_gridspec(4, 2, height_ratios=(1.6, 1, 1, 1))
     top = fig.add_subplot(grid[0, :])
+    pinned = [r for r in ok if r.get("pinned_by")]
     for key, label, style, marker in COT_LINES:
         source = ok if key == "cost_of_transport" else rows
         xs, ys = _line(source, key)
         if xs:
-            top.plot(xs, ys, style, marker=marker, label=label)
-    if any(r.get("pinned_by") for r in ok):
+            (line,) = top.plot(xs, ys, style, marker=marker, label=label)
+            if key == "cost_of_transport":  # the cheapest gait's own pins, as in the panels
+                top.plot(*_line(pinned, key), marker, mfc="white", color=line.get_color())
+    if pinned:
         top.plot(
             [],
             [],
@@ -86,7 +89,6 @@ def gait_figure(rows: Sequence[dict[str, Any]], title: str) -> Figure:
     top.grid(True, alpha=0.3)
     top.legend(loc="best", fontsize=9)
     top.set_title(title)
-    pinned = [r for r in ok if r.get("pinned_by")]
     for index, (columns, ylabel, factor) in enumerate(PANELS):
         ax = fig.add_subplot(grid[1 + index // 2, index % 2], sharex=top)
         for column, label in columns:

@@ -26,7 +26,11 @@ def row(speed, status="ok", **values):
 
 
 def test_the_figure_has_the_three_lines_and_a_panel_per_field():
-    rows = [row(1.0), row(0.5), row(1.5, status="not solved", cost_of_transport=None)]
+    rows = [
+        row(1.0),
+        row(0.5, pinned_by=""),
+        row(1.5, status="not solved", cost_of_transport=None),
+    ]
     fig = gait_figure(rows, "test")
     top, *panels = fig.axes
     labels = [line.get_label() for line in top.get_lines()]
@@ -41,4 +45,14 @@ def test_the_figure_has_the_three_lines_and_a_panel_per_field():
         assert ax.get_ylabel() == ylabel and "[" in ylabel and ax.get_xlabel() == "speed v [m/s]"
     step = panels[2].get_lines()[0]
     assert list(step.get_ydata()) == [125.0, 250.0]  # millimetres
+    plt.close(fig)
+
+
+def test_a_pinned_gait_is_hollow_on_the_cost_line_and_in_every_panel():
+    rows = [row(1.0), row(0.5, pinned_by="")]  # 1.0 m/s pinned by the duty floor
+    fig = gait_figure(rows, "test")
+    for ax in fig.axes:
+        hollow = [line for line in ax.get_lines() if line.get_markerfacecolor() == "white"]
+        drawn = [line for line in hollow if len(line.get_xdata())]
+        assert [list(line.get_xdata()) for line in drawn] == [[1.0]] * len(drawn) and drawn, ax
     plt.close(fig)
