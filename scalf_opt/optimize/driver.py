@@ -408,22 +408,21 @@ def _solve_legs(
     tolerance (independent legs: always). ``pair_start``: ``current`` is already the pair's
     optimum (at another rate), so the pair's problem starts there, without a first round.
     """
-    thetas = {leg: current[leg] for leg in legs}
     if not legs_coupled(pipeline, legs):
         # independent problems: on parallel threads when the solver allows it
         solved = map_in_threads(
             partial(_solve_one, pipeline, family, settings, current, trial), legs, workers
         )
         return dict(zip(legs, solved, strict=True)), 1, True, False
+    thetas: dict[str, np.ndarray] = {
+        leg: np.zeros(family.n_params) if (theta := current[leg]) is None else theta for leg in legs
+    }
     chosen = solver(settings.method)
     if settings.pair_together and one_pair(legs) and chosen.solves_pairs:
         pair = PairProblem(pipeline, legs, family, settings.margins)
-        start = {
-            leg: np.zeros(family.n_params) if theta is None else theta
-            for leg, theta in thetas.items()
-        }
+        start = thetas
         if not (trial or pair_start):  # else it starts at a (neighbouring) pair's optimum
-            start = _first_round(pipeline, legs, family, settings, start)
+            start = _first_round(pipeline, legs, family, settings, thetas)
         together = chosen.solve_pair(pair, start, settings.solver_options, warm=trial)
         final = {leg: o.theta for leg, o in together.items()}
         checks = {
@@ -437,11 +436,7 @@ def _solve_legs(
     previous = math.inf
     for round_ in range(1, MAX_ALTERNATIONS + 1):
         for leg in legs:
-            others = {
-                o: np.zeros(family.n_params) if theta is None else theta
-                for o, theta in thetas.items()
-                if o != leg
-            }
+            others = {o: theta for o, theta in thetas.items() if o != leg}
             answers[leg] = _solve_leg(
                 pipeline, leg, family, settings, thetas[leg], others, trial=trial
             )

@@ -207,9 +207,7 @@ def stance_kernel(
                 )
                 for i, physics in enumerate(varying)
             ]
-            wrench = wrenches[0]
-            for more in wrenches[1:]:
-                wrench += more
+            wrench = sum(wrenches[1:], wrenches[0])
             powers, losses, limited = [], [], []
             for k, physics in enumerate(stance):
                 block = d[STANCE_INPUTS * k : STANCE_INPUTS * (k + 1)]

@@ -577,9 +577,7 @@ def _build(
         parameters += leg_params
         constraints += leg_rows
         costs.append(leg_cost)
-    cost = costs[0]
-    for more in costs[1:]:
-        cost += more
+    cost = sum(costs[1:], costs[0])
     if shape is not None:
         stance_cost, stance_params, stance_slacks, stance_rows = _stance_cost(
             problem, shape, thetas, accounting
