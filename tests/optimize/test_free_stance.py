@@ -112,3 +112,96 @@ def test_a_search_s_trial_is_solved_warm_once_and_a_cold_start_with_every_strate
     assert warm.run is not None and not warm.run.success
     assert sorted(leg for leg, _ in calls) == ["LH", "RF"]
     assert all(options == {**IPOPT_WARM_ATTEMPT, "max_iter": 3} for _, options in calls)
+
+
+def _spy_on_solves(monkeypatch):
+    """The legs of every one-leg and pair solve of the driver, in order."""
+    from scalf_opt.optimize import solve as solve_module
+
+    calls = []
+    one, pair = solve_module.run_ipopt, solve_module.run_ipopt_pair
+
+    def spy_one(problem, theta0=None, ipopt_options=None, screen=False):
+        calls.append(problem.leg)
+        return one(problem, theta0, ipopt_options, screen)
+
+    def spy_pair(problem, thetas0, ipopt_options=None):
+        calls.append("+".join(problem.legs))
+        return pair(problem, thetas0, ipopt_options)
+
+    monkeypatch.setattr(solve_module, "run_ipopt", spy_one)
+    monkeypatch.setattr(solve_module, "run_ipopt_pair", spy_pair)
+    return calls
+
+
+def test_an_uncoupled_leg_keeps_its_optimum_when_only_the_other_pair_moves(scalf, monkeypatch):
+    # under trunk loads RF's swing problem does not depend on the hind feet's offset: a trial
+    # that moves only them solves LH alone and keeps RF's optimum of the gait it was found at
+    from scalf_opt.optimize.driver import Settings, optimize_swings
+    from scalf_opt.optimize.free_stance import GaitTrials
+
+    pipeline = EnergyPipeline(scalf, Gait(), loads="trunk")
+    family = make_family("paper")
+    trials = GaitTrials(pipeline, family, Settings())
+    first = trials.evaluate(Gait())
+    calls = _spy_on_solves(monkeypatch)
+    hind = trials.evaluate(replace(Gait(), stance_x_offset_hind_m=-0.01))
+    assert calls == ["LH"]
+    assert hind.run.legs["RF"] is first.run.legs["RF"]
+    assert hind.run.pipeline.gait.stance_x_offset_hind_m == -0.01
+    # the pair's total is that of its own gait with both optima: the same as evaluating them
+    # there from scratch (the energy does not depend on where the optimum was found)
+    cycle = hind.run.pipeline.robot_cycle(family, hind.run.thetas, ("RF", "LH"))
+    assert hind.total_j == pytest.approx(cycle.energy_j, rel=1e-12)
+    # a gait whose two leg problems were both posed before solves nothing: RF from the first
+    # gait, LH from the second (z0 and the front offset the first gait's)
+    calls.clear()
+    front = trials.evaluate(replace(Gait(), stance_x_offset_front_m=0.01))
+    assert calls == ["RF"]
+    calls.clear()
+    both = trials.evaluate(
+        replace(Gait(), stance_x_offset_front_m=0.01, stance_x_offset_hind_m=-0.01)
+    )
+    assert calls == []
+    assert both.run.legs["RF"] is front.run.legs["RF"]
+    assert both.run.legs["LH"] is hind.run.legs["LH"]
+    assert both.run.success and both.run.wall_time_s == 0.0
+    # and it is the same pair a fresh optimization finds at that gait
+    fresh = optimize_swings(pipeline.with_gait(both.gait), ("RF", "LH"), family, Settings())
+    for leg in ("RF", "LH"):
+        assert both.run.legs[leg].best.swing_energy_j == pytest.approx(
+            fresh.legs[leg].best.swing_energy_j, rel=1e-6
+        )
+
+
+def test_a_kept_optimum_at_another_rate_is_solved_again(scalf, monkeypatch):
+    # the pair reports one rate: when the new leg's optimization converges at another rate
+    # than the kept leg's, both are solved at the new gait
+    from scalf_opt.optimize.driver import Settings
+    from scalf_opt.optimize.free_stance import GaitTrials
+
+    pipeline = EnergyPipeline(scalf, Gait(), loads="trunk")
+    trials = GaitTrials(pipeline, make_family("paper"), Settings())
+    first = trials.evaluate(Gait())
+    key = GaitTrials.leg_key(Gait(), "RF")
+    kept = trials.leg_runs[key]
+    trials.leg_runs[key] = replace(kept, rates_hz=[kept.rate_hz / 2, *kept.rates_hz])
+    calls = _spy_on_solves(monkeypatch)
+    moved = trials.evaluate(replace(Gait(), stance_x_offset_hind_m=-0.01))
+    assert calls == ["LH", "RF", "LH"]
+    assert moved.run.legs["RF"] is not first.run.legs["RF"]
+    assert moved.run.rates_hz == first.run.rates_hz
+
+
+def test_coupled_legs_are_solved_together_at_every_trial(scalf, monkeypatch):
+    # under whole-body loads the front leg's objective holds the pair's stance, which the hind
+    # swing loads: nothing is kept
+    from scalf_opt.optimize.driver import Settings
+    from scalf_opt.optimize.free_stance import GaitTrials
+
+    trials = GaitTrials(EnergyPipeline(scalf, Gait()), make_family("paper"), Settings())
+    trials.evaluate(Gait())
+    calls = _spy_on_solves(monkeypatch)
+    trials.evaluate(replace(Gait(), stance_x_offset_hind_m=-0.01))
+    assert calls == ["RF+LH"]
+    assert trials.leg_runs == {}
