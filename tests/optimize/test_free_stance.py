@@ -142,7 +142,7 @@ def test_an_uncoupled_leg_keeps_its_optimum_when_only_the_other_pair_moves(scalf
 
     pipeline = EnergyPipeline(scalf, Gait(), loads="trunk")
     family = make_family("paper")
-    trials = GaitTrials(pipeline, family, Settings())
+    trials = GaitTrials(pipeline, family, Settings(), keep_uncoupled=True)
     first = trials.evaluate(Gait())
     calls = _spy_on_solves(monkeypatch)
     hind = trials.evaluate(replace(Gait(), stance_x_offset_hind_m=-0.01))
@@ -181,7 +181,7 @@ def test_a_kept_optimum_at_another_rate_is_solved_again(scalf, monkeypatch):
     from scalf_opt.optimize.free_stance import GaitTrials
 
     pipeline = EnergyPipeline(scalf, Gait(), loads="trunk")
-    trials = GaitTrials(pipeline, make_family("paper"), Settings())
+    trials = GaitTrials(pipeline, make_family("paper"), Settings(), keep_uncoupled=True)
     first = trials.evaluate(Gait())
     key = GaitTrials.leg_key(Gait(), "RF")
     kept = trials.leg_runs[key]
@@ -199,9 +199,26 @@ def test_coupled_legs_are_solved_together_at_every_trial(scalf, monkeypatch):
     from scalf_opt.optimize.driver import Settings
     from scalf_opt.optimize.free_stance import GaitTrials
 
-    trials = GaitTrials(EnergyPipeline(scalf, Gait()), make_family("paper"), Settings())
+    trials = GaitTrials(
+        EnergyPipeline(scalf, Gait()), make_family("paper"), Settings(), keep_uncoupled=True
+    )
     trials.evaluate(Gait())
     calls = _spy_on_solves(monkeypatch)
     trials.evaluate(replace(Gait(), stance_x_offset_hind_m=-0.01))
     assert calls == ["RF+LH"]
+    assert trials.leg_runs == {}
+
+
+def test_the_gait_search_solves_both_legs_at_every_trial(scalf, monkeypatch):
+    # its trials keep nothing (a kept optimum would change the local search's path): the same
+    # move under trunk loads solves both legs again
+    from scalf_opt.optimize.driver import Settings
+    from scalf_opt.optimize.free_stance import GaitTrials
+
+    pipeline = EnergyPipeline(scalf, Gait(), loads="trunk")
+    trials = GaitTrials(pipeline, make_family("paper"), Settings(), stance_at_swing_rate=True)
+    trials.evaluate(Gait())
+    calls = _spy_on_solves(monkeypatch)
+    trials.evaluate(replace(Gait(), stance_x_offset_hind_m=-0.01))
+    assert sorted(calls) == ["LH", "RF"]
     assert trials.leg_runs == {}
