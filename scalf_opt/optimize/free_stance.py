@@ -227,7 +227,7 @@ class GaitTrials:
     (trunk-only loads), a leg's swing problem is known by the fields it depends on, every one but
     the other pair's stance x-offset: a gait that moves only the hind feet keeps the front leg's
     optimum of the gait it was found at and solves the hind leg alone (:meth:`swings`; SCalf's
-    free stance under trunk loads: 8.2 s instead of 11.3 s). The gait search does not keep them:
+    free stance under trunk loads: 10 s instead of 12.5 s). The gait search does not keep them:
     a kept optimum is another warm start for the trials after it, and the local search another
     path (on Go1's six speeds under trunk loads, three cheaper trots and one 5.6 % dearer). With
     ``stance_at_swing_rate`` a gait's stance energy is taken at the rate its swings converged
