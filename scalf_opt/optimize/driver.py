@@ -519,7 +519,9 @@ def optimize_swings(
         trial: The run is one trial of a search (a gait or a stance) started at a neighbouring
             trial's optimum ``theta0``: every solve is warm (the solver's warm strategy alone,
             :mod:`scalf_opt.optimize.solvers`), and a failed one is the trial's answer, not
-            retried with the cold strategies (the search moves on).
+            retried with the cold strategies (the search moves on); the extra starts of
+            ``settings.starts`` are left to the search's answer
+            (:meth:`~scalf_opt.optimize.free_stance.GaitTrials.from_every_start`).
 
     Raises:
         ConfigError: The family has no free parameter, or the accounting cannot be optimized.
@@ -580,7 +582,8 @@ def optimize_swings(
         runs = [StartResult(first[leg][0], optimum, check, ok)]
         others = coupled_others(at_rate, legs, leg, final)
         problem = SwingProblem(at_rate, leg, family, others, margins=settings.margins)
-        for label, theta in starts(problem, solver(settings.method), settings.starts)[1:]:
+        extra = 1 if trial else settings.starts  # a trial is one warm solve: no extra start
+        for label, theta in starts(problem, solver(settings.method), extra)[1:]:
             if progress is not None:
                 progress(f"{leg}: start {label}")
             other, other_check = _solve_leg(at_rate, leg, family, settings, theta, others)

@@ -302,6 +302,31 @@ class GaitTrials:
             wall_time_s=run.wall_time_s if todo else 0.0,
         )
 
+    def from_every_start(self, evaluation: StanceEvaluation) -> StanceEvaluation:
+        """The search's answer with its swings optimized again from every start asked for.
+
+        A trial solves its swings once, warm (no extra start of ``settings.starts``); the gait
+        a search settles on is optimized again with them, its trial's optimum the first start
+        (cold strategies, every row), so that the answer records every start and keeps the
+        best. Without extra starts, for an infeasible gait, or should that optimization fail
+        or break a stance limit, ``evaluation`` itself.
+        """
+        if self.settings.starts == 1 or evaluation.run is None or evaluation.reason is not None:
+            return evaluation
+        pipeline = self.pipeline.with_gait(evaluation.gait)
+        settings = replace(self.settings, screen=False)
+        try:
+            run = optimize_swings(pipeline, self.legs, self.family, settings, evaluation.run.thetas)
+        except ScalfError:
+            return evaluation
+        if not run.success:
+            return evaluation
+        evaluated = run.pipeline if self.stance_at_swing_rate else pipeline
+        total, why = pair_energy_j(evaluated, self.family, run, self.legs)
+        if why is not None:
+            return evaluation
+        return StanceEvaluation(evaluation.gait, total, None, run)
+
     def remember(self, evaluation: StanceEvaluation) -> None:
         """Record an evaluation made elsewhere (the nominal gait's)."""
         self.seen[self.key(evaluation.gait)] = evaluation
@@ -377,7 +402,7 @@ def optimize_stance(
         x0,
         PatternSearchOptions(initial_step=STANCE_STEP_CM, precision=STANCE_PRECISION_CM),
     )
-    best = evaluate(result.x)
+    best = trials.from_every_start(evaluate(result.x))
     # every cycle the report compares, at the rate of the best stance's swings
     final = best.run.rate_hz if best.run is not None else nominal_run.rate_hz
     at_final = pipeline.with_gait(with_rate(pipeline.gait, final))

@@ -442,7 +442,7 @@ def optimize_gait(
     result = pattern_search(
         objective, x0, PatternSearchOptions(initial_step=INITIAL_STEP, precision=PRECISION)
     )
-    best = evaluate(result.x) if math.isfinite(result.value) else first
+    best = trials.from_every_start(evaluate(result.x) if math.isfinite(result.value) else first)
     pinned: dict[str, str] = {}
     if best.run is not None:
         for i, (name, step) in enumerate(zip(SEARCH_VARIABLES, _last_steps(), strict=True)):

@@ -222,3 +222,42 @@ def test_the_gait_search_solves_both_legs_at_every_trial(scalf, monkeypatch):
     trials.evaluate(replace(Gait(), stance_x_offset_hind_m=-0.01))
     assert sorted(calls) == ["LH", "RF"]
     assert trials.leg_runs == {}
+
+
+def test_a_trial_runs_no_extra_start_and_the_answer_every_start(scalf, monkeypatch):
+    # --starts N: a search's trial is one warm solve per leg; the gait the search settles on is
+    # optimized again from every start, its trial's optimum the first
+    from scalf_opt.optimize.driver import Settings
+    from scalf_opt.optimize.free_stance import GaitTrials, pair_energy_j
+
+    pipeline = EnergyPipeline(scalf, Gait(), loads="trunk")
+    family = make_family("joint-2")
+    trials = GaitTrials(pipeline, family, Settings(starts=3))
+    trials.evaluate(Gait())  # cold: no neighbour yet, every start
+    calls = _spy_on_solves(monkeypatch)
+    trial = trials.evaluate(replace(Gait(), stance_height_m=0.76))
+    assert sorted(calls) == ["LH", "RF"]
+    assert all(len(r.starts) == 1 for r in trial.run.legs.values())
+    calls.clear()
+    answer = trials.from_every_start(trial)
+    assert sorted(calls) == ["LH", "LH", "LH", "RF", "RF", "RF"]
+    for leg, result in answer.run.legs.items():
+        assert result.starts[0].label == "given" and len(result.starts) == 3
+        assert result.best.objective_j <= trial.run.legs[leg].best.objective_j + 1e-9
+    total, why = pair_energy_j(
+        answer.run.pipeline.with_gait(answer.gait), family, answer.run, ("RF", "LH")
+    )
+    assert why is None and answer.total_j == pytest.approx(total, rel=1e-12)
+    # one start asked for: the trial's answer stands
+    single = GaitTrials(pipeline, family, Settings())
+    assert single.from_every_start(trial) is trial
+
+
+def test_the_free_stance_reports_every_start_of_its_answer(scalf):
+    from scalf_opt.optimize.driver import Settings
+
+    pipeline = EnergyPipeline(scalf, Gait(), loads="trunk")
+    found = optimize_stance(pipeline, make_family("paper"), Settings(starts=2))
+    assert found.success
+    for result in found.best.run.legs.values():
+        assert result.starts[0].label == "given" and len(result.starts) == 2
