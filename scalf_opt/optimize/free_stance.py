@@ -41,7 +41,7 @@ from scalf_opt.energy.limits import leg_bounds, violations
 from scalf_opt.energy.margins import LimitMargins
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ScalfError
-from scalf_opt.locomotion.gait import FRONT_LEGS, Gait
+from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.driver import (
@@ -266,9 +266,9 @@ class GaitTrials:
 
         Every field of the gait (to 1e-12) but the other pair's stance x-offset.
         """
-        other = "stance_x_offset_hind_m" if leg in FRONT_LEGS else "stance_x_offset_front_m"
-        fields = gait.to_dict()
-        return (leg, *(round(float(fields[name]), 12) for name in sorted(fields) if name != other))
+        own = round(gait.stance_x_offset_m(leg), 12)
+        rest = replace(gait, stance_x_offset_front_m=0.0, stance_x_offset_hind_m=0.0)
+        return (leg, own, *GaitTrials.key(rest))
 
     def swings(self, trial: EnergyPipeline) -> SwingOptimization:
         """The legs' swings optimized at ``trial``'s gait, warm from the last solved gait.
@@ -285,9 +285,8 @@ class GaitTrials:
         todo = tuple(leg for leg in legs if leg not in kept)
         if not todo:
             first = next(iter(kept.values()))
-            run = replace(
-                first, pipeline=trial.with_gait(with_rate(trial.gait, first.rate_hz)), legs={}
-            )
+            at_rate = trial.with_gait(with_rate(trial.gait, first.rate_hz))
+            run = replace(first, pipeline=at_rate, legs={}, wall_time_s=0.0)
         else:
             run = optimize_swings(trial, todo, self.family, self.settings, warm, trial=True)
             if any(k.rates_hz != run.rates_hz for k in kept.values()):
@@ -299,7 +298,6 @@ class GaitTrials:
             run,
             legs={leg: kept[leg].legs[leg] if leg in kept else run.legs[leg] for leg in legs},
             converged_sampling=all(r.converged_sampling for r in (run, *kept.values())),
-            wall_time_s=run.wall_time_s if todo else 0.0,
         )
 
     def from_every_start(self, evaluation: StanceEvaluation) -> StanceEvaluation:
@@ -321,11 +319,19 @@ class GaitTrials:
             return evaluation
         if not run.success:
             return evaluation
-        evaluated = run.pipeline if self.stance_at_swing_rate else pipeline
-        total, why = pair_energy_j(evaluated, self.family, run, self.legs)
+        total, why = self.total_j(pipeline, run)
         if why is not None:
             return evaluation
         return StanceEvaluation(evaluation.gait, total, None, run)
+
+    def total_j(self, trial: EnergyPipeline, run: SwingOptimization) -> tuple[float, str | None]:
+        """The legs' cycle energy at ``trial``'s gait with the run's swings [J], or why not.
+
+        At the rate the swings converged at with ``stance_at_swing_rate``, else at the trials'
+        (:func:`pair_energy_j`).
+        """
+        evaluated = run.pipeline if self.stance_at_swing_rate else trial
+        return pair_energy_j(evaluated, self.family, run, self.legs)
 
     def remember(self, evaluation: StanceEvaluation) -> None:
         """Record an evaluation made elsewhere (the nominal gait's)."""
@@ -351,8 +357,7 @@ class GaitTrials:
             self.seen[key] = StanceEvaluation(gait, math.inf, why, run)
             return self.seen[key]
         self.warm.update(run.thetas)
-        evaluated = run.pipeline if self.stance_at_swing_rate else trial
-        total, why = pair_energy_j(evaluated, self.family, run, self.legs)
+        total, why = self.total_j(trial, run)
         self.seen[key] = StanceEvaluation(gait, total, why, run)
         return self.seen[key]
 
