@@ -231,7 +231,7 @@ def free_stance_report(result: FreeStance) -> str:
 
     return "\n".join(
         [
-            f"free stance: z0 = {g.stance_height_m:.4f} m (was {n.stance_height_m:g}), stance "
+            f"free stance: z0 = {g.stance_height_m:.4f} m (was {n.stance_height_m:.4f}), stance "
             f"x-offset front {1000 * g.stance_x_offset_front_m:+.1f} mm, hind "
             f"{1000 * g.stance_x_offset_hind_m:+.1f} mm ({result.iterations} pattern-search "
             f"iterations, {result.evaluations} stances tried, {result.wall_time_s:.1f} s)",
