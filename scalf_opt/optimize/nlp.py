@@ -1,15 +1,16 @@
 """The swing optimization as a smooth NLP, built once with CasADi and solved by Ipopt.
 
-Lifted formulation. Variables ``x = (theta, Y, slacks)``: the family's parameters, the kernel
-inputs of every sample ``Y`` (6 x n: value, rate and acceleration of the two coordinates) and
-the slacks of the energy's absolute values. The affine path is a linear equality,
-``Y = Y_0 + B theta``, so that everything nonlinear is a function of one sample's six inputs:
-the constraint Jacobian is block-sparse and the Lagrangian Hessian block-diagonal (6 x 6 per
-sample), which Ipopt's sparse linear algebra factorizes several times faster than the condensed
-problem, where every sample depends on every parameter (measured: ``joint-10`` at 500 Hz, 2.4 s
-instead of 7.0 s; ``joint-6`` at 300 Hz, 0.16 s instead of 0.63 s). Families with at most
-:data:`CONDENSED_MAX_PARAMS` parameters (the paper family) keep the condensed form, ``Y``
-eliminated, which is faster for them.
+Lifted formulation. Variables ``x = (theta, Y, slacks)``: the family's parameters (for the rich
+Fourier families, whose basis is badly conditioned, ``theta = M x_theta`` of well-conditioned
+variables: :func:`parameter_map`), the kernel inputs of every sample ``Y`` (6 x n: value, rate
+and acceleration of the two coordinates) and the slacks of the energy's absolute values. The
+affine path is a linear equality, ``Y = Y_0 + B theta``, so that everything nonlinear is a
+function of one sample's six inputs: the constraint Jacobian is block-sparse and the Lagrangian
+Hessian block-diagonal (6 x 6 per sample), which Ipopt's sparse linear algebra factorizes
+several times faster than the condensed problem, where every sample depends on every parameter
+(measured: ``joint-10`` at 500 Hz, 2.4 s instead of 7.0 s; ``joint-6`` at 300 Hz, 0.16 s instead
+of 0.63 s). Families with at most :data:`CONDENSED_MAX_PARAMS` parameters (the paper family)
+keep the condensed form, ``Y`` eliminated, which is faster for them.
 
 Parameters ``p = (Y_0, B, trapezoidal weights)``, so that one built NLP serves every problem of
 the same shape (leg, space, number of samples and parameters, accounting, constraint pattern):
@@ -306,11 +307,11 @@ def _stance_limits(problem: SwingProblem | PairProblem) -> tuple[np.ndarray, np.
 
 
 def _stance_parameters(
-    problem: SwingProblem | PairProblem, maps: Sequence[np.ndarray]
+    problem: SwingProblem | PairProblem, theta_maps: Sequence[np.ndarray]
 ) -> list[np.ndarray]:
     """The stance term's parameter values, in :func:`_stance_cost`'s order.
 
-    ``maps``: each varying twin's leg's :func:`parameter_map` ``M`` (its parameters are
+    ``theta_maps``: each varying twin's leg's :func:`parameter_map` ``M`` (its parameters are
     ``M x`` of the NLP's variables ``x``, so the twin's basis enters as ``B M``).
     """
     coupling = problem.coupling
@@ -321,11 +322,12 @@ def _stance_parameters(
     )
     motions = [
         part
-        for motion, m in zip(coupling.motions, maps, strict=True)
+        for motion, theta_map in zip(coupling.motions, theta_maps, strict=True)
         for part in (
             motion.base.reshape(6, n).ravel(order="F"),
             (
-                motion.dense_basis().reshape(6, n, -1).transpose(1, 0, 2).reshape(6 * n, -1) @ m
+                motion.dense_basis().reshape(6, n, -1).transpose(1, 0, 2).reshape(6 * n, -1)
+                @ theta_map
             ).ravel(order="F"),
         )
     ]
@@ -708,11 +710,11 @@ def _swing_start(
     problem: SwingProblem,
     theta0: np.ndarray,
     accounting: Accounting,
-    parameter_map_: np.ndarray,
+    theta_map: np.ndarray,
 ) -> None:
     """Append one leg's start (``Y`` and slacks consistent with ``theta0``), bounds and values.
 
-    ``parameter_map_``: the leg's :func:`parameter_map` ``M``.
+    ``theta_map``: the leg's :func:`parameter_map` ``M`` (its variables start at ``M^-1 theta0``).
     """
     n = block.n_samples
     outputs = problem.outputs(theta0)
@@ -720,14 +722,17 @@ def _swing_start(
     rule = power_accounting(accounting)
     slacks = rule.initial_slacks(p_mech)
     y_lo, y_hi = problem.input_bounds
-    m = 6 * n if block.lifted else 0  # lifted samples and their linear equalities
+    n_lifted = 6 * n if block.lifted else 0  # lifted samples and their linear equalities
     n_slacks = block.n_slacks(accounting)
-    x0 = np.linalg.solve(parameter_map_, theta0)
-    start.variables(x0, np.full(block.n_theta, -np.inf), np.full(block.n_theta, np.inf))
     start.variables(
-        problem.samples(theta0).ravel(order="F")[:m],
-        y_lo.ravel(order="F")[:m],
-        y_hi.ravel(order="F")[:m],
+        np.linalg.solve(theta_map, theta0),
+        np.full(block.n_theta, -np.inf),
+        np.full(block.n_theta, np.inf),
+    )
+    start.variables(
+        problem.samples(theta0).ravel(order="F")[:n_lifted],
+        y_lo.ravel(order="F")[:n_lifted],
+        y_hi.ravel(order="F")[:n_lifted],
     )
     start.variables(
         np.concatenate([np.zeros(0), *(s.ravel(order="F") for s in slacks)]),
@@ -737,12 +742,12 @@ def _swing_start(
     slack_lo, slack_hi = rule.slack_row_bounds()
     c_lo, c_hi = problem.constraint_bounds
     n_rows = block.n_slack_rows(accounting)
-    start.rows(np.zeros(m), np.zeros(m))
+    start.rows(np.zeros(n_lifted), np.zeros(n_lifted))
     start.rows(np.full(n_rows, slack_lo), np.full(n_rows, slack_hi))
     start.rows(c_lo.ravel(order="F")[block.index], c_hi.ravel(order="F")[block.index])
     start.p.append(problem.samples_base.ravel(order="F"))
     if not block.constant_basis:
-        start.p.append((_basis_matrix(problem) @ parameter_map_).ravel(order="F"))
+        start.p.append((_basis_matrix(problem) @ theta_map).ravel(order="F"))
     start.p.append(problem.weights)
 
 
@@ -752,21 +757,21 @@ def _stance_start(
     problem: SwingProblem | PairProblem,
     thetas0: Sequence[np.ndarray],
     accounting: Accounting,
-    maps: Sequence[np.ndarray],
+    theta_maps: Sequence[np.ndarray],
 ) -> None:
     """Append the stance term's start (its slacks at ``thetas0``), bounds and values.
 
-    ``maps``: each leg's :func:`parameter_map`, in the order of ``thetas0``.
+    ``theta_maps``: each leg's :func:`parameter_map`, in the order of ``thetas0``.
     """
     coupling = problem.coupling
     assert coupling is not None
     rule = power_accounting(accounting)
-    parameters = _stance_parameters(problem, maps)
+    parameters = _stance_parameters(problem, theta_maps)
     if shape.lifted:  # the twins' samples at the start, in _stance_cost's layout
         n = 6 * shape.n_samples
-        for k, (theta, m) in enumerate(zip(thetas0, maps, strict=True)):
+        for k, (theta, theta_map) in enumerate(zip(thetas0, theta_maps, strict=True)):
             base, basis = parameters[2 * k], parameters[2 * k + 1]
-            y0 = base + basis.reshape(n, -1, order="F") @ np.linalg.solve(m, theta)
+            y0 = base + basis.reshape(n, -1, order="F") @ np.linalg.solve(theta_map, theta)
             start.variables(y0, np.full(n, -np.inf), np.full(n, np.inf))
         start.rows(np.zeros(shape.n_lifted), np.zeros(shape.n_lifted))
     torques = coupling.torques_nm(problem.pipeline, thetas0)
@@ -805,8 +810,8 @@ def solve_nlp(
     )
     start = _Start()
     maps = [parameter_map(leg, block) for block, leg in zip(built.blocks, legs, strict=True)]
-    for block, leg, theta, m in zip(built.blocks, legs, thetas0, maps, strict=True):
-        _swing_start(start, block, leg, theta, built.accounting, m)
+    for block, leg, theta, theta_map in zip(built.blocks, legs, thetas0, maps, strict=True):
+        _swing_start(start, block, leg, theta, built.accounting, theta_map)
     if built.coupled is not None:
         _stance_start(start, built.coupled, problem, thetas0, built.accounting, maps)
     begin = time.perf_counter()
@@ -825,8 +830,8 @@ def solve_nlp(
     offsets = np.cumsum([0, *(b.n_variables(built.accounting) for b in built.blocks)])
     return NlpSolution(
         thetas=tuple(
-            m @ x[offset : offset + b.n_theta]
-            for offset, b, m in zip(offsets, built.blocks, maps, strict=False)
+            theta_map @ x[offset : offset + b.n_theta]
+            for offset, b, theta_map in zip(offsets, built.blocks, maps, strict=False)
         ),
         success=bool(stats.get("success", False)),
         status=str(stats.get("return_status", "unknown")),
