@@ -711,10 +711,12 @@ def _swing_start(
     theta0: np.ndarray,
     accounting: Accounting,
     theta_map: np.ndarray,
+    x0: np.ndarray,
 ) -> None:
     """Append one leg's start (``Y`` and slacks consistent with ``theta0``), bounds and values.
 
-    ``theta_map``: the leg's :func:`parameter_map` ``M`` (its variables start at ``M^-1 theta0``).
+    ``theta_map``: the leg's :func:`parameter_map` ``M``; ``x0``: its variables at the start,
+    ``M^-1 theta0``.
     """
     n = block.n_samples
     outputs = problem.outputs(theta0)
@@ -724,11 +726,7 @@ def _swing_start(
     y_lo, y_hi = problem.input_bounds
     n_lifted = 6 * n if block.lifted else 0  # lifted samples and their linear equalities
     n_slacks = block.n_slacks(accounting)
-    start.variables(
-        np.linalg.solve(theta_map, theta0),
-        np.full(block.n_theta, -np.inf),
-        np.full(block.n_theta, np.inf),
-    )
+    start.variables(x0, np.full(block.n_theta, -np.inf), np.full(block.n_theta, np.inf))
     start.variables(
         problem.samples(theta0).ravel(order="F")[:n_lifted],
         y_lo.ravel(order="F")[:n_lifted],
@@ -758,10 +756,12 @@ def _stance_start(
     thetas0: Sequence[np.ndarray],
     accounting: Accounting,
     theta_maps: Sequence[np.ndarray],
+    xs0: Sequence[np.ndarray],
 ) -> None:
     """Append the stance term's start (its slacks at ``thetas0``), bounds and values.
 
-    ``theta_maps``: each leg's :func:`parameter_map`, in the order of ``thetas0``.
+    ``theta_maps``: each leg's :func:`parameter_map`, in the order of ``thetas0``; ``xs0``:
+    each leg's variables at the start.
     """
     coupling = problem.coupling
     assert coupling is not None
@@ -769,9 +769,9 @@ def _stance_start(
     parameters = _stance_parameters(problem, theta_maps)
     if shape.lifted:  # the twins' samples at the start, in _stance_cost's layout
         n = 6 * shape.n_samples
-        for k, (theta, theta_map) in enumerate(zip(thetas0, theta_maps, strict=True)):
+        for k, x0 in enumerate(xs0):
             base, basis = parameters[2 * k], parameters[2 * k + 1]
-            y0 = base + basis.reshape(n, -1, order="F") @ np.linalg.solve(theta_map, theta)
+            y0 = base + basis.reshape(n, -1, order="F") @ x0
             start.variables(y0, np.full(n, -np.inf), np.full(n, np.inf))
         start.rows(np.zeros(shape.n_lifted), np.zeros(shape.n_lifted))
     torques = coupling.torques_nm(problem.pipeline, thetas0)
@@ -810,10 +810,13 @@ def solve_nlp(
     )
     start = _Start()
     maps = [parameter_map(leg, block) for block, leg in zip(built.blocks, legs, strict=True)]
-    for block, leg, theta, theta_map in zip(built.blocks, legs, thetas0, maps, strict=True):
-        _swing_start(start, block, leg, theta, built.accounting, theta_map)
+    xs0 = [np.linalg.solve(m, theta) for m, theta in zip(maps, thetas0, strict=True)]
+    for block, leg, theta, theta_map, x0 in zip(
+        built.blocks, legs, thetas0, maps, xs0, strict=True
+    ):
+        _swing_start(start, block, leg, theta, built.accounting, theta_map, x0)
     if built.coupled is not None:
-        _stance_start(start, built.coupled, problem, thetas0, built.accounting, maps)
+        _stance_start(start, built.coupled, problem, thetas0, built.accounting, maps, xs0)
     begin = time.perf_counter()
     with interruptible():  # Ctrl-C stops the program, not just this solve
         sol = built.solver(

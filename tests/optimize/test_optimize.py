@@ -226,7 +226,7 @@ def test_pattern_search_reports_when_nothing_is_feasible(scalf):
     assert result.status == "no feasible point found"
 
 
-def test_a_badly_conditioned_basis_is_conditioned_and_mapped_back_exactly(model):
+def test_a_badly_conditioned_basis_gets_a_map_that_orthogonalizes_it(model):
     # joint-12's joint-angle basis has a condition number of 3e9 (its Fourier terms cancel):
     # the NLP's variables x give theta = M x with B_q M orthogonal; joint-6 (1.8e4) keeps theta
     from scalf_opt.optimize import nlp
