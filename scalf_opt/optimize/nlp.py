@@ -43,6 +43,7 @@ in joint space the bounds on the joint angles and rates are bounds on ``Y`` itse
 from __future__ import annotations
 
 import hashlib
+import math
 import threading
 import time
 from collections.abc import Sequence
@@ -90,10 +91,22 @@ CONDENSED_MAX_PARAMS = 2
 so few parameters the lifted variables cost more than they save (paper family, 200 Hz: 33 ms
 condensed, 40 ms lifted; ``joint-6``, 300 Hz: 0.63 s condensed, 0.16 s lifted)."""
 
-CONDENSED_OPTIONS: dict[str, Any] = {"mu_oracle": "probing"}
+CONDENSED_OPTIONS: dict[str, Any] = {"mu_oracle": "probing", "mu_max": 10.0}
 """Ipopt options of the condensed NLP: Mehrotra's probing for the barrier parameter (paper
 family: 20 iterations instead of 29; on the lifted NLP it took more, 79 instead of 52 for
-``joint-6``)."""
+``joint-6``), capped at ten times the objective, which the condensed NLP divides by its value at
+the start (:attr:`BuiltNlp.normalized`). Uncapped, the barrier parameter follows the
+complementarity of rows whose distances to their bounds are in newtons and radians per second:
+from zero on Solo12's paper family it rose to 500 (600 under whole-body loads) where the swing
+costs 0.16 J, the iterates went to the middle of the feasible region and Ipopt ended on a local
+optimum of 179 J (a knee amplitude of 198 degrees) against the pattern search's 0.158 J. Measured
+from zero on the six robots' default trots, paper family, both legs, trunk and whole-body loads:
+with the cap at 10 every leg Ipopt solves from zero ends within 0.1 % of the lowest optimum any
+start or setting found (SCalf's and HyQ's optima unchanged); at 1 and 0.1, Go1's and A1's ended 4.6 % and 1 % higher
+under trunk loads. ``joint-2``, condensed too, moved between neighbouring optima on the electric
+robots (up to 1.4 % either way; SCalf's and HyQ's unchanged): their sampled Coulomb friction
+steps the energy where a sample's joint rate changes sign, and a local search stops at such
+steps."""
 
 COUPLED_OPTIONS: dict[str, Any] = {"mumps_pivot_order": 5}
 """Ipopt options of an NLP with the pair's stance term (whole-body loads): MUMPS orders the KKT
@@ -223,6 +236,19 @@ class BuiltNlp:
     def lifted(self) -> bool:
         """The samples are variables (every leg of one NLP has the same family)."""
         return self.blocks[0].lifted
+
+    @property
+    def normalized(self) -> bool:
+        """Ipopt solves the objective divided by its value at the start: the condensed NLP.
+
+        Ipopt's barrier parameter and tolerances are absolute, and the swing energies of the
+        catalog's robots span three orders of magnitude (Solo12's 0.16 J, HyQ's 100 J): divided
+        by its value at the start, the objective is 1 there on every robot, and the barrier's cap
+        in :data:`CONDENSED_OPTIONS` means the same on each. The lifted NLP keeps its objective
+        in joules: normalized, its ``joint-6`` optima from zero moved on four of six robots, up
+        or down, and ANYmal C's RF ran out of iterations.
+        """
+        return not self.lifted
 
 
 @dataclass(frozen=True)
@@ -628,6 +654,11 @@ def _build(
         parameters += stance_params
         variables += stance_slacks
         constraints += stance_rows
+    # the objective's scale [1/J], the last parameter: 1 for the lifted NLP, one over the
+    # objective at the start for the condensed one (:data:`NORMALIZED_OBJECTIVE`)
+    scale = ca.MX.sym("objective_scale")
+    parameters.append(scale)
+    cost = scale * cost
     x, p, g = ca.vertcat(*variables), ca.vertcat(*parameters), ca.vertcat(*constraints)
     first = blocks[0]
     name = casadi_name(
@@ -817,11 +848,17 @@ def solve_nlp(
         _swing_start(start, block, leg, theta, built.accounting, theta_map, x0)
     if built.coupled is not None:
         _stance_start(start, built.coupled, problem, thetas0, built.accounting, maps, xs0)
+    x0 = np.concatenate(start.x0)
+    scale = 1.0
+    if built.normalized:
+        unscaled = np.concatenate([*start.p, [1.0]])
+        at_start = abs(float(built.solver.get_function("nlp_f")(x0, unscaled)))
+        scale = 1.0 / at_start if math.isfinite(at_start) and at_start > 0.0 else 1.0
     begin = time.perf_counter()
     with interruptible():  # Ctrl-C stops the program, not just this solve
         sol = built.solver(
-            x0=np.concatenate(start.x0),
-            p=np.concatenate(start.p),
+            x0=x0,
+            p=np.concatenate([*start.p, [scale]]),
             lbx=np.concatenate(start.lbx),
             ubx=np.concatenate(start.ubx),
             lbg=np.concatenate(start.lbg),
@@ -839,7 +876,7 @@ def solve_nlp(
         success=bool(stats.get("success", False)),
         status=str(stats.get("return_status", "unknown")),
         iterations=int(stats.get("iter_count", -1)),
-        objective_j=float(sol["f"]),
+        objective_j=float(sol["f"]) / scale,
         wall_time_s=elapsed,
         stats={k: v for k, v in stats.items() if isinstance(v, int | float | str | bool)},
     )

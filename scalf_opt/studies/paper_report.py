@@ -11,6 +11,7 @@ from scalf_opt.io.results import rows_csv_text, split_timings, write_results_jso
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.model.robot import Robot
 from scalf_opt.optimize.bound import bound_cycle_inputs
+from scalf_opt.optimize.sampling import SAMPLING_TOLERANCE
 from scalf_opt.studies import paper_data
 from scalf_opt.studies.paper import (
     PAIR,
@@ -18,12 +19,30 @@ from scalf_opt.studies.paper import (
     Reproduction,
     WholeBody,
     gap_percent,
+    ipopt_above_pattern_search,
     summary,
     table5_rows,
     table6_rows,
 )
 from scalf_opt.studies.paper_data import is_paper_setup
 from scalf_opt.viz.figures import pattern_search_figure, save_atomic, swing_figure
+
+
+def validation_verdict(rep: Reproduction) -> str:
+    """One sentence under the validation table: do the pattern search and Ipopt agree?"""
+    limit = f"{100.0 * SAMPLING_TOLERANCE:g} %"
+    below = ipopt_above_pattern_search(rep)
+    if not below:
+        return (
+            f"They agree: on neither leg does the pattern search end more than {limit} (the "
+            "sampling tolerance) below Ipopt's optimum."
+        )
+    legs = "; ".join(f"{leg} {amount:.2f} % below" for leg, amount in below.items())
+    return (
+        f"**They disagree**: the pattern search ends more than {limit} below Ipopt ({legs}): "
+        "Ipopt stopped on a higher local optimum of the paper family, and its rows are that "
+        "optimum, not the family's minimum."
+    )
 
 
 def _signed(x: float) -> str:
@@ -156,6 +175,7 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
             f"{gap_percent(rep.optima['pattern_fine'][leg], nlp):+.5f} % | {nlp.iterations} | "
             f"{nlp.status} |"
         )
+    lines += ["", validation_verdict(rep)]
     if rep.bounds:
         lines += [
             "",

@@ -6,6 +6,7 @@ import casadi as ca
 import numpy as np
 import pytest
 
+from scalf_opt.api.gaits import read_gait
 from scalf_opt.energy.limits import violations
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
@@ -16,6 +17,7 @@ from scalf_opt.optimize.nlp import build_nlp
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.solve import run_ipopt, run_pattern_search
+from scalf_opt.robots.loading import load_robot
 
 # The NLP smooths max(v, 0) by at most eps/2: heat rate error <= F_s eps / 2 per cylinder, so
 # over a 0.25 s swing and two cylinders the smooth and exact energies differ by at most:
@@ -216,6 +218,28 @@ def test_pattern_search_on_another_robot(hyq):
         optimum = run_pattern_search(SwingProblem(hyq_model, leg, make_family("paper")))
         assert optimum.success, optimum.status
         assert optimum.swing_energy_j < reference.legs[leg].swing_energy_j
+
+
+@pytest.mark.parametrize(
+    ("name", "loads"), [("solo12", "trunk"), ("solo12", "whole-body"), ("go1", "trunk")]
+)
+def test_ipopt_on_the_paper_family_finds_the_pattern_searchs_minimum_on_small_robots(name, loads):
+    # Ipopt from zero, an infeasible start, once raised its barrier parameter to 500 on
+    # Solo12, whose swing costs 0.16 J: the iterates went to the middle of the feasible region
+    # and ended on a local optimum of 179 J (knee amplitude 198 deg); on Go1 it stopped on one
+    # 18 % above, behind a step of the sampled Coulomb friction. The condensed NLP now divides
+    # its objective by its value at the start and caps the barrier parameter: checked against
+    # the fine pattern search, an independent, derivative-free search of the exact energy.
+    robot = load_robot(name)
+    pipeline = EnergyPipeline(robot, read_gait(robot=robot), loads=loads)
+    for leg in ("RF", "LH"):
+        problem = SwingProblem(pipeline, leg, make_family("paper"))
+        nlp = run_ipopt(problem)
+        search = run_pattern_search(problem, options=PatternSearchOptions(precision=1e-3))
+        assert nlp.success and search.success
+        # the sampled friction makes the energy step by up to 0.3 % where a sample's joint
+        # rate changes sign: the two agree within that, not to the smoothing error
+        assert nlp.objective_j <= search.objective_j * 1.005, (leg, nlp.theta, search.theta)
 
 
 def test_pattern_search_reports_when_nothing_is_feasible(scalf):
