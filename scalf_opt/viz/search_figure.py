@@ -23,7 +23,7 @@ from matplotlib.axes import Axes
 from matplotlib.colors import LogNorm
 from matplotlib.contour import QuadContourSet
 from matplotlib.figure import Figure
-from matplotlib.ticker import FormatStrFormatter, LogLocator, NullFormatter
+from matplotlib.ticker import FormatStrFormatter, LogLocator, MaxNLocator, NullFormatter
 
 from scalf_opt.optimize.landscape import EnergyLandscape
 from scalf_opt.optimize.solve import SwingOptimum
@@ -218,4 +218,7 @@ def _iteration_panel(ax: Axes, search: LegSearch, leg: str) -> None:
         fontsize=8,
         loc="left",
     )
-    ax.set_xlim(left=0.0)
+    # iterations are counts: integer ticks, and an axis as long as the search even when it
+    # accepted a single point (Go1's search ends in 3 iterations without moving)
+    ax.xaxis.set_major_locator(MaxNLocator(integer=True))
+    ax.set_xlim(left=0.0, right=max(float(accepted[-1, 0]), float(pattern.iterations), 1.0))
