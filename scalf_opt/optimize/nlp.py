@@ -101,12 +101,12 @@ from zero on Solo12's paper family it rose to 500 (600 under whole-body loads) w
 costs 0.16 J, the iterates went to the middle of the feasible region and Ipopt ended on a local
 optimum of 179 J (a knee amplitude of 198 degrees) against the pattern search's 0.158 J. Measured
 from zero on the six robots' default trots, paper family, both legs, trunk and whole-body loads:
-with the cap at 10 every leg Ipopt solves from zero ends within 0.1 % of the lowest optimum any
-start or setting found (SCalf's and HyQ's optima unchanged); at 1 and 0.1, Go1's and A1's ended 4.6 % and 1 % higher
-under trunk loads. ``joint-2``, condensed too, moved between neighbouring optima on the electric
-robots (up to 1.4 % either way; SCalf's and HyQ's unchanged): their sampled Coulomb friction
-steps the energy where a sample's joint rate changes sign, and a local search stops at such
-steps."""
+with the cap at 10 every leg Ipopt solves from zero ends within 0.1 % of the lowest optimum
+any start or setting found (SCalf's and HyQ's optima unchanged); at 1 and 0.1, Go1's and A1's
+ended 4.6 % and 1 % higher under trunk loads. ``joint-2``, condensed too, moved between
+neighbouring optima on the electric robots (up to 1.4 % either way; SCalf's and HyQ's
+unchanged): their sampled Coulomb friction steps the energy where a sample's joint rate changes
+sign, and a local search stops at such steps."""
 
 COUPLED_OPTIONS: dict[str, Any] = {"mumps_pivot_order": 5}
 """Ipopt options of an NLP with the pair's stance term (whole-body loads): MUMPS orders the KKT
