@@ -18,6 +18,15 @@ folder, so a later command can read what an earlier one wrote (``optimize --out`
 the first N lines, ``| tail -N`` the last N. ``<!-- output markdown: ... -->`` marks a command
 that prints Markdown (tables), embedded as it is up to ``<!-- end of output -->``.
 
+A figure of a page is marked by the command that draws it and the file it writes there::
+
+    <!-- figure: scalf-opt figures --format png --out figs :: figs/foot_paths.png -->
+    ![Foot paths ...](foot_paths.png)
+
+With ``--manual`` the command runs in a scratch folder (once per page for the figures it draws)
+and the file replaces the image the next line shows; ``--check`` leaves figures alone (a PNG's
+bytes differ between machines' BLAS and fonts, so the tests cannot compare them).
+
 Usage: ``python docs/gen_outputs.py [--check] [--fast] [--manual] [--only TEXT] [FILE.md ...]``
 (default: the README and every page). ``--check`` changes nothing and exits 1 when a block differs
 from what its command prints now; ``--fast`` leaves out the ``slow`` commands; ``--only TEXT``
@@ -45,6 +54,24 @@ MARKER = re.compile(
     r"(?:```console\n(?P<body>.*?)```\n|(?P<text>.*?)<!-- end of output -->\n)",
     re.DOTALL,
 )
+
+FIGURE = re.compile(
+    r"<!-- figure: (?P<command>[^\n]*?) :: (?P<made>\S+) -->\n!\[[^\]]*\]\((?P<target>[^)\s]+)\)"
+)
+
+
+@dataclass(frozen=True)
+class Figure:
+    """One marked figure of a page: the command, the file it writes, the image shown."""
+
+    command: str
+    made: str
+    target: str
+
+
+def figures(text: str) -> list[Figure]:
+    """The marked figures of a page, in order."""
+    return [Figure(m["command"], m["made"], m["target"]) for m in FIGURE.finditer(text)]
 
 
 @dataclass(frozen=True)
@@ -113,13 +140,9 @@ def run(
     argv, head = _argv(command)
     key = shlex.join(argv)
     if printed is None or key not in printed:
-        env = {**os.environ, "MPLBACKEND": "Agg", "COLUMNS": "100", "PYTHONPATH": str(ROOT)}
-        proc = subprocess.run(argv, cwd=cwd, capture_output=True, text=True, env=env, check=False)
-        if proc.returncode not in (0, 3):
-            raise RuntimeError(f"{command} exited {proc.returncode}: {proc.stderr.strip()}")
+        stdout = execute(command, argv, cwd)
         if printed is not None:
-            printed[key] = proc.stdout
-        stdout = proc.stdout
+            printed[key] = stdout
     else:
         stdout = printed[key]
     lines = stdout.splitlines()
@@ -131,6 +154,41 @@ def run(
         lines = [re.sub(r"^#+ (.*)$", r"**\1**", line) for line in lines]
         return "\n".join(lines).strip("\n") + "\n"
     return "\n".join([f"$ {command}", *lines]) + "\n"
+
+
+def execute(command: str, argv: list[str], cwd: Path) -> str:
+    """Run a documented command in ``cwd``; what it printed (an error if it failed)."""
+    env = {**os.environ, "MPLBACKEND": "Agg", "COLUMNS": "100", "PYTHONPATH": str(ROOT)}
+    proc = subprocess.run(argv, cwd=cwd, capture_output=True, text=True, env=env, check=False)
+    if proc.returncode not in (0, 3):
+        raise RuntimeError(f"{command} exited {proc.returncode}: {proc.stderr.strip()}")
+    return proc.stdout
+
+
+def renew_figures(page: Path, only: str | None = None) -> list[Path]:
+    """Draw the page's marked figures again (each command once) and replace their images."""
+    renewed: list[Path] = []
+    done: set[str] = set()
+    with tempfile.TemporaryDirectory(prefix="scalf-opt-figures-") as scratch:
+        (Path(scratch) / "examples").symlink_to(ROOT / "examples")
+        for figure in figures(page.read_text(encoding="utf-8")):
+            if only is not None and only not in figure.command:
+                continue
+            if figure.command not in done:
+                argv, head = _argv(figure.command)
+                if head is not None:
+                    raise ValueError(f"a figure's command prints nothing to keep: {figure.command}")
+                execute(figure.command, argv, Path(scratch))
+                done.add(figure.command)
+            made = Path(scratch) / figure.made
+            if not made.is_file():
+                raise RuntimeError(f"{figure.command} did not write {figure.made}")
+            target = page.parent / figure.target
+            partial = target.with_name(f".{target.name}.partial")
+            partial.write_bytes(made.read_bytes())
+            os.replace(partial, target)
+            renewed.append(target)
+    return renewed
 
 
 def same_output(a: str, b: str) -> bool:
@@ -199,6 +257,9 @@ def main() -> int:
     args = parser.parse_args()
     stale = 0
     for page in args.pages or pages():
+        if args.manual and not args.check:
+            for target in renew_figures(page, args.only):
+                print(f"{page}: {target.name}: drawn again")
         if not blocks(page.read_text(encoding="utf-8")):
             continue
         text, changed = regenerate(page, fast=args.fast, manual=args.manual, only=args.only)

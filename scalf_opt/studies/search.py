@@ -66,5 +66,6 @@ def search_study(
             ipopt=ipopt,
             landscape=energy_landscape(SwingProblem(at_rate, leg, family), x, y),
             reference_swing_j=ipopt_run.legs[leg].reference_swing_energy_j,
+            pattern_rates_hz=tuple(pattern_run.rates_hz),
         )
     return out

@@ -43,12 +43,16 @@ class LegSearch:
         ipopt: Ipopt on the same family (the NLP optimum).
         landscape: The exact swing energy over (C1, C2), at the optima's rate.
         reference_swing_j: The reference spline's swing energy at the same rate [J].
+        pattern_rates_hz: Every rate the pattern search ran at, the last its answer's (the
+            sampling refinement restarts it at a finer rate from the coarser optimum, and its
+            history is that last run's).
     """
 
     pattern: SwingOptimum
     ipopt: SwingOptimum
     landscape: EnergyLandscape
     reference_swing_j: float
+    pattern_rates_hz: tuple[float, ...] = ()
 
 
 def search_figure(study: dict[str, LegSearch]) -> Figure:
@@ -212,12 +216,14 @@ def _iteration_panel(ax: Axes, search: LegSearch, leg: str) -> None:
     ax.set_ylabel("swing energy [J]")
     gap = 100.0 * (pattern.swing_energy_j - search.ipopt.swing_energy_j)
     gap /= search.ipopt.swing_energy_j
-    ax.set_title(
+    title = (
         f"{leg}: {pattern.swing_energy_j:.4g} J in {pattern.iterations} iterations, "
-        f"{gap:+.2f} % vs Ipopt",
-        fontsize=8,
-        loc="left",
+        f"{gap:+.2f} % vs Ipopt"
     )
+    if len(search.pattern_rates_hz) > 1:
+        *_, coarse, fine = search.pattern_rates_hz
+        title += f"\nrestarted at {fine:g} Hz from the {coarse:g} Hz optimum"
+    ax.set_title(title, fontsize=8, loc="left")
     # iterations are counts: integer ticks, and an axis as long as the search even when it
     # accepted a single point (Go1's search ends in 3 iterations without moving)
     ax.xaxis.set_major_locator(MaxNLocator(integer=True))

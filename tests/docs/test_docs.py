@@ -3,6 +3,7 @@ API page whose object does not resolve fails), every page is in the navigation, 
 name has its reference page, and every command output embedded in a page is what the command
 prints now (``docs/gen_outputs.py``)."""
 
+import json
 import os
 import re
 import subprocess
@@ -107,3 +108,23 @@ def test_the_slow_check_runs_the_slow_blocks_alone(tmp_path):
         "scalf-opt model --robot hyq | head -1"
     ]
     assert [s.split(":\n")[0] for s in stale(page, fast=True)] == ["scalf-opt model | head -1"]
+
+
+def test_a_marked_figure_is_drawn_again_by_its_command(tmp_path):
+    # a figure's image is the file its command writes (drawn again with --manual; never
+    # compared by the tests, whose machines' BLAS and fonts change a PNG's bytes)
+    page = tmp_path / "page.md"
+    page.write_text(
+        "Text.\n\n<!-- figure: scalf-opt evaluate --out ev :: ev/summary.json -->\n"
+        "![the reference's summary](summary.json)\n"
+    )
+    (tmp_path / "summary.json").write_text("stale")
+    assert gen_outputs.figures(page.read_text()) == [
+        gen_outputs.Figure("scalf-opt evaluate --out ev", "ev/summary.json", "summary.json")
+    ]
+    assert gen_outputs.renew_figures(page, only="model") == []
+    assert (tmp_path / "summary.json").read_text() == "stale"
+    assert gen_outputs.renew_figures(page) == [tmp_path / "summary.json"]
+    drawn = json.loads((tmp_path / "summary.json").read_text())
+    assert drawn["provenance"]["robot"] == "scalf"
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["page.md", "summary.json"]

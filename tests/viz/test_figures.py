@@ -4,6 +4,8 @@ Coarse gaits (40 Hz) and small landscape grids keep the drawing fast; what is ch
 depend on the resolution.
 """
 
+from dataclasses import replace
+
 import numpy as np
 import pytest
 from matplotlib.figure import Figure
@@ -133,6 +135,22 @@ def test_pattern_search_figure_shows_both_phases_and_levels(scalf_study):
         search = scalf_study[leg]
         assert round(search.reference_swing_j, 9) in levels
         assert round(search.ipopt.swing_energy_j, 9) in levels
+    close(fig)
+
+
+def test_search_panels_say_when_the_search_restarted_at_a_finer_rate(scalf_study):
+    # the sampling refinement restarts the search at a finer rate from the coarser optimum
+    # (Go1's paper family: 283.483 Hz, then 566.965 Hz, where it accepted one point): the panel
+    # names both rates, and its iteration axis has integer ticks whatever the history's length
+    single = search_figure(scalf_study)
+    assert all("restarted" not in ax.get_title(loc="left") for ax in single.axes[2:4])
+    close(single)
+    refined = {leg: replace(s, pattern_rates_hz=(200.0, 400.0)) for leg, s in scalf_study.items()}
+    fig = search_figure(refined)
+    for ax in fig.axes[2:4]:
+        assert ax.get_title(loc="left").endswith("restarted at 400 Hz from the 200 Hz optimum")
+        ticks = ax.get_xticks()
+        assert np.all(ticks == np.round(ticks)) and ax.get_xlim()[1] >= 1.0
     close(fig)
 
 
