@@ -23,9 +23,10 @@ A figure of a page is marked by the command that draws it and the file it writes
     <!-- figure: scalf-opt figures --format png --out figs :: figs/foot_paths.png -->
     ![Foot paths ...](foot_paths.png)
 
-With ``--manual`` the command runs in a scratch folder (once per page for the figures it draws)
-and the file replaces the image the next line shows; ``--check`` leaves figures alone (a PNG's
-bytes differ between machines' BLAS and fonts, so the tests cannot compare them).
+With ``--manual`` the command runs in the page's scratch folder after its blocks (once per page:
+not again when a block of the page ran it) and the file replaces the image the next line shows;
+``--check`` leaves figures alone (a PNG's bytes differ between machines' BLAS and fonts, so the
+tests cannot compare them).
 
 Usage: ``python docs/gen_outputs.py [--check] [--fast] [--manual] [--only TEXT] [FILE.md ...]``
 (default: the README and every page). ``--check`` changes nothing and exits 1 when a block differs
@@ -165,30 +166,41 @@ def execute(command: str, argv: list[str], cwd: Path) -> str:
     return proc.stdout
 
 
-def renew_figures(page: Path, only: str | None = None) -> list[Path]:
-    """Draw the page's marked figures again (each command once) and replace their images."""
+def draw_figures(
+    page: Path, scratch: Path, only: str | None = None, printed: dict[str, str] | None = None
+) -> list[Path]:
+    """Draw the page's marked figures in ``scratch`` and replace their images.
+
+    A command that ``printed`` holds already ran in ``scratch`` (a block of the page shows its
+    output, ``| head`` aside) and is not run again; each other command runs once.
+    """
+    printed = {} if printed is None else printed
     renewed: list[Path] = []
-    done: set[str] = set()
+    for figure in figures(page.read_text(encoding="utf-8")):
+        if only is not None and only not in figure.command:
+            continue
+        argv, head = _argv(figure.command)
+        if head is not None:
+            raise ValueError(f"a figure's command prints nothing to keep: {figure.command}")
+        key = shlex.join(argv)
+        if key not in printed:
+            printed[key] = execute(figure.command, argv, scratch)
+        made = scratch / figure.made
+        if not made.is_file():
+            raise RuntimeError(f"{figure.command} did not write {figure.made}")
+        target = page.parent / figure.target
+        partial = target.with_name(f".{target.name}.partial")
+        partial.write_bytes(made.read_bytes())
+        os.replace(partial, target)
+        renewed.append(target)
+    return renewed
+
+
+def renew_figures(page: Path, only: str | None = None) -> list[Path]:
+    """Draw the page's marked figures again in a scratch folder of their own."""
     with tempfile.TemporaryDirectory(prefix="scalf-opt-figures-") as scratch:
         (Path(scratch) / "examples").symlink_to(ROOT / "examples")
-        for figure in figures(page.read_text(encoding="utf-8")):
-            if only is not None and only not in figure.command:
-                continue
-            if figure.command not in done:
-                argv, head = _argv(figure.command)
-                if head is not None:
-                    raise ValueError(f"a figure's command prints nothing to keep: {figure.command}")
-                execute(figure.command, argv, Path(scratch))
-                done.add(figure.command)
-            made = Path(scratch) / figure.made
-            if not made.is_file():
-                raise RuntimeError(f"{figure.command} did not write {figure.made}")
-            target = page.parent / figure.target
-            partial = target.with_name(f".{target.name}.partial")
-            partial.write_bytes(made.read_bytes())
-            os.replace(partial, target)
-            renewed.append(target)
-    return renewed
+        return draw_figures(page, Path(scratch), only)
 
 
 def same_output(a: str, b: str) -> bool:
@@ -202,13 +214,16 @@ def regenerate(
     manual: bool = False,
     only: str | None = None,
     slow_only: bool = False,
+    drawn: list[Path] | None = None,
 ) -> tuple[str, list[tuple[Block, str]]]:
     """The page with every block's output renewed, and the blocks whose output changed.
 
     ``fast`` leaves out the ``slow`` and ``manual`` commands; ``manual`` ones (minutes long) run
     only when ``manual`` is true; ``slow_only`` runs the ``slow`` ones alone (the tests check the
     others apart, and no slow block reads what a fast one writes); with ``only``, just the
-    blocks whose command contains it.
+    blocks whose command contains it. With ``drawn`` (a list), the page's marked figures are
+    drawn again too, after its blocks and in the same folder (a figure whose command a block
+    ran is taken from that run), and their images listed there.
     """
     text = page.read_text(encoding="utf-8")
     changed: list[tuple[Block, str]] = []
@@ -240,6 +255,8 @@ def regenerate(
                 )
             else:
                 pieces.append(f"<!-- output{kind}: {block.command} -->\n```console\n{body}```\n")
+        if drawn is not None:
+            drawn += draw_figures(page, Path(scratch), only, printed)
     pieces.append(text[last:])
     return "".join(pieces), changed
 
@@ -257,12 +274,21 @@ def main() -> int:
     args = parser.parse_args()
     stale = 0
     for page in args.pages or pages():
-        if args.manual and not args.check:
-            for target in renew_figures(page, args.only):
-                print(f"{page}: {target.name}: drawn again")
+        draw = args.manual and not args.check
+        drawn: list[Path] = []
         if not blocks(page.read_text(encoding="utf-8")):
+            for target in renew_figures(page, args.only) if draw else []:
+                print(f"{page}: {target.name}: drawn again")
             continue
-        text, changed = regenerate(page, fast=args.fast, manual=args.manual, only=args.only)
+        text, changed = regenerate(
+            page,
+            fast=args.fast,
+            manual=args.manual,
+            only=args.only,
+            drawn=drawn if draw else None,
+        )
+        for target in drawn:
+            print(f"{page}: {target.name}: drawn again")
         for block, _ in changed:
             print(f"{page}: {block.command}: {'differs' if args.check else 'renewed'}")
         stale += len(changed)

@@ -128,3 +128,21 @@ def test_a_marked_figure_is_drawn_again_by_its_command(tmp_path):
     drawn = json.loads((tmp_path / "summary.json").read_text())
     assert drawn["provenance"]["robot"] == "scalf"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["page.md", "summary.json"]
+
+
+def test_a_figure_drawn_by_a_blocks_command_is_not_run_again(tmp_path, monkeypatch):
+    # gaits.md's figures come from the minutes-long `gait` runs its blocks show: one run each
+    page = tmp_path / "page.md"
+    page.write_text(
+        "<!-- output: scalf-opt evaluate --out ev | head -1 -->\n```console\nold\n```\n\n"
+        "<!-- figure: scalf-opt evaluate --out ev :: ev/summary.json -->\n"
+        "![the reference's summary](summary.json)\n"
+    )
+    runs = []
+    execute = gen_outputs.execute
+    monkeypatch.setattr(gen_outputs, "execute", lambda *a: runs.append(a[0]) or execute(*a))
+    drawn: list[Path] = []
+    _, changed = gen_outputs.regenerate(page, drawn=drawn)
+    assert runs == ["scalf-opt evaluate --out ev | head -1"]
+    assert len(changed) == 1 and drawn == [tmp_path / "summary.json"]
+    assert json.loads(drawn[0].read_text())["provenance"]["robot"] == "scalf"
