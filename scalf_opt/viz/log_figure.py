@@ -12,6 +12,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
+from scalf_opt.viz.plotting import fitted_title
+
 
 def log_plan_figure(
     measured_t_s: np.ndarray,
@@ -47,7 +49,7 @@ def log_plan_figure(
         ax_p.plot(closed_t, closed_w, color=color, lw=1.5, label=f"{label}: {energy:.1f} J")
     ax_p.set_xlabel("cycle time [s] (0: RF and LH touch down)")
     ax_p.set_ylabel("mechanical power sum |F v| of all legs [W]")
-    ax_p.set_title(title, fontsize=9)
+    ax_p.set_title(fitted_title(title, 8.0, 9.0), fontsize=9)  # it names the files
     ax_p.legend(fontsize=8)
     legs = list(measured_j)
     x = np.arange(len(legs))

@@ -7,6 +7,7 @@ fixed string instead of a random one, the fonts matplotlib ships (DejaVu).
 
 from __future__ import annotations
 
+import textwrap
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -57,6 +58,16 @@ def style() -> Iterator[None]:
     with plt.rc_context():
         plt.rcParams.update(STYLE)
         yield
+
+
+def fitted_title(text: str, width_in: float, fontsize_pt: float) -> str:
+    """``text`` wrapped into lines that fit ``width_in`` inches at ``fontsize_pt`` points.
+
+    A title that names a user's files, a study or a gait to six digits runs past the figure's
+    edge otherwise, and the saved file cuts it off. A character is taken as 0.65 em wide, a
+    little more than the average of the sans-serif font, so that a line never overflows.
+    """
+    return textwrap.fill(text, max(20, int(width_in * 72.0 / (0.65 * fontsize_pt))))
 
 
 def save_figure(fig: Figure, path: str | Path) -> Path:

@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import textwrap
 from collections.abc import Mapping
 
 import matplotlib
@@ -13,8 +12,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-TITLE_WIDTH_CHARS = 110
-"""Characters per line of the title (at 10 pt a line of the 10-inch figure holds about 130)."""
+from scalf_opt.viz.plotting import fitted_title
 
 
 def simulation_figure(
@@ -50,7 +48,7 @@ def simulation_figure(
         ax_z.axhline(1e3 * edge, color="tab:red", ls=":", lw=1)
     ax_z.set_ylabel("trunk height - planned [mm]")
     # wrapped: a robot's gait numbers to six digits ran past the figure's edge (Solo12)
-    ax_z.set_title(textwrap.fill(title, TITLE_WIDTH_CHARS), fontsize=10)
+    ax_z.set_title(fitted_title(title, 10.0, 10.0), fontsize=10)
     ax_p.plot(t_s, 1e3 * trunk_pitch_rad, lw=1)
     ax_p.set_ylabel("trunk pitch [mrad]")
     for leg, force in vertical_force_n.items():

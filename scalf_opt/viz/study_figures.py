@@ -20,6 +20,8 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
+from scalf_opt.viz.plotting import fitted_title
+
 _RESULT_KEYS = {
     "case",
     "status",
@@ -179,7 +181,7 @@ def study_figure(rows: Sequence[dict[str, Any]], x: str, title: str) -> Figure:
         "cost of transport [-]\n(dashed: reference)" if numeric else "cost of transport [-]"
     )
     ax_c.set_xlabel(axis_label(x))
-    ax_e.set_title(f"{title}: {len(ok)} of {len(rows)} cases solved")
+    ax_e.set_title(fitted_title(f"{title}: {len(ok)} of {len(rows)} cases solved", 8.0, 12.0))
     for ax in axes:
         ax.grid(True, alpha=0.3)
     handles, _ = ax_e.get_legend_handles_labels()

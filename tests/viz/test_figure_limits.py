@@ -130,3 +130,47 @@ def test_the_check_finds_an_artist_off_the_edge():
     ax.set_xlim(0, 0.5)
     assert outside(ax)
     plt.close(fig)
+
+
+def test_long_titles_wrap_inside_the_figure():
+    # a study's name and a log's file paths are the user's: the title wraps instead of running
+    # past the edge, where the saved file cuts it off
+    import numpy as np
+
+    from scalf_opt.viz.log_figure import log_plan_figure
+    from scalf_opt.viz.study_figures import study_figure
+
+    name = "a study of a user's robot whose name says everything it sweeps " * 3
+    rows = [
+        {
+            "case": i,
+            "speed_m_s": 0.5 + 0.25 * i,
+            "reference_energy_j": 10.0 + i,
+            "optimized_energy_j": 9.0 + i,
+            "saving_pct": 10.0 - i,
+            "cost_of_transport_reference": 0.3,
+            "cost_of_transport_optimized": 0.25,
+            "status": "ok",
+        }
+        for i in range(3)
+    ]
+    t = np.linspace(0.0, 0.5, 50, endpoint=False)
+    paths = "/home/someone/experiments/2026-12-04/a-long-folder-name/"
+    figures = [
+        study_figure(rows, "speed_m_s", name),
+        log_plan_figure(
+            t,
+            100.0 + 10.0 * np.sin(t),
+            t,
+            100.0 + 9.0 * np.sin(t),
+            {"RF": 1.0},
+            {"RF": 1.1},
+            f"{paths}run.mcap against the plan {paths}opt: 603.3 W measured, 556.5 W planned",
+        ),
+    ]
+    for fig in figures:
+        try:
+            fig.canvas.draw()
+            assert not titles_outside(fig)
+        finally:
+            close(fig)
