@@ -304,9 +304,20 @@ def ipopt_above_pattern_search(rep: Reproduction) -> dict[str, float]:
     """
     limit = 100.0 * SAMPLING_TOLERANCE
     below = {
-        leg: -gap_percent(rep.optima["pattern_fine"][leg], rep.optima["ipopt"][leg]) for leg in PAIR
+        leg: -gap_percent(rep.optima["pattern_fine"][leg], rep.optima["ipopt"][leg])
+        for leg in PAIR
+        if leg not in unvalidated(rep)
     }
     return {leg: amount for leg, amount in below.items() if amount > limit}
+
+
+def unvalidated(rep: Reproduction) -> list[str]:
+    """The legs the validation cannot compare: Ipopt or the fine pattern search did not solve."""
+    return [
+        leg
+        for leg in PAIR
+        if not (rep.optima["ipopt"][leg].success and rep.optima["pattern_fine"][leg].success)
+    ]
 
 
 def table6_rows(rep: Reproduction) -> list[dict[str, float | str]]:
@@ -399,7 +410,7 @@ def summary(
                 "gap_at_fine_precision_pct": gap_percent(
                     rep.optima["pattern_fine"][leg], rep.optima["ipopt"][leg]
                 ),
-                "agrees": leg not in disagreeing,
+                "agrees": leg not in disagreeing and leg not in unvalidated(rep),
                 "parameter_distance": float(
                     np.linalg.norm(
                         rep.optima["pattern"][leg].theta - rep.optima["ipopt"][leg].theta

@@ -23,6 +23,7 @@ from scalf_opt.studies.paper import (
     summary,
     table5_rows,
     table6_rows,
+    unvalidated,
 )
 from scalf_opt.studies.paper_data import is_paper_setup
 from scalf_opt.viz.figures import pattern_search_figure, save_atomic, swing_figure
@@ -32,6 +33,12 @@ def validation_verdict(rep: Reproduction) -> str:
     """One sentence under the validation table: do the pattern search and Ipopt agree?"""
     limit = f"{100.0 * SAMPLING_TOLERANCE:g} %"
     below = ipopt_above_pattern_search(rep)
+    missing = unvalidated(rep)
+    if missing:
+        return (
+            f"**Not compared** on {' and '.join(missing)}: Ipopt or the fine pattern search did "
+            "not solve it (the table's status says which)."
+        )
     if not below:
         return (
             f"They agree: on neither leg does the pattern search end more than {limit} (the "
