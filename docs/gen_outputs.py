@@ -196,13 +196,6 @@ def draw_figures(
     return renewed
 
 
-def renew_figures(page: Path, only: str | None = None) -> list[Path]:
-    """Draw the page's marked figures again in a scratch folder of their own."""
-    with tempfile.TemporaryDirectory(prefix="scalf-opt-figures-") as scratch:
-        (Path(scratch) / "examples").symlink_to(ROOT / "examples")
-        return draw_figures(page, Path(scratch), only)
-
-
 def same_output(a: str, b: str) -> bool:
     """Whether two outputs are the same but for run times."""
     return RUN_TIME.sub(r"\1<time> s", a) == RUN_TIME.sub(r"\1<time> s", b)
@@ -276,9 +269,8 @@ def main() -> int:
     for page in args.pages or pages():
         draw = args.manual and not args.check
         drawn: list[Path] = []
-        if not blocks(page.read_text(encoding="utf-8")):
-            for target in renew_figures(page, args.only) if draw else []:
-                print(f"{page}: {target.name}: drawn again")
+        marked = page.read_text(encoding="utf-8")
+        if not blocks(marked) and not (draw and figures(marked)):
             continue
         text, changed = regenerate(
             page,

@@ -655,7 +655,7 @@ def _build(
         variables += stance_slacks
         constraints += stance_rows
     # the objective's scale [1/J], the last parameter: 1 for the lifted NLP, one over the
-    # objective at the start for the condensed one (:data:`NORMALIZED_OBJECTIVE`)
+    # objective at the start for the condensed one (:attr:`BuiltNlp.normalized`)
     scale = ca.MX.sym("objective_scale")
     parameters.append(scale)
     cost = scale * cost

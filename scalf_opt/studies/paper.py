@@ -294,21 +294,25 @@ def gap_percent(optimum: SwingOptimum, best: SwingOptimum) -> float:
     return 100.0 * (optimum.swing_energy_j - best.swing_energy_j) / best.swing_energy_j
 
 
+AGREEMENT_PERCENT = 100.0 * SAMPLING_TOLERANCE
+"""How far the fine pattern search may end below Ipopt's paper-family optimum [%] before the
+two disagree: the sampling tolerance, as the two may be sampled at different rates."""
+
+
 def ipopt_above_pattern_search(rep: Reproduction) -> dict[str, float]:
     """The legs where Ipopt's paper-family optimum is not the family's minimum, and by how much.
 
     Per leg, how far the pattern search at precision 1e-4 ends below Ipopt's optimum [%], for
-    the legs where that is more than the sampling tolerance
-    (:data:`~scalf_opt.optimize.sampling.SAMPLING_TOLERANCE`: the two may be sampled at
-    different rates): there Ipopt stopped on a higher local optimum.
+    the legs where that is more than :data:`AGREEMENT_PERCENT`: there Ipopt stopped on a higher
+    local optimum.
     """
-    limit = 100.0 * SAMPLING_TOLERANCE
+    missing = unvalidated(rep)
     below = {
         leg: -gap_percent(rep.optima["pattern_fine"][leg], rep.optima["ipopt"][leg])
         for leg in PAIR
-        if leg not in unvalidated(rep)
+        if leg not in missing
     }
-    return {leg: amount for leg, amount in below.items() if amount > limit}
+    return {leg: amount for leg, amount in below.items() if amount > AGREEMENT_PERCENT}
 
 
 def unvalidated(rep: Reproduction) -> list[str]:
@@ -383,7 +387,7 @@ def summary(
     rep: Reproduction, robot: Robot, command: Sequence[str] | None = None
 ) -> dict[str, object]:
     """Plain data of the whole reproduction (``paper.json``), with its provenance."""
-    disagreeing = ipopt_above_pattern_search(rep)
+    not_agreeing = {*ipopt_above_pattern_search(rep), *unvalidated(rep)}
     return {
         "provenance": provenance(robot, command),
         "gait": rep.gait.to_dict(),
@@ -410,7 +414,7 @@ def summary(
                 "gap_at_fine_precision_pct": gap_percent(
                     rep.optima["pattern_fine"][leg], rep.optima["ipopt"][leg]
                 ),
-                "agrees": leg not in disagreeing and leg not in unvalidated(rep),
+                "agrees": leg not in not_agreeing,
                 "parameter_distance": float(
                     np.linalg.norm(
                         rep.optima["pattern"][leg].theta - rep.optima["ipopt"][leg].theta

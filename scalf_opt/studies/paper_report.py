@@ -11,9 +11,9 @@ from scalf_opt.io.results import rows_csv_text, split_timings, write_results_jso
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.model.robot import Robot
 from scalf_opt.optimize.bound import bound_cycle_inputs
-from scalf_opt.optimize.sampling import SAMPLING_TOLERANCE
 from scalf_opt.studies import paper_data
 from scalf_opt.studies.paper import (
+    AGREEMENT_PERCENT,
     PAIR,
     RUNS,
     Reproduction,
@@ -31,7 +31,7 @@ from scalf_opt.viz.figures import pattern_search_figure, save_atomic, swing_figu
 
 def validation_verdict(rep: Reproduction) -> str:
     """One sentence under the validation table: do the pattern search and Ipopt agree?"""
-    limit = f"{100.0 * SAMPLING_TOLERANCE:g} %"
+    limit = f"{AGREEMENT_PERCENT:g} %"
     below = ipopt_above_pattern_search(rep)
     missing = unvalidated(rep)
     if missing:

@@ -122,11 +122,13 @@ def test_a_marked_figure_is_drawn_again_by_its_command(tmp_path):
     assert gen_outputs.figures(page.read_text()) == [
         gen_outputs.Figure("scalf-opt evaluate --out ev", "ev/summary.json", "summary.json")
     ]
-    assert gen_outputs.renew_figures(page, only="model") == []
-    assert (tmp_path / "summary.json").read_text() == "stale"
-    assert gen_outputs.renew_figures(page) == [tmp_path / "summary.json"]
-    drawn = json.loads((tmp_path / "summary.json").read_text())
-    assert drawn["provenance"]["robot"] == "scalf"
+    skipped: list[Path] = []
+    assert gen_outputs.regenerate(page, only="model", drawn=skipped) == (page.read_text(), [])
+    assert skipped == [] and (tmp_path / "summary.json").read_text() == "stale"
+    drawn: list[Path] = []
+    assert gen_outputs.regenerate(page, drawn=drawn) == (page.read_text(), [])
+    assert drawn == [tmp_path / "summary.json"]
+    assert json.loads(drawn[0].read_text())["provenance"]["robot"] == "scalf"
     assert sorted(p.name for p in tmp_path.iterdir()) == ["page.md", "summary.json"]
 
 
