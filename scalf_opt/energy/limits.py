@@ -39,6 +39,17 @@ from scalf_opt.types import JOINT_ROLES
 LIMIT_TOLERANCE = 1e-9
 """Relative round-off allowed beyond a bound before a sample counts as exceeding it."""
 
+PRINTED_UNITS = {
+    "nm": "N m",
+    "rad_s": "rad/s",
+    "n": "N",
+    "m_s": "m/s",
+    "w": "W",
+    "m": "m",
+    "rad": "rad",
+}
+"""Column-name units (:attr:`Bound.unit`) as printed for people."""
+
 
 @dataclass(frozen=True)
 class Bound:
@@ -62,6 +73,17 @@ class Bound:
     upper: float
     source: str
     unit: str
+
+    @property
+    def size(self) -> float:
+        """What an excess is measured against: the larger magnitude of the finite ends, or 1."""
+        ends = [abs(x) for x in (self.lower, self.upper) if math.isfinite(x)]
+        return max(ends, default=0.0) or 1.0
+
+    @property
+    def printed_unit(self) -> str:
+        """The unit as printed for people (``N m`` for ``nm``)."""
+        return PRINTED_UNITS.get(self.unit, self.unit)
 
     @property
     def quantity(self) -> str:

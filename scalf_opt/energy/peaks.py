@@ -153,12 +153,14 @@ class CycleViolation:
     t_s: float
 
     def message(self) -> str:
-        """One line: which leg, joint, quantity, value, bound and where."""
+        """One line: which leg, joint, quantity, value, bound, by how much and where."""
         b = self.violation.bound
         bound = f"limit {b.upper:g}" if b.symmetric else f"range [{b.lower:.6g}, {b.upper:.6g}]"
+        over = 100.0 * self.violation.excess / b.size
         return (
             f"{self.leg} {JOINT_ROLES[b.joint]}: {b.quantity} = {self.violation.value:.6g} "
-            f"{b.unit} exceeds its {b.source} ({bound}) in {self.phase} at t = {self.t_s:.4f} s"
+            f"{b.printed_unit} exceeds its {b.source} ({bound}) by {over:.2g} % in {self.phase} "
+            f"at t = {self.t_s:.4f} s"
         )
 
 

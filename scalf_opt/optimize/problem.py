@@ -288,7 +288,7 @@ class SwingProblem:
                 if not np.all(np.isfinite(row)):
                     return math.inf, f"stance of {term.leg}: non-finite {b.name}"
                 excess = float(np.max(np.maximum(np.maximum(b.lower - row, row - b.upper), 0.0)))
-                share = excess / _size(b)
+                share = excess / b.size
                 if share > worst:
                     worst, reason = share, f"stance of {term.leg}: {b.name} beyond its {b.source}"
         return worst, reason
@@ -309,7 +309,7 @@ class SwingProblem:
             return energy, math.inf
         lower, upper = (b[:k] for b in self.constraint_bounds)
         excess = np.maximum(np.maximum(lower - c, c - upper), 0.0)
-        share = excess / np.array([[_size(b)] for b in self.bounds])
+        share = excess / np.array([[b.size] for b in self.bounds])
         return energy, max(float(share.max(initial=0.0)), self.stance_excess(theta)[0])
 
     def evaluate(self, theta: np.ndarray) -> Evaluation:
@@ -394,9 +394,3 @@ class PairProblem:
         """
         others = {o: np.asarray(thetas[o], dtype=float) for o in self.legs if o != leg}
         return SwingProblem(self.pipeline, leg, self.family, others, self.margins)
-
-
-def _size(bound: Bound) -> float:
-    """A bound's size, what its excess is measured against: its larger finite end, or 1."""
-    ends = [abs(x) for x in (bound.lower, bound.upper) if math.isfinite(x)]
-    return max(ends, default=0.0) or 1.0

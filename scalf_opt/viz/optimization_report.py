@@ -4,22 +4,12 @@ from __future__ import annotations
 
 import math
 
+from scalf_opt.energy.limits import PRINTED_UNITS
 from scalf_opt.energy.peaks import CycleViolation, Peak
 from scalf_opt.optimize.bound import FreeBound
 from scalf_opt.optimize.driver import ALTERNATION_RTOL, LegResult, SwingOptimization
 from scalf_opt.optimize.free_stance import FreeStance
 from scalf_opt.optimize.sampling import CHECK_FACTOR
-
-UNITS = {
-    "nm": "N m",
-    "rad_s": "rad/s",
-    "n": "N",
-    "m_s": "m/s",
-    "w": "W",
-    "m": "m",
-    "rad": "rad",
-}
-"""Column-name units as printed."""
 
 
 def _g(x: float) -> str:
@@ -46,7 +36,7 @@ def peaks_table(peaks: list[Peak], reference: list[Peak] | None = None) -> str:
             columns.append((p.quantity, p.unit))
     signed = {p.quantity for p in peaks if p.quantity == "power" or p.one_sided}
     heads = [
-        f"{q} [{UNITS.get(u, u)}]" if q in signed else f"|{q}| [{UNITS.get(u, u)}]"
+        f"{q} [{PRINTED_UNITS.get(u, u)}]" if q in signed else f"|{q}| [{PRINTED_UNITS.get(u, u)}]"
         for q, u in columns
     ]
     width = 22 if reference else 16

@@ -108,6 +108,20 @@ def test_an_exceeded_limit_is_flagged(scalf):
     assert any(p.exceeds for p in cycle_peaks(cycle, physics))
 
 
+def test_a_limit_message_gives_the_unit_as_printed_and_the_share_over(scalf):
+    """The message says newtons (not the column name's ``n``) and how far over, in per cent."""
+    weak = {}
+    for joint, drive in EnergyPipeline(scalf, Gait(), loads="trunk").drives.items():
+        weak[joint] = dataclasses.replace(drive, max_force_n=3000.0)
+    pipeline = EnergyPipeline(scalf, Gait(), drives=weak, loads="trunk")
+    cycle = pipeline.robot_cycle(make_family("reference"))
+    worst = cycle_violations(cycle, {leg: pipeline.physics(leg) for leg in cycle.legs})[0]
+    value = abs(worst.violation.value)
+    over = 100.0 * (value - 3000.0) / 3000.0
+    assert f" {worst.violation.value:.6g} N exceeds" in worst.message()
+    assert f"(limit 3000) by {over:.2g} % in " in worst.message()
+
+
 def test_regenerative_is_refused_where_every_swing_costs_the_same(hyq):
     pipeline = EnergyPipeline(
         hyq, Gait(stance_height_m=0.55), "regenerative", drives={}, loads="trunk"
