@@ -172,6 +172,8 @@ class LogAnalysis:
         period_s: Gait period used [s].
         period_source: Where it came from (``--period``, ``contact``, ``gait``).
         phase_source: ``contact`` or ``schedule``.
+        duty_cycle: The duty cycle of the trot schedule the phases come from (``None`` when
+            they come from the log's contact column).
         sample_rate_hz: Median sample rate of the log [Hz].
         half_window_s: Half-width of the derivative filter's window [s].
         degree: Degree of the derivative filter's polynomial.
@@ -186,6 +188,7 @@ class LogAnalysis:
     half_window_s: float
     degree: int
     legs: dict[str, LegEnergy]
+    duty_cycle: float | None = None
 
     @property
     def average_power_w(self) -> float:
@@ -205,6 +208,7 @@ class LogAnalysis:
             "period_s": self.period_s,
             "period_source": self.period_source,
             "phase_source": self.phase_source,
+            "duty_cycle": self.duty_cycle,
             "sample_rate_hz": self.sample_rate_hz,
             "filter": {
                 "kind": "local least-squares polynomial (Savitzky-Golay) on the time stamps",
@@ -405,4 +409,5 @@ def analyze_log(
         half_window_s=half_window_s,
         degree=degree,
         legs=legs,
+        duty_cycle=None if log.has_contact else gait.duty_cycle,
     )

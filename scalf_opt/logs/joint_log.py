@@ -194,5 +194,6 @@ def analyze_joint_log(
         half_window_s=half_window_s,
         degree=degree,
         legs=legs,
+        duty_cycle=None if log.has_contact else gait.duty_cycle,
     )
     return analysis, power_of, "measured" if measured else "filter"

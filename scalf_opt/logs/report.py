@@ -11,11 +11,18 @@ _PERIOD_SOURCES = {
     "motion": "the motion's, from the lengths' self-similarity",
 }
 
-_PHASE_SOURCES = {
-    "contact": "contact column",
-    "schedule": "trot schedule (t = 0: RF and LH touch down)",
-}
 # a bag's time origin is its first message (scalf_opt.logs.bag_log)
+
+
+def _phases(analysis: LogAnalysis) -> str:
+    """Where the stance and swing phases come from: the log's contact, or a trot schedule."""
+    if analysis.duty_cycle is None:
+        return "phases from the contact column"
+    return (
+        f"phases from a trot schedule at duty {analysis.duty_cycle:g}, t = 0 where RF and LH "
+        "touch down (no contact column: the duty of --gait, of --plan, else of the robot's "
+        "default trot)"
+    )
 
 
 _WORDS = {
@@ -56,8 +63,8 @@ def log_report(
     lines = [
         f"{words['log']} {analysis.source}: legs {', '.join(analysis.legs)}, "
         f"{analysis.sample_rate_hz:.1f} Hz",
-        f"gait period {analysis.period_s:.4g} s ({_PERIOD_SOURCES[analysis.period_source]}); "
-        f"phases from the {_PHASE_SOURCES[analysis.phase_source]}",
+        f"gait period {analysis.period_s:.4g} s ({_PERIOD_SOURCES[analysis.period_source]})",
+        _phases(analysis),
         f"{words['velocity']}: degree-{filt['degree']} least-squares fit over "
         f"{1e3 * filt['window_s']:.0f} ms ({filt['samples']} samples)"
         if velocity_source == "filter"

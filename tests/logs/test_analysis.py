@@ -11,6 +11,7 @@ from scalf_opt.locomotion.gait import Gait
 from scalf_opt.logs.analysis import analyze_log, leg_cylinders, window_integral, window_integrals
 from scalf_opt.logs.log_file import CylinderLog
 from scalf_opt.logs.model_log import model_log
+from scalf_opt.logs.report import log_report
 from scalf_opt.logs.sensors import JointMotion, SensorModel, sensor_log
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.sim.experiment import run_trot
@@ -88,6 +89,10 @@ def test_the_trot_schedule_gives_the_contact_columns_answer(pipeline):
     blind = CylinderLog(log.source, {leg: replace(d, contact=None) for leg, d in log.legs.items()})
     with_contact, scheduled = analyze_log(log, pipeline), analyze_log(blind, pipeline)
     assert scheduled.phase_source == "schedule" and scheduled.period_source == "gait"
+    assert (scheduled.duty_cycle, with_contact.duty_cycle) == (pipeline.gait.duty_cycle, None)
+    # the report says which duty split the phases (a log of another gait needs its own)
+    assert f"trot schedule at duty {pipeline.gait.duty_cycle:g}," in log_report(scheduled)
+    assert "phases from the contact column" in log_report(with_contact)
     for leg in LEG_NAMES:
         # the schedule counts the cycle that starts with the log; the contacts need a 0 -> 1 edge
         mine, theirs = scheduled.legs[leg], with_contact.legs[leg]
