@@ -95,27 +95,28 @@ def test_a_tighter_limit_binds_and_the_optimum_respects_it(scalf):
     assert bound.legs["RF"].best.swing_energy_j > free.legs["RF"].best.swing_energy_j
 
 
-def test_an_exceeded_limit_is_flagged(scalf):
+@pytest.fixture(scope="module")
+def weak_cycle(scalf):
+    """The reference cycle of SCalf with cylinders of 3000 N (beyond it in stance): its physics."""
     weak = {}
     for joint, drive in EnergyPipeline(scalf, Gait(), loads="trunk").drives.items():
         weak[joint] = dataclasses.replace(drive, max_force_n=3000.0)
     pipeline = EnergyPipeline(scalf, Gait(), drives=weak, loads="trunk")
     cycle = pipeline.robot_cycle(make_family("reference"))
-    physics = {leg: pipeline.physics(leg) for leg in cycle.legs}
+    return cycle, {leg: pipeline.physics(leg) for leg in cycle.legs}
+
+
+def test_an_exceeded_limit_is_flagged(weak_cycle):
+    cycle, physics = weak_cycle
     found = cycle_violations(cycle, physics)
     assert found and all(v.violation.bound.quantity == "cyl_force" for v in found)
     assert "exceeds its cylinder cyl_force limit" in found[0].message()
     assert any(p.exceeds for p in cycle_peaks(cycle, physics))
 
 
-def test_a_limit_message_gives_the_unit_as_printed_and_the_share_over(scalf):
+def test_a_limit_message_gives_the_unit_as_printed_and_the_share_over(weak_cycle):
     """The message says newtons (not the column name's ``n``) and how far over, in per cent."""
-    weak = {}
-    for joint, drive in EnergyPipeline(scalf, Gait(), loads="trunk").drives.items():
-        weak[joint] = dataclasses.replace(drive, max_force_n=3000.0)
-    pipeline = EnergyPipeline(scalf, Gait(), drives=weak, loads="trunk")
-    cycle = pipeline.robot_cycle(make_family("reference"))
-    worst = cycle_violations(cycle, {leg: pipeline.physics(leg) for leg in cycle.legs})[0]
+    worst = cycle_violations(*weak_cycle)[0]
     value = abs(worst.violation.value)
     over = 100.0 * (value - 3000.0) / 3000.0
     assert f" {worst.violation.value:.6g} N exceeds" in worst.message()
