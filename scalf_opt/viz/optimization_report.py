@@ -100,9 +100,8 @@ def _leg_lines(result: LegResult, method: str, family: str) -> list[str]:
         + (f", {o.evaluations} evaluations" if o.evaluations else "")
         + f", {o.wall_time_s:.2f} s"
     ]
-    if not math.isfinite(o.swing_energy_j):
-        stats = ", ".join(f"{k}={v}" for k, v in sorted(o.stats.items()))
-        return [*lines, f"  solver statistics: {stats}"]
+    if not math.isfinite(o.swing_energy_j):  # why is in the status; Ipopt's log: --verbose
+        return lines
     if math.isfinite(result.reference_swing_energy_j):
         against = (
             f"vs reference {result.reference_swing_energy_j:.4f} J ({result.change_percent:+.2f} %)"

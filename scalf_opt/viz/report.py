@@ -9,7 +9,6 @@ import numpy as np
 
 from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.energy.loads import stance_loads
-from scalf_opt.optimize.solve import SwingOptimum
 
 
 def model_report(data: dict[str, Any]) -> str:
@@ -121,28 +120,4 @@ def evaluate_report(
             f"unbalanced moment ({model.unbalanced}): "
             f"peak {cycle.peak_unbalanced_moment_nm:.1f} N m"
         )
-    return "\n".join(lines)
-
-
-def optimum_report(optima: dict[str, SwingOptimum], reference: RobotCycle) -> str:
-    """Text of ``scalf-opt optimize``: each leg's optimum against the reference swing."""
-    lines = []
-    for leg, o in optima.items():
-        ref = reference.legs[leg].swing_energy_j
-        params = ", ".join(f"{n}={v:.4f}" for n, v in zip(o.parameter_names, o.theta, strict=True))
-        verdict = "solved" if o.success else "NOT SOLVED"
-        lines.append(
-            f"{leg}: {o.family} by {o.method}: {verdict} ({o.status}), {o.iterations} iterations"
-            + (f", {o.evaluations} evaluations" if o.evaluations else "")
-            + f", {o.wall_time_s:.2f} s"
-        )
-        if o.success:
-            lines.append(
-                f"  swing energy {o.swing_energy_j:.4f} J vs reference {ref:.4f} J "
-                f"({change_percent(o.swing_energy_j, ref):+.2f} %)"
-            )
-            lines.append(f"  parameters [{o.unit}]: {params}")
-        else:
-            stats = ", ".join(f"{k}={v}" for k, v in sorted(o.stats.items()))
-            lines.append(f"  solver statistics: {stats}")
     return "\n".join(lines)
