@@ -171,7 +171,6 @@ class LogAnalysis:
         source: The log.
         period_s: Gait period used [s].
         period_source: Where it came from (``--period``, ``contact``, ``gait``).
-        phase_source: ``contact`` or ``schedule``.
         duty_cycle: The duty cycle of the trot schedule the phases come from (``None`` when
             they come from the log's contact column).
         sample_rate_hz: Median sample rate of the log [Hz].
@@ -183,12 +182,16 @@ class LogAnalysis:
     source: str
     period_s: float
     period_source: str
-    phase_source: str
     sample_rate_hz: float
     half_window_s: float
     degree: int
     legs: dict[str, LegEnergy]
     duty_cycle: float | None = None
+
+    @property
+    def phase_source(self) -> str:
+        """Where the phases come from: ``contact`` (the log's column) or ``schedule``."""
+        return "contact" if self.duty_cycle is None else "schedule"
 
     @property
     def average_power_w(self) -> float:
@@ -404,7 +407,6 @@ def analyze_log(
         source=log.source,
         period_s=period,
         period_source=period_source,
-        phase_source="contact" if log.has_contact else "schedule",
         sample_rate_hz=float(1.0 / np.median(steps)),
         half_window_s=half_window_s,
         degree=degree,

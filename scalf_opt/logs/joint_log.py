@@ -189,7 +189,6 @@ def analyze_joint_log(
         source=log.source,
         period_s=period,
         period_source=period_source,
-        phase_source="contact" if log.has_contact else "schedule",
         sample_rate_hz=float(1.0 / np.median(steps)),
         half_window_s=half_window_s,
         degree=degree,
