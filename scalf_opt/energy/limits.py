@@ -51,6 +51,11 @@ PRINTED_UNITS = {
 """Column-name units (:attr:`Bound.unit`) as printed for people."""
 
 
+def printed_unit(unit: str) -> str:
+    """A column-name unit as printed for people (``N m`` for ``nm``)."""
+    return PRINTED_UNITS.get(unit, unit)
+
+
 @dataclass(frozen=True)
 class Bound:
     """A box bound ``lower <= value <= upper`` on one per-sample quantity of a leg.
@@ -83,7 +88,7 @@ class Bound:
     @property
     def printed_unit(self) -> str:
         """The unit as printed for people (``N m`` for ``nm``)."""
-        return PRINTED_UNITS.get(self.unit, self.unit)
+        return printed_unit(self.unit)
 
     @property
     def quantity(self) -> str:

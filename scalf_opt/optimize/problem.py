@@ -287,7 +287,7 @@ class SwingProblem:
             for b, row in zip(bounds, values, strict=True):
                 if not np.all(np.isfinite(row)):
                     return math.inf, f"stance of {term.leg}: non-finite {b.name}"
-                excess = float(np.max(np.maximum(np.maximum(b.lower - row, row - b.upper), 0.0)))
+                excess = float(np.max(b.excess(row)))
                 share = excess / b.size
                 if share > worst:
                     worst, reason = share, f"stance of {term.leg}: {b.name} beyond its {b.source}"

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from scalf_opt.energy.limits import PRINTED_UNITS
+from scalf_opt.energy.limits import printed_unit
 from scalf_opt.energy.peaks import CycleViolation, Peak
 from scalf_opt.optimize.bound import FreeBound
 from scalf_opt.optimize.driver import ALTERNATION_RTOL, LegResult, SwingOptimization
@@ -36,7 +36,7 @@ def peaks_table(peaks: list[Peak], reference: list[Peak] | None = None) -> str:
             columns.append((p.quantity, p.unit))
     signed = {p.quantity for p in peaks if p.quantity == "power" or p.one_sided}
     heads = [
-        f"{q} [{PRINTED_UNITS.get(u, u)}]" if q in signed else f"|{q}| [{PRINTED_UNITS.get(u, u)}]"
+        f"{q} [{printed_unit(u)}]" if q in signed else f"|{q}| [{printed_unit(u)}]"
         for q, u in columns
     ]
     width = 22 if reference else 16
