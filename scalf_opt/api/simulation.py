@@ -207,9 +207,8 @@ def simulate(
     data = {"provenance": provenance(robot, command), **data}
     families = ", ".join(sorted({family for family, _ in swings.values()}))
     title = (
-        f"MuJoCo {data['mujoco_version']} simulation of {robot.name}, {families} swing: trot "
-        f"T={gait.period_s:g} s, S={gait.step_length_m:g} m, z0={gait.stance_height_m:g} m, "
-        f"{cycles} cycles, dt={1e3 * data['settings']['timestep_s']:g} ms, servo "
+        f"MuJoCo {data['mujoco_version']} simulation of {robot.name}, {families} swing: "
+        f"{gait.trot_text}, {cycles} cycles, dt={1e3 * data['settings']['timestep_s']:g} ms, servo "
         f"{data['settings']['servo_bandwidth_hz']:.3g} Hz"
     )
     return SimulationResult(robot, data, run.record, title)

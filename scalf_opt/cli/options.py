@@ -11,7 +11,7 @@ from dataclasses import field as dataclass_field
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from scalf_opt.energy.accounting import ACCOUNTINGS
+from scalf_opt.energy.accounting import ACCOUNTINGS, PAPER_ACCOUNTING
 from scalf_opt.energy.loads import DEFAULT_LOADS, LOAD_MODELS
 from scalf_opt.errors import ConfigError, GaitError
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SOLVERS, solver_help
@@ -81,8 +81,13 @@ GAIT_OPTIONS: dict[str, tuple[str, Callable[[str], Any], str]] = {
 """Gait fields that have a command-line option: field -> (option, type, help)."""
 
 
-ACCOUNTING_HELP = "joint power accounting (default: the paper's |tau*qd| + drive losses)"
-"""``--accounting``'s help, the same wherever a command takes it."""
+ACCOUNTING_HELP = (
+    "how a joint's mechanical power is charged before its drive's losses are added: "
+    + "; ".join(f"{name} = {rule.description}" for name, rule in ACCOUNTINGS.items())
+    + f" (default {PAPER_ACCOUNTING}). Valve-controlled and electric drives meter their own "
+    "input power and do not use it"
+)
+"""``--accounting``'s help, the same wherever a command takes it (the registry's words)."""
 
 
 def add_robot(parser: argparse.ArgumentParser) -> None:

@@ -122,6 +122,19 @@ class Gait:
         return {name: getattr(self, name) for name in self.field_names()}
 
     @property
+    def trot_text(self) -> str:
+        """The gait in one line for reports and figures, four significant digits.
+
+        ``trot T=0.5 s, duty 0.5, S=0.25 m, H=0.08 m, z0=0.75 m`` (a scaled gait's exact values
+        are in the files written with it).
+        """
+        return (
+            f"trot T={self.period_s:.4g} s, duty {self.duty_cycle:.4g}, "
+            f"S={self.step_length_m:.4g} m, H={self.clearance_m:.4g} m, "
+            f"z0={self.stance_height_m:.4g} m"
+        )
+
+    @property
     def stance_duration_s(self) -> float:
         """Duration of the stance phase [s]."""
         return self.duty_cycle * self.period_s

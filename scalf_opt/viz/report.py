@@ -79,10 +79,7 @@ def evaluate_report(
     """
     g = cycle.gait
     lines = [
-        # four significant digits: a Froude-scaled gait's exact values are in summary.json
-        f"{title} swing trajectory on {robot_name}: trot T={g.period_s:.4g} s, "
-        f"duty {g.duty_cycle:.4g}, S={g.step_length_m:.4g} m, H={g.clearance_m:.4g} m, "
-        f"z0={g.stance_height_m:.4g} m, {g.sample_rate_hz:.4g} Hz, "
+        f"{title} swing trajectory on {robot_name}: {g.trot_text}, {g.sample_rate_hz:.4g} Hz, "
         f"accounting '{cycle.accounting}', loads '{cycle.loads}'",
         "",
         "leg   swing [J]   stance [J]   cycle [J]   swing hip/knee [J]   stance hip/knee [J]",

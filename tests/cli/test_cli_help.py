@@ -59,12 +59,24 @@ def test_an_option_means_the_same_in_every_command():
                 continue  # what is written, read or counted differs by command
             if (name, option) == ("export", "--rate"):
                 continue  # the rate of the exported samples, not of the gait's grid
+            if (name, option) == ("gait", "--family"):
+                continue  # a gait's trials take swing families only (the next test)
             key = (action.help, action.metavar)
             if option in seen:
                 assert seen[option][1:] == key, (option, name, seen[option][0])
             else:
                 seen[option] = (name, *key)
     assert {"--urdf", "--robot", "-q", "--debug"} <= set(seen)
+
+
+def test_a_help_offers_only_what_its_command_accepts(capsys):
+    assert "free" in options("optimize")["--family"].help
+    assert "free" not in options("gait")["--family"].help
+    assert main(["gait", "--speed", "1", "--family", "free"]) == 2  # refused, as the help says
+    assert capsys.readouterr().err.count("\n") == 1
+    accounting = options("evaluate")["--accounting"].help
+    assert all(f"{name} = " in accounting for name in ("paper", "positive", "regenerative"))
+    assert "electric drives meter their own input power" in accounting
 
 
 @pytest.mark.parametrize("name", NAMES)

@@ -7,7 +7,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from scalf_opt.cli.commands.optimize import FAMILY_HELP
+from scalf_opt.cli.commands.optimize import SWING_FAMILY_HELP
 from scalf_opt.cli.commands.study import MAX_WORKERS, WORKERS_HELP
 from scalf_opt.cli.options import (
     ACCOUNTING_HELP,
@@ -77,7 +77,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         f"(at most {MAX_SPEEDS} speeds, each at most 10 m/s)",
     )
     add_robot(parser)
-    parser.add_argument("--family", default=DEFAULT_FAMILY, metavar="NAME", help=FAMILY_HELP)
+    parser.add_argument("--family", default=DEFAULT_FAMILY, metavar="NAME", help=SWING_FAMILY_HELP)
     add_method(parser)
     parser.add_argument(
         "--accounting", choices=tuple(ACCOUNTINGS), default="paper", help=ACCOUNTING_HELP

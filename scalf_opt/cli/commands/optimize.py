@@ -35,12 +35,16 @@ MAX_STOP_MARGIN_DEG = 30.0
 MAX_STROKE_MARGIN_MM = 50.0
 """Largest stroke margin an option accepts [mm]."""
 
+SWING_FAMILY_HELP = (
+    f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 (default {DEFAULT_FAMILY})"
+)
+"""``--family``'s help where only a swing family fits (``gait``, whose trials are families)."""
+
 FAMILY_HELP = (
-    f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 (default "
-    f"{DEFAULT_FAMILY}); or {FREE_FAMILY}: the free-trajectory bound (dense B-splines refined "
+    f"{SWING_FAMILY_HELP}; or {FREE_FAMILY}: the free-trajectory bound (dense B-splines refined "
     "until the energy converges)"
 )
-"""``--family``'s help, the same wherever a command takes it."""
+"""``--family``'s help where the free-trajectory bound is a choice too."""
 
 NAME = "optimize"
 HELP = "optimize the swing of one or more legs"
