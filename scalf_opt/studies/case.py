@@ -40,6 +40,7 @@ from scalf_opt.optimize.driver import Settings, optimize_swings
 from scalf_opt.optimize.gait_search import optimize_gait
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.robots.variants import VariantScales, derive_variant
+from scalf_opt.studies.columns import RESULT_COLUMNS
 from scalf_opt.studies.gait_case import gait_details, gait_row
 from scalf_opt.studies.study_file import Case
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
@@ -48,27 +49,6 @@ from scalf_opt.workers import worker_progress
 STATUS_OK = "ok"
 STATUS_NOT_SOLVED = "not solved"
 STATUS_ERROR = "error"
-
-RESULT_COLUMNS = (
-    "status",
-    "robot",
-    "speed_m_s",
-    "total_mass_kg",
-    "thigh_length_m",
-    "shank_length_m",
-    "thigh_to_shank",
-    "reference_energy_j",
-    "optimized_energy_j",
-    "saving_pct",
-    "reference_power_w",
-    "optimized_power_w",
-    "cost_of_transport_reference",
-    "cost_of_transport_optimized",
-    *(f"{leg}_{kind}_j" for leg in LEG_NAMES for kind in ("reference", "optimized")),
-    "error",
-)
-"""The columns of a case's row after its swept values (energies per gait cycle; geometry of the
-RF leg)."""
 
 
 def _robot(case: Case, folder: Path) -> Robot:

@@ -26,13 +26,13 @@ from scalf_opt.interrupts import raise_if_stopped
 from scalf_opt.io.results import rows_csv_text, to_json
 from scalf_opt.io.saved import read_json
 from scalf_opt.studies.case import (
-    RESULT_COLUMNS,
     STATUS_ERROR,
     STATUS_OK,
     case_key,
     check_setup,
     run_case,
 )
+from scalf_opt.studies.columns import RESULT_COLUMNS
 from scalf_opt.studies.gait_case import GAIT_COLUMNS
 from scalf_opt.studies.progress import Progress
 from scalf_opt.studies.study_file import Case, Study

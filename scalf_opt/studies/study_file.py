@@ -52,6 +52,7 @@ from scalf_opt.optimize.gait_search import check_speed
 from scalf_opt.optimize.solvers import solver
 from scalf_opt.robots.catalog import robot_names
 from scalf_opt.robots.variants import VariantScales
+from scalf_opt.studies.columns import RESULT_COLUMNS
 from scalf_opt.types import LEG_NAMES
 
 SETTINGS = ("robot", "family", "method", "accounting", "loads")
@@ -216,9 +217,15 @@ def _check_field(path: Path, key: str, value: Any) -> Any:
         except ConfigError as exc:
             raise ConfigError(f"{path}: {exc}") from exc
         return value
+    keys = [
+        *(f"gait.{f}" for f in Gait.field_names()),
+        *(f"variant.{f}" for f in VariantScales.field_names()),
+        SPEED,
+        *SETTINGS,
+    ]
     raise ConfigError(
-        f"{path}: unknown sweep key {key!r} (use gait.<field>, variant.<field>, {SPEED}, "
-        f"{', '.join(SETTINGS)})"
+        f"{path}: unknown sweep key {key!r}{did_you_mean(key, keys)} (use gait.<field>, "
+        f"variant.<field>, {SPEED}, {', '.join(SETTINGS)})"
     )
 
 
@@ -374,6 +381,15 @@ def read_study(path: str | Path) -> Study:
     extra = sorted(set(plot) - {"x"})
     if extra:
         raise ConfigError(f"{path}: unknown key plot.{extra[0]} (known: x)")
+    columns = ["case", *swept_fields, *RESULT_COLUMNS]
+    if plot_x not in columns:
+        raise ConfigError(
+            f"{path}: plot.x = {plot_x!r} is not a column of results.csv"
+            f"{did_you_mean(plot_x, columns)} (case, a swept field"
+            f"{': ' + ', '.join(swept_fields) if swept_fields else ''}, or one of "
+            f"{', '.join(c for c in RESULT_COLUMNS if c != 'error')})",
+            field="plot.x",
+        )
     name = _text(path, study, "name", "study") or path.stem
     return Study(path, name, tuple(cases), tuple(key for key, _, _ in axes), plot_x)
 

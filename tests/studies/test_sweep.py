@@ -67,6 +67,7 @@ x = "speed_m_s"
         ("[studies]\n", r"unknown table \[studies\]; did you mean 'study'"),
         ("[sweep]\n'gait.speed' = [1]\n", r"unknown gait field 'speed' \(known"),
         ("[sweep]\n'hip' = [1]\n", "unknown sweep key 'hip'"),
+        ("[sweep]\nclearance_m = [1]\n", "'clearance_m'; did you mean 'gait.clearance_m'"),
         ("[sweep]\n'gait.period_s' = []\n", "must be a non-empty list"),
         ("[sweep]\n'gait.period_s' = ['a']\n", "gait.period_s must be a number"),
         ("[sweep]\n'variant.thigh_length_scale' = [0]\n", "thigh_length_scale = 0 must be"),
@@ -77,6 +78,11 @@ x = "speed_m_s"
         ("[study]\nurdf = 'none.urdf'\n", "none.urdf not found"),
         ("[study]\noptimize = 'XY'\n", "study.optimize = 'XY'"),
         ("[plot]\ny = 1\n", "unknown key plot.y"),
+        (
+            "[sweep]\n'gait.clearance_m' = [0.1]\n[plot]\nx = 'clearance_m'\n",
+            "plot.x = 'clearance_m' is not a column of results.csv; did you mean "
+            "'gait.clearance_m'.*a swept field: gait.clearance_m,",
+        ),
     ],
 )
 def test_schema_errors_name_file_and_key(tmp_path, text, match):
