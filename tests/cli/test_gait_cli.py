@@ -7,7 +7,7 @@ import json
 import pytest
 
 from scalf_opt.cli import main
-from scalf_opt.cli.commands.gait import MAX_SPEEDS, parse_speeds
+from scalf_opt.cli.commands.gait import MAX_SPEEDS, all_speeds, parse_speeds
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.gait_file import read_gait
 from scalf_opt.studies.gait_case import GAIT_COLUMNS
@@ -29,6 +29,12 @@ def test_speeds_are_a_value_a_list_or_a_range_with_its_end():
     for bad in ("1.0x", "1:0:0.5", "0:1:0", "0:1", f"0.001:10:{1 / (MAX_SPEEDS + 5)}"):
         with pytest.raises(ConfigError, match="--speed"):
             parse_speeds(bad)
+
+
+def test_the_speed_option_repeats_and_each_speed_counts_once():
+    assert all_speeds(["0.5", "0.8,0.5", "1:1.2:0.1"]) == [0.5, 0.8, 1.0, 1.1, 1.2]
+    with pytest.raises(ConfigError, match="--speed: 201 speeds in all"):
+        all_speeds(["0.01:1:0.01", "1.01:2.01:0.01"])
 
 
 def test_the_table_the_figure_and_a_folder_per_speed(run, capsys):

@@ -40,8 +40,21 @@ EXAMPLES = (
 )
 
 
+def all_speeds(texts: list[str]) -> list[float]:
+    """Every ``--speed`` given (the option repeats), in order, each speed once [m/s].
+
+    Raises:
+        ConfigError: One of :func:`parse_speeds`' errors, or more than :data:`MAX_SPEEDS` speeds
+            in all.
+    """
+    speeds = list(dict.fromkeys(v for text in texts for v in parse_speeds(text)))
+    if len(speeds) > MAX_SPEEDS:
+        raise ConfigError(f"--speed: {len(speeds)} speeds in all, more than {MAX_SPEEDS}")
+    return speeds
+
+
 def parse_speeds(text: str) -> list[float]:
-    """``--speed``: ``V``, ``V1,V2,...`` or ``START:STOP:STEP`` (STOP included) [m/s].
+    """One ``--speed``: ``V``, ``V1,V2,...`` or ``START:STOP:STEP`` (STOP included) [m/s].
 
     Raises:
         ConfigError: Not numbers, a step not > 0, a stop below the start, more than
@@ -72,9 +85,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--speed",
         required=True,
+        action="append",
         metavar="X",
-        help="target speeds [m/s]: V, V1,V2,... or START:STOP:STEP with STOP included "
-        f"(at most {MAX_SPEEDS} speeds, each at most 10 m/s)",
+        help="target speeds [m/s]: V, V1,V2,... or START:STOP:STEP with STOP included; the "
+        f"option repeats (at most {MAX_SPEEDS} speeds in all, each at most 10 m/s)",
     )
     add_robot(parser)
     parser.add_argument("--family", default=DEFAULT_FAMILY, metavar="NAME", help=SWING_FAMILY_HELP)
@@ -188,7 +202,7 @@ def run(args: argparse.Namespace) -> int:
 
     if args.workers is not None and args.scheduler is not None:
         raise ConfigError("give --workers or --scheduler, not both")
-    speeds = parse_speeds(args.speed)
+    speeds = all_speeds(args.speed)
     _check_family(args.family)
     robot: Robot = load_robot(args)
     study = speed_study(
