@@ -19,7 +19,7 @@ import re
 import sys
 import warnings
 from collections.abc import Sequence
-from typing import NoReturn
+from typing import Any, NoReturn
 
 from scalf_opt import __version__
 from scalf_opt.cli.commands import COMMANDS
@@ -30,8 +30,33 @@ from scalf_opt.files import output_set, remove_stale_scratch
 from scalf_opt.interrupts import raise_if_stopped, stop_code, stop_on_signals
 
 
+class _StoreOnce(argparse._StoreAction):
+    """An option that takes one value: given twice is an error, not the last value kept."""
+
+    def __call__(
+        self,
+        parser: argparse.ArgumentParser,
+        namespace: argparse.Namespace,
+        values: str | Sequence[Any] | None,
+        option_string: str | None = None,
+    ) -> None:
+        given = namespace.__dict__.setdefault("_options_given", set())
+        if self.dest in given:
+            raise argparse.ArgumentError(self, "given more than once: give it once")
+        given.add(self.dest)
+        super().__call__(parser, namespace, values, option_string)
+
+
 class Parser(argparse.ArgumentParser):
-    """argparse with its errors on one line: what is wrong, a close match, where help is."""
+    """argparse with its errors on one line: what is wrong, a close match, where help is.
+
+    An option that takes one value may be given once (argparse keeps the last silently).
+    """
+
+    def __init__(self, *args: object, **kwargs: object) -> None:
+        super().__init__(*args, **kwargs)  # type: ignore[arg-type]
+        self.register("action", None, _StoreOnce)
+        self.register("action", "store", _StoreOnce)
 
     def error(self, message: str) -> NoReturn:
         """Print ``scalf-opt: error: ...`` on one line and exit with code 2."""

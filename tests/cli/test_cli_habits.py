@@ -166,6 +166,10 @@ def test_the_api_gives_the_command_line_s_numbers(tmp_path, capsys):
         (["evaluate", "--robot", "hyqq"], "did you mean 'hyq'?"),
         (["evaluate", "--perid", "0.4"], "did you mean '--period'?"),
         (["evaluate", "--period", "x"], "argument --period: invalid float value: 'x'"),
+        # argparse would keep the last value silently: LH alone, for a user who asked for two
+        (["optimize", "--leg", "RF", "--leg", "LH"], "argument --leg: given more than once"),
+        (["evaluate", "--robot", "a1", "--robot=go1"], "argument --robot: given more than once"),
+        (["evaluate", "--rate", "100", "--ra", "200"], "argument --rate: given more than once"),
     ],
 )
 def test_a_typo_is_one_line_with_a_suggestion(argv, expected, capsys):
