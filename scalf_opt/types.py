@@ -10,6 +10,7 @@ code agree on one list. :func:`check_choice` turns a wrong value into a one-line
 from __future__ import annotations
 
 import re
+from collections.abc import Sequence
 from typing import Any, Literal, TypeAlias, get_args
 
 from scalf_opt.errors import ConfigError
@@ -72,6 +73,34 @@ def check_choice(value: object, kind: Any, field: str) -> str:
     if value not in allowed:
         raise ConfigError(f"{field} = {value!r} is not one of {', '.join(allowed)}", field=field)
     return str(value)
+
+
+def leg_tuple(legs: str | Sequence[str], field: str = "legs") -> tuple[str, ...]:
+    """Legs as a user gives them, in :data:`LEG_NAMES`' spelling.
+
+    One name or ``pair`` (RF and LH), or a sequence of names; any case, each leg once.
+
+    Raises:
+        ConfigError: An unknown leg (the message names ``field`` and the legs), a leg twice, or
+            no leg.
+    """
+    given = [legs] if isinstance(legs, str) else list(legs)
+    if len(given) == 1 and isinstance(given[0], str) and given[0].upper() == "PAIR":
+        return FIRST_PAIR
+    names = []
+    for leg in given:
+        name = leg.upper() if isinstance(leg, str) else leg
+        if name not in LEG_NAMES:
+            raise ConfigError(
+                f"{field}: unknown leg {leg!r} (legs: {', '.join(LEG_NAMES)}, or pair)",
+                field=field,
+            )
+        if name in names:
+            raise ConfigError(f"{field}: leg {name} given twice", field=field)
+        names.append(name)
+    if not names:
+        raise ConfigError(f"{field}: no leg given", field=field)
+    return tuple(names)
 
 
 _NOT_IDENTIFIER = re.compile(r"[^A-Za-z0-9]+")

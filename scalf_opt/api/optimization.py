@@ -43,7 +43,7 @@ from scalf_opt.optimize.driver import Settings, SwingOptimization, check_bounded
 from scalf_opt.optimize.free_stance import FreeStance, optimize_stance
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, PatternSearchSolver, solver
-from scalf_opt.types import FIRST_PAIR, Accounting, Method
+from scalf_opt.types import FIRST_PAIR, Accounting, Method, leg_tuple
 
 Progress = Callable[[str], None]
 """Called with a short label as each step of a long computation starts."""
@@ -162,7 +162,7 @@ def optimize_swing(
     *,
     family: str = DEFAULT_FAMILY,
     method: Method = DEFAULT_SOLVER,
-    legs: Sequence[str] = FIRST_PAIR,
+    legs: str | Sequence[str] = FIRST_PAIR,
     accounting: Accounting = "paper",
     precision: float | None = None,
     starts: int = 1,
@@ -187,7 +187,8 @@ def optimize_swing(
             free-trajectory bound (dense B-splines refined until the energy converges).
         method: A solver of :data:`~scalf_opt.optimize.solvers.SOLVERS`: ``ipopt`` or
             ``pattern`` (the paper's pattern search).
-        legs: Legs to optimize; a leg not given takes its twin's optimum, else the reference.
+        legs: Legs to optimize: names (any case) or one name, ``pair`` for RF and LH; a leg not
+            given takes its twin's optimum, else the reference.
         accounting: Power accounting.
         precision: Pattern-search precision (default 0.1, the paper's); only for ``pattern``.
         starts: Deterministic starts per leg (the first is the default start; the best is kept).
@@ -210,7 +211,7 @@ def optimize_swing(
             that do not go together.
     """
     chosen = solver(method)
-    legs = tuple(legs)
+    legs = leg_tuple(legs)
     if precision is not None and not isinstance(chosen, PatternSearchSolver):
         raise ConfigError(
             "the precision applies to the pattern search only (method 'pattern')",
