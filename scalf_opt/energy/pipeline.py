@@ -29,6 +29,7 @@ from scalf_opt.energy.phase import PhaseResult, PhaseSamples, evaluate_phase
 from scalf_opt.energy.physics import LegPhysics
 from scalf_opt.energy.robot_physics import RobotPhysics
 from scalf_opt.energy.workspace import check_workspace
+from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.stance import stance_forces, stance_path
 from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
@@ -68,6 +69,12 @@ class EnergyPipeline:
     loads: str = DEFAULT_LOADS
 
     def __post_init__(self) -> None:
+        if not isinstance(self.gait, Gait):  # a user's dict of fields, say: name the remedy
+            raise ConfigError(
+                f"gait must be a Gait (read_gait(robot=..., **fields) builds one), got "
+                f"{type(self.gait).__name__}",
+                field="gait",
+            )
         power_accounting(self.accounting)
         stance_loads(self.loads)
         if self.model is None:

@@ -87,7 +87,9 @@ class Settings:
     def __post_init__(self) -> None:
         solver(self.method)  # a name no solver has: ConfigError
         if isinstance(self.starts, bool) or not isinstance(self.starts, int) or self.starts < 1:
-            raise ConfigError(f"--starts must be an integer >= 1, got {self.starts!r}")
+            raise ConfigError(
+                f"the number of starts must be an integer >= 1, got {self.starts!r}", field="starts"
+            )
 
     @property
     def solver_options(self) -> SolverOptions:

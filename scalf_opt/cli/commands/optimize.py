@@ -142,7 +142,7 @@ def check_family(name: str) -> None:
         make_family(name)
     except ConfigError as exc:
         close = difflib.get_close_matches(name, [FREE_FAMILY], n=1, cutoff=0.7)
-        if not close:
+        if not close or "did you mean" in str(exc):
             raise
         raise ConfigError(f"{exc}; did you mean {close[0]!r}?", field="family") from exc
 

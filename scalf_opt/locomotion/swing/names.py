@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import re
 
-from scalf_opt.errors import ConfigError
+from scalf_opt.errors import ConfigError, did_you_mean
 from scalf_opt.types import Space
 
 MIN_ORDER = 2
@@ -36,9 +36,19 @@ def parse_fourier_name(name: str) -> tuple[Space, int]:
     """
     match = _FAMILY_PATTERN.match(name)
     if not match:
+        known = [
+            "reference",
+            "paper",
+            *(
+                f"{kind}-{n}"
+                for kind in ("joint", "fourier")
+                for n in range(MIN_ORDER, MAX_ORDER + 1)
+            ),
+        ]
         raise ConfigError(
             f"unknown family {name!r}: use reference, paper, fourier-N (foot space) or "
-            f"joint-N (joint space) with N in {MIN_ORDER}..{MAX_ORDER}",
+            f"joint-N (joint space) with N in {MIN_ORDER}..{MAX_ORDER}"
+            f"{did_you_mean(str(name), known)}",
             field="family",
         )
     order = int(match.group(2))

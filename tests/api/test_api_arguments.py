@@ -1,5 +1,5 @@
-"""The API takes legs as the command line does: a name in any case, ``pair``, or several names;
-anything else is a one-line :class:`ConfigError` that names ``legs`` before any work starts."""
+"""The API takes legs as the command line does (a name in any case, ``pair``, or names) and
+names every other wrong argument: a one-line :class:`ConfigError` before any work starts."""
 
 import pytest
 
@@ -35,3 +35,15 @@ def test_optimize_swing_checks_its_legs_first():
     robot = so.load_robot("scalf")
     with pytest.raises(ConfigError, match="legs: unknown leg 'RX'"):
         so.optimize_swing(robot, legs=("RX",))
+
+
+def test_other_wrong_arguments_are_named_too():
+    robot = so.load_robot("scalf")
+    with pytest.raises(ConfigError, match="did you mean 'joint-6'") as info:
+        so.optimize_swing(robot, family="joint6")
+    assert info.value.field == "family"
+    with pytest.raises(ConfigError, match="the number of starts must be an integer >= 1, got 0"):
+        so.optimize_swing(robot, starts=0)
+    with pytest.raises(ConfigError, match=r"gait must be a Gait \(read_gait\(robot=") as info:
+        so.evaluate(robot, {"period_s": 0.5})
+    assert info.value.field == "gait"
