@@ -14,6 +14,7 @@ from scalf_opt.io.provenance import provenance
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.robot import Robot
 from scalf_opt.robots.loading import load_robot
+from scalf_opt.types import LEG_NAMES
 
 
 @dataclass(frozen=True)
@@ -30,6 +31,8 @@ class LogResult:
             or ``None``.
         joint_log: The log held joints of a robot without cylinders: its mechanical energy is
             ``sum |tau qd|`` and its ``friction_heat_j`` what the drives draw beyond it.
+        metered: The cylinders meter their own input power (valve-controlled, HyQ's): their
+            ``friction_heat_j`` is what they draw beyond ``sum |F v|``, not a friction heat.
     """
 
     robot: Robot
@@ -38,6 +41,14 @@ class LogResult:
     measured: Any = None
     plan: Any = None
     joint_log: bool = False
+    metered: bool = False
+
+    @property
+    def report_kind(self) -> str:
+        """The words of its report: ``joint``, ``metered cylinder`` or ``cylinder``."""
+        if self.joint_log:
+            return "joint"
+        return "metered cylinder" if self.metered else "cylinder"
 
     @property
     def average_power_w(self) -> float:
@@ -158,6 +169,9 @@ def analyze_log(
         measured = replace(measured, analysis=analysis)
     else:
         measured = analyze_measured(log, pipeline, period_s)
+    metered = any(
+        not drive.charges_joint_power for leg in LEG_NAMES for drive in pipeline.physics(leg).drives
+    )
     return LogResult(
         robot,
         measured.analysis,
@@ -165,4 +179,5 @@ def analyze_log(
         measured,
         comparison,
         isinstance(log, JointLog),
+        metered and not isinstance(log, JointLog),
     )

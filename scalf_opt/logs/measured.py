@@ -91,8 +91,9 @@ def leg_mechanical_power_w(
     """Mechanical power ``sum_j |F_j v_j|`` and the drives' loss rate [W] of each sample, (n,).
 
     ``speed_m_s`` [m/s] when given, else the lengths' derivative by the analysis's filter. The
-    loss rate is the model's at that state (angle from the length, torque and rate through the
-    moment arm: SCalf's cylinder friction heat), as the analysis charges it.
+    loss rate is what the drives' model draws at that state beyond the joints' mechanical power
+    (angle from the length, torque and rate through the moment arm: SCalf's cylinder friction
+    heat, a valve-controlled cylinder's throttling), as the analysis charges it.
     """
     cylinders = leg_cylinders(pipeline, leg)
     t = data.t_s
@@ -106,8 +107,11 @@ def leg_mechanical_power_w(
     if speed_m_s is None:
         half = half_window_samples(1.0 / float(np.median(np.diff(t))), half_window_s, degree)
         speed_m_s = local_polynomial_derivative(t, data.length_m, half, degree)
-    _, loss = charged_power(pipeline, leg, theta, speed_m_s / arm, data.force_n * arm)
-    return np.abs(data.force_n * speed_m_s).sum(axis=0), loss
+    theta_dot, tau = speed_m_s / arm, data.force_n * arm
+    drawn, _ = charged_power(pipeline, leg, theta, theta_dot, tau)
+    # beyond the joints' mechanical power, as the log analysis charges it: a valve-controlled
+    # cylinder's whole draw (supply pressure x flow) is its "loss", which |F v| would count twice
+    return np.abs(data.force_n * speed_m_s).sum(axis=0), drawn - np.abs(tau * theta_dot).sum(axis=0)
 
 
 def _stance_mask(log_leg: LegLog, pipeline: EnergyPipeline, leg: str, period_s: float) -> Any:

@@ -35,6 +35,15 @@ _WORDS = {
         "total": "with the cylinders' friction heat (the model's Stribeck law at the measured "
         "velocity)",
     },
+    "metered cylinder": {
+        "log": "cylinder log",
+        "velocity": "cylinder velocity",
+        "measured": "the log's own (measured speeds, no filter)",
+        "power": "sum |F v|",
+        "loss": "drive beyond",
+        "total": "drawn by the drives (their model at the measured state: valve-controlled "
+        "cylinders draw supply pressure x flow)",
+    },
     "joint": {
         "log": "joint log",
         "velocity": "joint velocity",
@@ -44,8 +53,9 @@ _WORDS = {
         "total": "drawn by the drives (their model at the measured state)",
     },
 }
-"""The words of the two kinds of log: a cylinder log and a joint log (a robot without
-cylinders, :mod:`scalf_opt.logs.joint_log`)."""
+"""The words of the kinds of log: a cylinder log (of cylinders whose friction heat the drives
+add, SCalf's; or of cylinders that meter their own input power, valve-controlled ones) and a joint
+log (a robot without cylinders, :mod:`scalf_opt.logs.joint_log`)."""
 
 
 def log_report(
@@ -54,7 +64,8 @@ def log_report(
     """Per leg and phase the mechanical energy per cycle; the robot's average power.
 
     ``velocity_source`` is ``measured`` when the log's own speeds were used; ``kind`` is
-    ``cylinder`` or ``joint``.
+    ``cylinder``, ``metered cylinder`` or ``joint`` (:attr:`~scalf_opt.api.logs.LogResult
+    .report_kind`).
     """
     words = _WORDS[kind]
     first = analysis.as_dict()

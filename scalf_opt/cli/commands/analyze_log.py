@@ -134,8 +134,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     )
     written = [result.write_figure(args.figure)] if args.figure is not None else []
     source = result.measured.velocity_source if result.measured is not None else "filter"
-    kind = "joint" if result.joint_log else "cylinder"
-    args.console.text(log_report(result.analysis, source, kind).rstrip("\n"))
+    args.console.text(log_report(result.analysis, source, result.report_kind).rstrip("\n"))
     data = result.to_dict()
     if "plan_comparison" in data:
         args.console.text(plan_report(data["plan_comparison"]))
