@@ -14,6 +14,7 @@ from typing import TYPE_CHECKING, Any
 from scalf_opt.energy.accounting import ACCOUNTINGS, PAPER_ACCOUNTING
 from scalf_opt.energy.loads import DEFAULT_LOADS, LOAD_MODELS
 from scalf_opt.errors import ConfigError, GaitError
+from scalf_opt.locomotion.gait import MAX_GAIT_LENGTH_M, MAX_PERIOD_S
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SOLVERS, solver_help
 from scalf_opt.robots.catalog import robot_names
 from scalf_opt.types import LEG_NAMES
@@ -43,13 +44,6 @@ def bounded(kind: type, high: float, low: float | None = None) -> Callable[[str]
     parse.__name__ = kind.__name__
     return parse
 
-
-MAX_GAIT_LENGTH_M = 10.0
-"""Largest step length, clearance or stance height an option accepts [m] (the reach limits
-them much further: a 10 m leg is no robot's)."""
-
-MAX_PERIOD_S = 60.0
-"""Longest gait period an option accepts [s]."""
 
 MAX_RATE_HZ = 100_000.0
 """Highest sample rate an option accepts [Hz] (a phase has at most 20,000 samples anyway)."""

@@ -36,6 +36,20 @@ energy has converged to 1e-4 relative long before (README, "How it is verified")
 MAX_CYCLES = 1000
 """Most cycles a gait may average over (they are identical; the paper averages 10)."""
 
+MAX_PERIOD_S = 60.0
+"""Longest gait period [s] (a gait file's, an option's)."""
+
+MAX_GAIT_LENGTH_M = 10.0
+"""Largest step length, clearance or stance height [m] (the reach limits them much further: a
+10 m leg is no robot's)."""
+
+_MAXIMA = {
+    "period_s": MAX_PERIOD_S,
+    "step_length_m": MAX_GAIT_LENGTH_M,
+    "clearance_m": MAX_GAIT_LENGTH_M,
+    "stance_height_m": MAX_GAIT_LENGTH_M,
+}
+
 
 @dataclass(frozen=True)
 class Gait:
@@ -210,3 +224,9 @@ def _positive(name: str, value: object) -> None:
     ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
     if not (ok and value > 0):  # type: ignore[operator]
         raise GaitError(f"gait field {name} = {value!r} must be a finite number > 0", field=name)
+    if name in _MAXIMA and value > _MAXIMA[name]:  # type: ignore[operator]
+        raise GaitError(
+            f"gait field {name} = {value!r} must be at most {_MAXIMA[name]:g} "
+            f"{'s' if name.endswith('_s') else 'm'}",
+            field=name,
+        )

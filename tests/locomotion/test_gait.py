@@ -56,6 +56,10 @@ def test_stance_velocity_is_the_derivative_of_the_position():
         ("sample_rate_hz", 0.0, "sample_rate_hz"),
         ("sample_rate_hz", 10.0, "too low"),
         ("cycles", 0, "cycles"),
+        # the command line's bounds hold for files and the API too (a period of 1e300 s was
+        # blamed on the sample rate)
+        ("period_s", 1e300, r"period_s = 1e\+300 must be at most 60 s"),
+        ("clearance_m", 11.0, "clearance_m = 11.0 must be at most 10 m"),
     ],
 )
 def test_impossible_gaits_name_the_field(field, value, match):

@@ -4,14 +4,8 @@ from __future__ import annotations
 
 import argparse
 
-from scalf_opt.cli.options import (
-    GAIT_OPTIONS,
-    MAX_GAIT_LENGTH_M,
-    add_leg,
-    add_robot,
-    bounded,
-    load_robot,
-)
+from scalf_opt.cli.options import GAIT_OPTIONS, add_leg, add_robot, bounded, load_robot
+from scalf_opt.locomotion.gait import MAX_GAIT_LENGTH_M
 
 NAME = "model"
 HELP = "print a leg's parameters as Pinocchio sees them"
