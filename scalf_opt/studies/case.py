@@ -30,6 +30,7 @@ from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ModelError, ScalfError
 from scalf_opt.files import read_untrusted, scratch_folder
+from scalf_opt.io.study_columns import RESULT_COLUMNS
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.locomotion.swing.registry import make_family
@@ -40,7 +41,6 @@ from scalf_opt.optimize.driver import Settings, optimize_swings
 from scalf_opt.optimize.gait_search import optimize_gait
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.robots.variants import VariantScales, derive_variant
-from scalf_opt.studies.columns import RESULT_COLUMNS
 from scalf_opt.studies.gait_case import gait_details, gait_row
 from scalf_opt.studies.study_file import Case
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES

@@ -25,6 +25,7 @@ from scalf_opt.files import scratch_folder, write_atomic
 from scalf_opt.interrupts import raise_if_stopped
 from scalf_opt.io.results import rows_csv_text, to_json
 from scalf_opt.io.saved import read_json
+from scalf_opt.io.study_columns import RESULT_COLUMNS
 from scalf_opt.studies.case import (
     STATUS_ERROR,
     STATUS_OK,
@@ -32,7 +33,6 @@ from scalf_opt.studies.case import (
     check_setup,
     run_case,
 )
-from scalf_opt.studies.columns import RESULT_COLUMNS
 from scalf_opt.studies.gait_case import GAIT_COLUMNS
 from scalf_opt.studies.progress import Progress
 from scalf_opt.studies.study_file import Case, Study

@@ -45,6 +45,7 @@ from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.loads import DEFAULT_LOADS, stance_loads
 from scalf_opt.errors import ConfigError, did_you_mean
 from scalf_opt.files import read_toml
+from scalf_opt.io.study_columns import RESULT_COLUMNS
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
@@ -52,7 +53,6 @@ from scalf_opt.optimize.gait_search import check_speed
 from scalf_opt.optimize.solvers import solver
 from scalf_opt.robots.catalog import robot_names
 from scalf_opt.robots.variants import VariantScales
-from scalf_opt.studies.columns import RESULT_COLUMNS
 from scalf_opt.types import LEG_NAMES
 
 SETTINGS = ("robot", "family", "method", "accounting", "loads")

@@ -20,19 +20,11 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
+from scalf_opt.io.study_columns import RESULT_COLUMNS
 from scalf_opt.viz.plotting import fitted_title
 
-_RESULT_KEYS = {
-    "case",
-    "status",
-    "robot",
-    "speed_m_s",
-    "total_mass_kg",
-    "thigh_length_m",
-    "shank_length_m",
-    "thigh_to_shank",
-    "error",
-}
+_RESULT_KEYS = frozenset({"case", *RESULT_COLUMNS})
+"""The columns that are results, not swept values."""
 
 
 _UNITS = (

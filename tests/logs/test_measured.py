@@ -27,6 +27,15 @@ def log(pipeline):
     return model_log(pipeline, REFERENCE_SWINGS, 400.0, cycles=3)
 
 
+def with_speeds(data):
+    """The log with speeds: second-order differences of its lengths."""
+    legs = {}
+    for leg, d in data.legs.items():
+        speed = np.vstack([np.gradient(d.length_m[j], d.t_s, edge_order=2) for j in range(2)])
+        legs[leg] = MeasuredLegLog(d.t_s, d.length_m, d.force_n, d.contact, d.rows, speed)
+    return CylinderLog(data.source, legs)
+
+
 def test_without_speeds_it_is_the_log_analysis(pipeline, log):
     """|F v| summed per joint is the model's |tau qd|: the same energies to round-off."""
     theirs = analyze_log(log[0], pipeline)
@@ -50,11 +59,7 @@ def test_exact_speeds_beat_the_filter(pipeline, log):
     jumps at touch-down, the differences across that kink err by up to 0.6 % and the filter,
     which smooths the jump, comes as close."""
     data, cycle = log
-    legs = {}
-    for leg, d in data.legs.items():
-        speed = np.vstack([np.gradient(d.length_m[j], d.t_s, edge_order=2) for j in range(2)])
-        legs[leg] = MeasuredLegLog(d.t_s, d.length_m, d.force_n, d.contact, d.rows, speed)
-    measured = analyze_measured(CylinderLog(data.source, legs), pipeline)
+    measured = analyze_measured(with_speeds(data), pipeline)
     filtered = analyze_measured(data, pipeline)
     assert measured.velocity_source == "measured"
     for leg in LEG_NAMES:
@@ -75,11 +80,7 @@ def test_valve_controlled_cylinders_are_charged_once(hyq):
     pipeline = EnergyPipeline(hyq, read_gait(robot=hyq), loads="trunk")
     data, cycle = model_log(pipeline, REFERENCE_SWINGS, 400.0, cycles=3)
     theirs = analyze_log(data, pipeline)
-    legs = {}
-    for leg, d in data.legs.items():
-        speed = np.vstack([np.gradient(d.length_m[j], d.t_s, edge_order=2) for j in range(2)])
-        legs[leg] = MeasuredLegLog(d.t_s, d.length_m, d.force_n, d.contact, d.rows, speed)
-    measured = analyze_measured(CylinderLog(data.source, legs), pipeline)
+    measured = analyze_measured(with_speeds(data), pipeline)
     filtered = analyze_measured(data, pipeline)
     for leg in LEG_NAMES:
         assert filtered.analysis.legs[leg].friction_heat_j == pytest.approx(

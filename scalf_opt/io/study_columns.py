@@ -1,4 +1,8 @@
-"""The columns of a study's ``results.csv`` that every case fills, whatever the study sweeps."""
+"""The columns of a study's ``results.csv`` that every case fills, whatever the study sweeps.
+
+The study file's reader checks its plot's x against them, the runner writes them, the study
+figure tells them from the swept columns.
+"""
 
 from __future__ import annotations
 
