@@ -25,21 +25,20 @@ def _phases(analysis: LogAnalysis) -> str:
     )
 
 
+_CYLINDER_WORDS = {
+    "log": "cylinder log",
+    "velocity": "cylinder velocity",
+    "measured": "the log's own (measured speeds, no filter)",
+    "power": "sum |F v|",
+    "loss": "friction heat",
+    "total": "with the cylinders' friction heat (the model's Stribeck law at the measured "
+    "velocity)",
+}
+
 _WORDS = {
-    "cylinder": {
-        "log": "cylinder log",
-        "velocity": "cylinder velocity",
-        "measured": "the log's own (measured speeds, no filter)",
-        "power": "sum |F v|",
-        "loss": "friction heat",
-        "total": "with the cylinders' friction heat (the model's Stribeck law at the measured "
-        "velocity)",
-    },
+    "cylinder": _CYLINDER_WORDS,
     "metered cylinder": {
-        "log": "cylinder log",
-        "velocity": "cylinder velocity",
-        "measured": "the log's own (measured speeds, no filter)",
-        "power": "sum |F v|",
+        **_CYLINDER_WORDS,
         "loss": "drive beyond",
         "total": "drawn by the drives (their model at the measured state: valve-controlled "
         "cylinders draw supply pressure x flow)",
