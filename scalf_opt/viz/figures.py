@@ -18,10 +18,15 @@ matplotlib.use("Agg")  # files only: no display needed
 import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
+from matplotlib.patches import Patch
+from matplotlib.ticker import MaxNLocator
 
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.files import write_with
 from scalf_opt.optimize.solve import SwingOptimum
+
+LEG_COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728")
+"""One colour per leg of Figure 8, its line and its feasibility phase's hollow points."""
 
 
 def save_atomic(fig: Figure, path: Path) -> Path:
@@ -37,20 +42,53 @@ def save_atomic(fig: Figure, path: Path) -> Path:
 
 
 def pattern_search_figure(optima: Mapping[str, SwingOptimum]) -> Figure:
-    """C1, C2 and swing energy of the accepted points against the iteration (Figure 8)."""
+    """C1, C2 and swing energy of the accepted points against the iteration (Figure 8).
+
+    A search started where a constraint is violated first minimizes the violation (its
+    feasibility phase): its points are drawn hollow in the parameters' panels over a shaded
+    span, where no energy is defined yet.
+    """
     fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
-    for (leg, optimum), style in zip(optima.items(), ("-o", "--s", "-.^", ":v"), strict=False):
+    ends = []  # each leg's last iteration of its feasibility phase
+    styles = ("-o", "--s", "-.^", ":v")
+    for (leg, optimum), style, color in zip(optima.items(), styles, LEG_COLORS, strict=False):
         history = np.array(optimum.history)
+        phase1 = np.array(optimum.feasibility_history, dtype=float).reshape(-1, 4)
         for ax, column, label in zip(
             axes, (1, 2, 3), ("C1 [deg]", "C2 [deg]", "swing energy [J]"), strict=True
         ):
-            ax.plot(history[:, 0], history[:, column], style, ms=3, label=leg)
+            if phase1.size and column < 3:
+                ax.plot(
+                    phase1[:, 0], phase1[:, column], ":" + style[-1], ms=3, mfc="white", color=color
+                )
+            ax.plot(history[:, 0], history[:, column], style, ms=3, color=color, label=leg)
             ax.set_ylabel(label)
             ax.grid(True, alpha=0.3)
+        if phase1.size:
+            ends.append(float(phase1[-1, 0]))
+    feasibility_end = min(ends, default=0.0)  # where no leg has an energy yet
+    if feasibility_end > 0.0:
+        for ax in axes:
+            ax.axvspan(0.0, feasibility_end, color="#808080", alpha=0.12, lw=0)
+        axes[-1].text(
+            0.5 * feasibility_end,
+            0.5,
+            "feasibility phase:\nno energy yet",
+            transform=axes[-1].get_xaxis_transform(),
+            ha="center",
+            va="center",
+            fontsize=8,
+            color="#404040",
+        )
     axes[0].set_title("Pattern search on the paper family (accepted points)")
-    axes[-1].set_xlabel("iteration")
-    axes[0].legend()
-    fig.tight_layout()
+    axes[-1].set_xlabel("iteration [count]")
+    axes[-1].xaxis.set_major_locator(MaxNLocator(integer=True))
+    handles, labels = axes[0].get_legend_handles_labels()
+    if feasibility_end > 0.0:
+        handles.append(Patch(color="#808080", alpha=0.25))
+        labels.append("feasibility phase (hollow: minimizing the constraint violation)")
+    fig.legend(handles, labels, fontsize=8, loc="lower center", ncol=len(handles))
+    fig.tight_layout(rect=(0.0, 0.04, 1.0, 1.0))  # room for the legend below the panels
     return fig
 
 

@@ -20,6 +20,7 @@ from scalf_opt.studies.search import search_study
 from scalf_opt.viz.cycle_figures import foot_force_figure, joint_figure
 from scalf_opt.viz.energy_figure import energy_bars_figure
 from scalf_opt.viz.figure_set import FIGURE_NAMES, write_figures
+from scalf_opt.viz.figures import pattern_search_figure
 from scalf_opt.viz.plotting import close, save_figure
 from scalf_opt.viz.search_figure import search_figure
 from scalf_opt.viz.stick_figure import foot_path_figure, leg_snapshot_figure
@@ -135,6 +136,25 @@ def test_pattern_search_figure_shows_both_phases_and_levels(scalf_study):
         search = scalf_study[leg]
         assert round(search.reference_swing_j, 9) in levels
         assert round(search.ipopt.swing_energy_j, 9) in levels
+    close(fig)
+
+
+def test_figure_8_shows_the_feasibility_phase_too(scalf_study):
+    """The paper's Figure 8 (``paper``'s ``pattern_search.png``): from the infeasible start
+    (0, 0) its parameters' panels start at iteration 0 with the feasibility phase's points, over
+    a shaded span where no energy exists (it began at the energy phase's first iteration)."""
+    optima = {leg: search.pattern for leg, search in scalf_study.items()}
+    fig = pattern_search_figure(optima)
+    c1, _, energy = fig.axes
+    for optimum in optima.values():
+        phase1 = np.array(optimum.feasibility_history)
+        assert phase1.shape[0] > 1 and phase1[0, 0] == 0.0
+    assert min(line.get_xdata()[0] for line in c1.get_lines()) == 0.0
+    first = min(optimum.history[0][0] for optimum in optima.values())
+    assert first > 0 and min(line.get_xdata()[0] for line in energy.get_lines()) == first
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert labels[:2] == ["RF", "LH"] and labels[2].startswith("feasibility phase")
+    assert all(len(ax.patches) == 1 for ax in fig.axes)  # the shaded span, in every panel
     close(fig)
 
 
