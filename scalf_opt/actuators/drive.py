@@ -58,12 +58,15 @@ class Drive:
         channels: The outputs :meth:`outputs` returns, in order.
         charges_joint_power: The joint's mechanical power ``tau qd`` is drawn (through the
             accounting) in addition to :meth:`loss_rate`.
+        power_text: What a drive that does not charge the joint power draws, in words, for
+            reports (its :meth:`loss_rate` is all it draws).
     """
 
     joint_name: str
     kind: ClassVar[str] = "drive"
     channels: ClassVar[tuple[Channel, ...]] = ()
     charges_joint_power: ClassVar[bool] = True
+    power_text: ClassVar[str] = ""
 
     def outputs(self, q: Expr, qd: Expr, tau: Expr) -> dict[str, Expr]:
         """The drive's per-sample outputs, one scalar per channel (SI units)."""

@@ -90,6 +90,10 @@ class ElectricDrive(Drive):
         Channel("electric_power", "w", "electrical power at the motor, negative when generating"),
     )
     charges_joint_power: ClassVar[bool] = False
+    power_text: ClassVar[str] = (
+        "the electric motors' work with the joint friction plus their copper loss (none "
+        "recovered unless regenerative)"
+    )
 
     def friction_torque_nm(self, qd: Expr, max_fn: MaxFn = ca.fmax) -> Expr:
         """Joint friction torque ``tau_c sign(qd) + b qd`` [N m] (opposes the motion)."""

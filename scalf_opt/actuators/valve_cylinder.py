@@ -64,6 +64,7 @@ class ValveControlledCylinder(HydraulicCylinder):
         Channel("flow", "m3_s", "oil flow from the supply A_p max(v, 0) + A_a max(-v, 0)"),
     )
     charges_joint_power: ClassVar[bool] = False
+    power_text: ClassVar[str] = "supply pressure x flow of the valve-controlled cylinders"
 
     def __post_init__(self) -> None:
         if not 0.0 < self.annulus_area_m2 < self.piston_area_m2:

@@ -26,6 +26,7 @@ from scalf_opt.studies.paper import (
     unvalidated,
 )
 from scalf_opt.studies.paper_data import is_paper_setup
+from scalf_opt.types import LEG_NAMES
 from scalf_opt.viz.figures import pattern_search_figure, save_atomic, swing_figure
 
 
@@ -94,7 +95,20 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         if compare
         else f"# The paper's comparison (Tables 5 and 6) on {robot.name}"
     )
-    power = "`|tau qd| + |F_f v|`" if compare else "`|tau qd|` plus the drives' losses"
+    metered = sorted(
+        {
+            drive.power_text
+            for leg in LEG_NAMES
+            for drive in rep.pipeline.physics(leg).drives
+            if not drive.charges_joint_power
+        }
+    )
+    if compare:
+        power = "`|tau qd| + |F_f v|`"
+    elif metered:  # such drives meter their own input power: the accounting is not theirs
+        power = "drawn by the drives: " + " and ".join(metered)
+    else:
+        power = "`|tau qd|` plus the drives' losses"
     lines = [
         title,
         "",

@@ -140,6 +140,9 @@ def test_paper_on_another_robot_does_not_borrow_scalf_s_story(tmp_path, capsys):
     assert report.startswith("# The paper's comparison (Tables 5 and 6) on hyq")
     for scalf_only in ("SCalf paper", "671.52", "-33.76", "z0 (0.75"):
         assert scalf_only not in report
+    # its valve-controlled cylinders meter their own power: the accounting's |tau qd| is not it
+    assert "power drawn by the drives: supply pressure x flow of the valve-controlled" in report
+    assert "|tau qd|` plus the drives' losses" not in report
     history = json.loads((tmp_path / "paper.json").read_text())["optima"]["pattern"]["RF"][
         "history"
     ]
