@@ -143,7 +143,7 @@ def analyze_log(
     if period_s is not None and not period_s > 0:
         raise ConfigError(f"the period must be > 0, got {period_s}", field="period_s")
     if signals is not None and signals not in ("joints", "cylinders"):
-        raise ConfigError(f"signals must be joints or cylinders, got {signals!r}")
+        raise ConfigError(f"signals must be joints or cylinders, got {signals!r}", field="signals")
     robot = robot or load_robot("scalf")
     comparison = None
     if plan is not None:

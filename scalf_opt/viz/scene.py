@@ -60,15 +60,20 @@ class SceneOptions:
 
     def __post_init__(self) -> None:
         if isinstance(self.n_cycles, bool) or not isinstance(self.n_cycles, int):
-            raise ConfigError(f"cycles must be an integer, got {self.n_cycles!r}")
+            raise ConfigError(f"cycles must be an integer, got {self.n_cycles!r}", field="cycles")
         if not 1 <= self.n_cycles <= 50:
-            raise ConfigError(f"cycles must be in 1..50, got {self.n_cycles}")
+            raise ConfigError(f"cycles must be in 1..50, got {self.n_cycles}", field="cycles")
         if not 1.0 <= self.frame_rate_hz <= 1000.0:
             raise ConfigError(f"frame rate must be in [1, 1000] Hz, got {self.frame_rate_hz}")
         if self.color_by not in ("trajectory", "power"):
-            raise ConfigError(f"color by must be trajectory or power, got {self.color_by!r}")
+            raise ConfigError(
+                f"color by must be trajectory or power, got {self.color_by!r}", field="color_by"
+            )
         if not 0.01 <= self.playback_speed <= 100.0:
-            raise ConfigError(f"playback speed must be in [0.01, 100], got {self.playback_speed}")
+            raise ConfigError(
+                f"playback speed must be in [0.01, 100], got {self.playback_speed}",
+                field="playback_speed",
+            )
 
 
 @dataclass(frozen=True)
