@@ -84,7 +84,10 @@ def leg_tuple(legs: str | Sequence[str], field: str = "legs") -> tuple[str, ...]
         ConfigError: An unknown leg (the message names ``field`` and the legs), a leg twice, or
             no leg.
     """
-    given = [legs] if isinstance(legs, str) else list(legs)
+    try:
+        given = [legs] if isinstance(legs, str) else list(legs)
+    except TypeError:  # a number, None: not a leg nor a sequence of them
+        raise ConfigError(f"{field}: give a leg name or names, got {legs!r}", field=field) from None
     if len(given) == 1 and isinstance(given[0], str) and given[0].upper() == "PAIR":
         return FIRST_PAIR
     names = []

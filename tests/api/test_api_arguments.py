@@ -23,6 +23,7 @@ def test_legs_are_a_name_a_pair_or_names_in_any_case():
         (("RF", "rf"), "leg RF given twice"),
         ((), "no leg given"),
         ((1,), "unknown leg 1"),
+        (None, "give a leg name or names, got None"),
     ],
 )
 def test_a_wrong_leg_is_named(legs, match):
