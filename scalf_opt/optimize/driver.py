@@ -267,7 +267,8 @@ class SwingOptimization:
         if not self.converged_sampling and not parts:
             parts.append(f"the sampling by {self.rate_hz:g} Hz")
         if not self.alternation_settled and not parts:
-            parts.append(f"the legs' alternation (stopped after {self.rounds} rounds)")
+            rounds = f"{self.rounds} round{'' if self.rounds == 1 else 's'}"
+            parts.append(f"the legs' alternation (stopped after {rounds})")
         return ", ".join(parts)
 
     @property

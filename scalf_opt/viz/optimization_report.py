@@ -156,15 +156,21 @@ def optimization_report(run: SwingOptimization) -> str:
             f"whole optimization took {run.wall_time_s:.2f} s"
         )
     elif run.coupled:
-        settled = (
-            f"until a round changed the pair's energy by less than {ALTERNATION_RTOL:g} relative"
-            if run.alternation_settled
-            else "and stopped there, its energy still changing: NOT CONVERGED"
-        )
+        unsolved = [leg for leg, result in run.legs.items() if not result.best.success]
+        rounds = f"{run.rounds} round{'' if run.rounds == 1 else 's'}"
+        if unsolved:  # the alternation stops at a leg it could not solve
+            turns = f"stopped in round {run.rounds}, where {', '.join(unsolved)} was not solved"
+        elif run.alternation_settled:
+            turns = (
+                f"{rounds} until a round changed the pair's energy by less than "
+                f"{ALTERNATION_RTOL:g} relative"
+            )
+        else:
+            turns = f"{rounds} and stopped there, its energy still changing: NOT CONVERGED"
         lines.append(
             f"whole-body loads couple the legs (each swing loads the other's stance feet): "
-            f"solved in turn, {run.rounds} rounds {settled}; a leg's iterations and time below "
-            f"are its last solve's, the whole optimization took {run.wall_time_s:.2f} s"
+            f"solved in turn, {turns}; a leg's iterations and time below are its last solve's, "
+            f"the whole optimization took {run.wall_time_s:.2f} s"
         )
     for result in run.legs.values():
         lines += _leg_lines(result, run.settings.method, run.family.name)

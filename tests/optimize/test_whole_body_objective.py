@@ -8,6 +8,7 @@ prints), Ipopt's answer with the pattern search's, and the free stance's total w
 import numpy as np
 import pytest
 
+from scalf_opt.api.gaits import read_gait
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
@@ -140,8 +141,21 @@ def test_an_alternation_cut_short_is_not_converged(scalf, monkeypatch):
     run = optimize_swings(pipeline, ("RF", "LH"), make_family("paper"), Settings(method="pattern"))
     assert all(r.success for r in run.legs.values()) and run.converged_sampling
     assert not run.alternation_settled and not run.success
-    assert run.failure() == "the legs' alternation (stopped after 1 rounds)"
+    assert run.failure() == "the legs' alternation (stopped after 1 round)"
+    assert "solved in turn, 1 round and stopped there" in optimization_report(run)
     assert "NOT CONVERGED" in optimization_report(run)
+
+
+def test_an_alternation_stopped_by_a_leg_it_could_not_solve_says_so(hyq):
+    # HyQ's LH under whole-body loads: the pattern search's feasibility phase finds no
+    # feasible point of the paper family (Ipopt does); the alternation stops at that leg, and
+    # the report said it had settled ("1 rounds until a round changed the pair's energy ...")
+    pipeline = EnergyPipeline(hyq, read_gait(robot=hyq), loads="whole-body")
+    run = optimize_swings(pipeline, ("RF", "LH"), make_family("paper"), Settings(method="pattern"))
+    assert run.legs["RF"].success and not run.legs["LH"].success and not run.success
+    text = optimization_report(run)
+    assert "solved in turn, stopped in round 1, where LH was not solved;" in text
+    assert "until a round changed" not in text
 
 
 @pytest.mark.slow
