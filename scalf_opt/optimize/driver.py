@@ -261,14 +261,18 @@ class SwingOptimization:
             and all(r.success for r in self.legs.values())
         )
 
+    @property
+    def rounds_text(self) -> str:
+        """``1 round``, ``3 rounds``: the alternation's rounds in words."""
+        return f"{self.rounds} round{'' if self.rounds == 1 else 's'}"
+
     def failure(self) -> str:
         """What did not converge, in one phrase ('' when everything did)."""
         parts = [f"{r.leg} ({r.best.status})" for r in self.legs.values() if not r.success]
         if not self.converged_sampling and not parts:
             parts.append(f"the sampling by {self.rate_hz:g} Hz")
         if not self.alternation_settled and not parts:
-            rounds = f"{self.rounds} round{'' if self.rounds == 1 else 's'}"
-            parts.append(f"the legs' alternation (stopped after {rounds})")
+            parts.append(f"the legs' alternation (stopped after {self.rounds_text})")
         return ", ".join(parts)
 
     @property

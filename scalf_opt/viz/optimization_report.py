@@ -157,16 +157,15 @@ def optimization_report(run: SwingOptimization) -> str:
         )
     elif run.coupled:
         unsolved = [leg for leg, result in run.legs.items() if not result.best.success]
-        rounds = f"{run.rounds} round{'' if run.rounds == 1 else 's'}"
         if unsolved:  # the alternation stops at a leg it could not solve
             turns = f"stopped in round {run.rounds}, where {', '.join(unsolved)} was not solved"
         elif run.alternation_settled:
             turns = (
-                f"{rounds} until a round changed the pair's energy by less than "
+                f"{run.rounds_text} until a round changed the pair's energy by less than "
                 f"{ALTERNATION_RTOL:g} relative"
             )
         else:
-            turns = f"{rounds} and stopped there, its energy still changing: NOT CONVERGED"
+            turns = f"{run.rounds_text} and stopped there, its energy still changing: NOT CONVERGED"
         lines.append(
             f"whole-body loads couple the legs (each swing loads the other's stance feet): "
             f"solved in turn, {turns}; a leg's iterations and time below are its last solve's, "
