@@ -120,9 +120,9 @@ def fitted_rate(gait: Gait, rate_hz: float) -> tuple[float, int]:
             fine, or the duty cycle admits no such ``N`` below :data:`MAX_PATTERN`.
     """
     if isinstance(rate_hz, bool) or not isinstance(rate_hz, int | float):
-        raise ConfigError(f"the rate must be a number [Hz], got {rate_hz!r}", field="rate_hz")
+        raise ConfigError(f"the rate must be a number [Hz], got {rate_hz!r}", field="rate")
     if not (math.isfinite(rate_hz) and rate_hz > 0):
-        raise ConfigError(f"the rate must be a finite number > 0 Hz, got {rate_hz!r}")
+        raise ConfigError(f"the rate must be a finite number > 0 Hz, got {rate_hz!r}", field="rate")
     fractions = [gait.duty_cycle] + [TROT_PHASE_OFFSET[leg] for leg in LEG_NAMES]
     pattern = next(
         (m for m in range(1, MAX_PATTERN + 1) if all(_whole(f * m) is not None for f in fractions)),
