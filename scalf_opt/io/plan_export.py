@@ -141,13 +141,13 @@ def fitted_rate(gait: Gait, rate_hz: float) -> tuple[float, int]:
         raise ConfigError(
             f"a rate of {rate_hz:g} Hz is too coarse for the gait's phases: give at least "
             f"{least:g} Hz",
-            field="rate_hz",
+            field="rate",
         )
     if 2 * max(gait.duty_cycle, 1.0 - gait.duty_cycle) * n > MAX_SAMPLES_PER_PHASE:
         finest = MAX_SAMPLES_PER_PHASE / 2 / gait.stance_duration_s
         raise ConfigError(
             f"a rate of {rate_hz:g} Hz is finer than the {finest:g} Hz the gait's phases allow",
-            field="rate_hz",
+            field="rate",
         )
     return n / gait.period_s, n
 

@@ -190,8 +190,9 @@ def test_the_plans_mechanical_energy_is_its_pipelines(export):
 
 def test_bad_exports_are_refused_in_one_line(optimum, tmp_path, capsys):
     for argv, message in (
-        (["--rate", "10", "--out", str(tmp_path / "p.csv")], "give at least 16 Hz"),
-        (["--rate", "nan", "--out", str(tmp_path / "p.csv")], "finite number > 0"),
+        (["--rate", "10", "--out", str(tmp_path / "p.csv")], "--rate: a rate of 10 Hz is too"),
+        (["--rate", "nan", "--out", str(tmp_path / "p.csv")], "--rate: the rate must be a finite"),
+        (["--rate", "1e5", "--out", str(tmp_path / "p.csv")], "--rate: a rate of 100000 Hz is"),
         (["--rate", "100", "--out", str(tmp_path / "p.txt")], "unknown format '.txt'"),
         (["--rate", "100", "--out", str(tmp_path / "p.csv"), "--robot", "hyq"], "provenance"),
     ):
