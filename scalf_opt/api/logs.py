@@ -61,6 +61,8 @@ class LogResult:
         if self.measured is not None:
             data["velocity_source"] = self.measured.velocity_source
         data["log_kind"] = "joint" if self.joint_log else "cylinder"
+        # the cylinders draw supply pressure x flow: friction_heat_per_cycle_j is that beyond |F v|
+        data["drives_meter_their_power"] = self.metered
         if self.plan is not None:
             data["plan_comparison"] = self.plan.compare(self.analysis)
         return data

@@ -135,6 +135,7 @@ def test_a_valve_controlled_robot_s_report_says_what_its_drives_draw(hyq, tmp_pa
     path.write_text(log_csv_text(data))
     result = analyze_file(path, hyq)
     assert result.report_kind == "metered cylinder"
+    assert result.to_dict()["drives_meter_their_power"] is True
     text = log_report(result.analysis, "filter", result.report_kind)
     assert "drive beyond [J]" in text and "friction" not in text
     assert "W drawn by the drives" in text.splitlines()[-1]
