@@ -142,6 +142,11 @@ def search_pipeline(
     return shown if from_dirs else shown.with_gait(gait)
 
 
+def _one_or_many(given: str | Path | Sequence[str | Path]) -> tuple[str | Path, ...]:
+    """A path, or paths: one directory or format is not read letter by letter."""
+    return (given,) if isinstance(given, str | Path) else tuple(given)
+
+
 def _robot_and_gait(
     robot: str | Robot, gait: Gait | None, from_dirs: Sequence[str | Path]
 ) -> tuple[Robot, Gait]:
@@ -156,7 +161,7 @@ def _robot_and_gait(
 def view(
     out: str | Path = "scene.html",
     robot: str | Robot = "scalf",
-    from_dirs: Sequence[str | Path] = (),
+    from_dirs: str | Path | Sequence[str | Path] = (),
     gait: Gait | None = None,
     accounting: Accounting = "paper",
     options: SceneOptions | None = None,
@@ -168,8 +173,8 @@ def view(
     Args:
         out: The HTML file to write.
         robot: A catalog name (``scalf``, ``hyq``, ``solo12``, ...) or a loaded robot.
-        from_dirs: Result directories of ``scalf-opt optimize --out``; none: the reference and
-            the default optimum are computed.
+        from_dirs: Result directories of ``scalf-opt optimize --out`` (one or several); none:
+            the reference and the default optimum are computed.
         gait: The gait without ``from_dirs`` (default: the robot's).
         accounting: Power accounting without ``from_dirs``.
         options: Scene options (cycles, frame rate, colouring, playback speed).
@@ -183,6 +188,7 @@ def view(
     from scalf_opt.viz.view import check_output_file, write_scene_html
 
     check_output_file(out, ".html")
+    from_dirs = _one_or_many(from_dirs)
     loaded, base = _robot_and_gait(robot, gait, from_dirs)
     _, shown = shown_trajectories(loaded, base, from_dirs, accounting, progress, loads)
     return write_scene_html(out, loaded, shown, options), shown
@@ -191,10 +197,10 @@ def view(
 def figures(
     out: str | Path = "figures",
     robot: str | Robot = "scalf",
-    from_dirs: Sequence[str | Path] = (),
+    from_dirs: str | Path | Sequence[str | Path] = (),
     gait: Gait | None = None,
     accounting: Accounting = "paper",
-    formats: Sequence[str] | None = None,
+    formats: str | Sequence[str] | None = None,
     grid_points: int | None = None,
     progress: Progress | None = None,
     loads: str | None = None,
@@ -204,11 +210,11 @@ def figures(
     Args:
         out: Output directory.
         robot: A catalog name or a loaded robot.
-        from_dirs: Result directories of ``scalf-opt optimize --out``; none: the reference and
-            the default optimum.
+        from_dirs: Result directories of ``scalf-opt optimize --out`` (one or several); none:
+            the reference and the default optimum.
         gait: The gait without ``from_dirs`` (default: the robot's).
         accounting: Power accounting without ``from_dirs``.
-        formats: File formats (default: PNG and SVG).
+        formats: File formats, one or several (default: PNG and SVG).
         grid_points: Landscape points per parameter of the pattern-search figure (>= 3;
             default :data:`scalf_opt.studies.search.GRID_POINTS`).
         progress: Called with a label as each step starts.
@@ -227,9 +233,11 @@ def figures(
         raise ConfigError(
             f"the landscape grid needs at least 3 points, got {grid_points}", field="grid"
         )
+    from_dirs = _one_or_many(from_dirs)
     loaded, base = _robot_and_gait(robot, gait, from_dirs)
     pipeline, shown = shown_trajectories(loaded, base, from_dirs, accounting, progress, loads)
     if progress is not None:
         progress("the pattern search's landscape")
     search = search_study(search_pipeline(pipeline, base, from_dirs), grid_points=grid_points)
-    return write_figures(out, loaded, shown, search, formats or FORMATS), shown
+    chosen = tuple(str(f) for f in _one_or_many(formats)) if formats else FORMATS
+    return write_figures(out, loaded, shown, search, chosen), shown

@@ -48,3 +48,16 @@ def test_other_wrong_arguments_are_named_too():
     with pytest.raises(ConfigError, match=r"gait must be a Gait \(read_gait\(robot=") as info:
         so.evaluate(robot, {"period_s": 0.5})
     assert info.value.field == "gait"
+
+
+def test_one_result_directory_or_format_is_not_read_letter_by_letter(tmp_path):
+    # view(from_dirs="results/opt") looked for "r/summary.json"
+    robot = so.load_robot("solo12")
+    gait = so.read_gait(robot=robot, sample_rate_hz=150)
+    so.optimize_swing(robot, gait, family="paper", loads="trunk").write(tmp_path / "opt")
+    _, shown = so.view(tmp_path / "v.html", robot, from_dirs=str(tmp_path / "opt"))
+    assert [t.label for t in shown] == ["reference (cubic spline)", "opt (paper, ipopt)"]
+    files, _ = so.figures(
+        tmp_path / "figs", robot, from_dirs=tmp_path / "opt", formats="png", grid_points=3
+    )
+    assert files and {f.suffix for f in files} == {".png"}
