@@ -7,7 +7,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from scalf_opt.api.gaits import command_tuple, read_gait
+from scalf_opt.api.gaits import as_robot, command_tuple, read_gait
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.energy.peaks import CycleViolation, Peak, cycle_peaks, cycle_violations
@@ -89,7 +89,7 @@ class EvaluationResult:
 
 
 def evaluate(
-    robot: Robot,
+    robot: str | Robot,
     gait: Gait | None = None,
     *,
     accounting: Accounting = "paper",
@@ -113,6 +113,7 @@ def evaluate(
     Raises:
         ConfigError: The file is not an optimum of this robot, or the timing differs.
     """
+    robot = as_robot(robot)
     saved = None
     if swing is not None:
         saved = read_saved_swings(swing)

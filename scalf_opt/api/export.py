@@ -7,10 +7,9 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from scalf_opt.api.gaits import command_tuple
+from scalf_opt.api.gaits import as_robot, command_tuple
 from scalf_opt.io.provenance import provenance
 from scalf_opt.model.robot import Robot
-from scalf_opt.robots.loading import load_robot
 
 
 @dataclass(frozen=True)
@@ -52,7 +51,7 @@ class ExportResult:
 
 def export_plan(
     source: str | Path,
-    robot: Robot | None = None,
+    robot: str | Robot | None = None,
     *,
     rate_hz: float,
     cycles: int = 1,
@@ -79,6 +78,6 @@ def export_plan(
     from scalf_opt.io.plan_export import export_plan as sample
     from scalf_opt.io.saved import read_saved_swings
 
-    robot = robot or load_robot("scalf")
+    robot = as_robot(robot)
     saved = read_saved_swings(source)
     return ExportResult(robot, sample(robot, saved, rate_hz, cycles), command_tuple(command))

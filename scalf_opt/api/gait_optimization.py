@@ -16,7 +16,7 @@ from typing import Any
 
 import numpy as np
 
-from scalf_opt.api.gaits import command_tuple, read_gait
+from scalf_opt.api.gaits import as_robot, command_tuple, read_gait
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
@@ -148,7 +148,7 @@ class GaitResult:
 
 
 def optimize_gait(
-    robot: Robot,
+    robot: str | Robot,
     speed: float,
     *,
     family: str = DEFAULT_FAMILY,
@@ -182,6 +182,7 @@ def optimize_gait(
     Raises:
         ConfigError: A speed out of range, a family without parameters, an unknown load model.
     """
+    robot = as_robot(robot)
     swing_family = make_family(family)
     if swing_family.n_params == 0:
         raise ConfigError(f"family {family!r} has no free parameter to optimize", field="family")

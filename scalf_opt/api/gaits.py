@@ -16,9 +16,29 @@ VERBOSE_IPOPT: dict[str, Any] = {"print_level": 5}
 """Ipopt's own iteration log (``-v`` on the command line)."""
 
 
+def as_robot(robot: str | Robot | None, default: str = "scalf") -> Robot:
+    """A loaded robot as given, or a catalog robot's name (``"go1"``) loaded; ``None``: ``default``.
+
+    Raises:
+        ModelError: An unknown name (the message lists the catalog).
+        ConfigError: Neither a name nor a robot.
+    """
+    from scalf_opt.robots.loading import load_robot
+
+    if robot is None or isinstance(robot, str):
+        return load_robot(default if robot is None else robot)
+    if not isinstance(robot, Robot):
+        raise ConfigError(
+            f"robot must be a catalog robot's name or a loaded robot (load_robot), got "
+            f"{type(robot).__name__}",
+            field="robot",
+        )
+    return robot
+
+
 def read_gait(
     path: str | Path | None = None,
-    robot: Robot | None = None,
+    robot: str | Robot | None = None,
     base: Gait | None = None,
     **fields: float,
 ) -> Gait:
@@ -27,8 +47,8 @@ def read_gait(
     Args:
         path: A gait file (TOML, ``[gait]`` table); ``None`` for none.
         robot: Whose default gait is the base (the paper's trot scaled to its legs, at its
-            stance height, :func:`~scalf_opt.locomotion.scaling.default_gait_for`); ``None``:
-            the paper's trot.
+            stance height, :func:`~scalf_opt.locomotion.scaling.default_gait_for`; a robot or a
+            catalog name); ``None``: the paper's trot.
         base: The base gait instead of the robot's default (a saved optimum's gait).
         fields: Gait fields to set, e.g. ``period_s=0.4``.
 
@@ -39,7 +59,7 @@ def read_gait(
     unknown = sorted(set(fields) - set(Gait.field_names()))
     if unknown:
         raise ConfigError(Gait.unknown_field(unknown[0]))
-    gait = base or (default_gait_for(robot) if robot is not None else Gait())
+    gait = base or (default_gait_for(as_robot(robot)) if robot is not None else Gait())
     if path is not None:
         gait = read_gait_file(path, gait)
     return replace(gait, **fields) if fields else gait  # type: ignore[arg-type]

@@ -7,13 +7,12 @@ from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
-from scalf_opt.api.gaits import command_tuple, read_gait
+from scalf_opt.api.gaits import as_robot, command_tuple, read_gait
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
 from scalf_opt.io.provenance import provenance
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.robot import Robot
-from scalf_opt.robots.loading import load_robot
 from scalf_opt.types import LEG_NAMES
 
 
@@ -101,7 +100,7 @@ class LogResult:
 
 def analyze_log(
     path: str | Path,
-    robot: Robot | None = None,
+    robot: str | Robot | None = None,
     gait: Gait | None = None,
     *,
     period_s: float | None = None,
@@ -146,7 +145,7 @@ def analyze_log(
         raise ConfigError(f"the period must be > 0, got {period_s}", field="period_s")
     if signals is not None and signals not in ("joints", "cylinders"):
         raise ConfigError(f"signals must be joints or cylinders, got {signals!r}", field="signals")
-    robot = robot or load_robot("scalf")
+    robot = as_robot(robot)
     comparison = None
     if plan is not None:
         from scalf_opt.io.plan_export import export_plan, plan_rate_hz

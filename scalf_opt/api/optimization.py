@@ -14,7 +14,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from scalf_opt.api.gaits import VERBOSE_IPOPT, command_tuple, read_gait
+from scalf_opt.api.gaits import VERBOSE_IPOPT, as_robot, command_tuple, read_gait
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.limits import leg_bounds, violations
 from scalf_opt.energy.loads import DEFAULT_LOADS
@@ -157,7 +157,7 @@ class OptimizationResult:
 
 
 def optimize_swing(
-    robot: Robot,
+    robot: str | Robot,
     gait: Gait | None = None,
     *,
     family: str = DEFAULT_FAMILY,
@@ -210,6 +210,7 @@ def optimize_swing(
             precision with Ipopt or not > 0, an accounting with nothing to optimize, options
             that do not go together.
     """
+    robot = as_robot(robot)
     chosen = solver(method)
     legs = leg_tuple(legs)
     if precision is not None and not isinstance(chosen, PatternSearchSolver):

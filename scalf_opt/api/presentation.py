@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from scalf_opt.api.gaits import as_robot
 from scalf_opt.api.optimization import optimize_swing
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.loads import DEFAULT_LOADS
@@ -150,11 +151,9 @@ def _one_or_many(given: str | Path | Sequence[str | Path]) -> tuple[str | Path, 
 def _robot_and_gait(
     robot: str | Robot, gait: Gait | None, from_dirs: Sequence[str | Path]
 ) -> tuple[Robot, Gait]:
-    from scalf_opt.robots.loading import load_robot
-
     if gait is not None and from_dirs:
         raise ConfigError("give a gait or result directories (which bring their own), not both")
-    loaded = load_robot(robot) if isinstance(robot, str) else robot
+    loaded = as_robot(robot)
     return loaded, gait or default_gait_for(loaded)
 
 

@@ -6,12 +6,11 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from scalf_opt.api.gaits import VERBOSE_IPOPT, command_tuple, read_gait
+from scalf_opt.api.gaits import VERBOSE_IPOPT, as_robot, command_tuple, read_gait
 from scalf_opt.energy.loads import PAPER_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.robot import Robot
-from scalf_opt.robots.loading import load_robot
 from scalf_opt.studies.paper import Reproduction, reproduce, summary
 
 
@@ -29,7 +28,7 @@ class PaperResult:
 
 
 def paper(
-    robot: Robot | None = None,
+    robot: str | Robot | None = None,
     gait: Gait | None = None,
     *,
     quick: bool = False,
@@ -48,7 +47,7 @@ def paper(
         progress: Called with a label as each step starts.
         command: The command line, recorded in the result's provenance.
     """
-    robot = robot or load_robot("scalf")
+    robot = as_robot(robot)
     pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), loads=PAPER_LOADS)
     rep = reproduce(
         pipeline,

@@ -9,7 +9,7 @@ from typing import Any
 
 import numpy as np
 
-from scalf_opt.api.gaits import read_gait
+from scalf_opt.api.gaits import as_robot, read_gait
 from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError, LogError
@@ -146,7 +146,7 @@ class SimulationResult:
 
 
 def simulate(
-    robot: Robot,
+    robot: str | Robot,
     gait: Gait | None = None,
     *,
     swings_from: str | Path | None = None,
@@ -176,6 +176,7 @@ def simulate(
         ConfigError: Fewer than 2 cycles, a gait given with ``swings_from``, a bad
             ``summary.json`` or one of another robot, a servo too fast for the time step.
     """
+    robot = as_robot(robot)
     from scalf_opt.io.saved import read_saved_swings
     from scalf_opt.sim.experiment import simulation_file
     from scalf_opt.sim.plan import REFERENCE_SWINGS

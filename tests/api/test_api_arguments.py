@@ -61,3 +61,13 @@ def test_one_result_directory_or_format_is_not_read_letter_by_letter(tmp_path):
         tmp_path / "figs", robot, from_dirs=tmp_path / "opt", formats="png", grid_points=3
     )
     assert files and {f.suffix for f in files} == {".png"}
+
+
+def test_a_catalog_name_is_a_robot_everywhere():
+    # evaluate("go1") raised AttributeError: 'str' object has no attribute 'parent'
+    named = so.evaluate("go1", so.read_gait(robot="go1"), loads="trunk")
+    loaded = so.evaluate(so.load_robot("go1"), loads="trunk")
+    assert named.energy_j == loaded.energy_j
+    with pytest.raises(ConfigError, match="robot must be a catalog robot's name") as info:
+        so.optimize_swing(3)
+    assert info.value.field == "robot"
