@@ -13,7 +13,6 @@ from scalf_opt.errors import ConfigError
 from scalf_opt.io.provenance import provenance
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.robot import Robot
-from scalf_opt.types import LEG_NAMES
 
 
 @dataclass(frozen=True)
@@ -170,9 +169,8 @@ def analyze_log(
         measured = replace(measured, analysis=analysis)
     else:
         measured = analyze_measured(log, pipeline, period_s)
-    metered = any(
-        not drive.charges_joint_power for leg in LEG_NAMES for drive in pipeline.physics(leg).drives
-    )
+    assert pipeline.drives is not None
+    metered = any(not drive.charges_joint_power for drive in pipeline.drives.values())
     return LogResult(
         robot,
         measured.analysis,

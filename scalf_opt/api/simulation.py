@@ -176,11 +176,12 @@ def simulate(
         ConfigError: Fewer than 2 cycles, a gait given with ``swings_from``, a bad
             ``summary.json`` or one of another robot, a servo too fast for the time step.
     """
-    robot = as_robot(robot)
     from scalf_opt.io.saved import read_saved_swings
     from scalf_opt.sim.experiment import simulation_file
     from scalf_opt.sim.plan import REFERENCE_SWINGS
     from scalf_opt.sim.settings import SimSettings
+
+    robot = as_robot(robot)
 
     if isinstance(cycles, bool) or not isinstance(cycles, int) or not 2 <= cycles <= MAX_SIM_CYCLES:
         raise ConfigError(

@@ -26,7 +26,6 @@ from scalf_opt.studies.paper import (
     unvalidated,
 )
 from scalf_opt.studies.paper_data import is_paper_setup
-from scalf_opt.types import LEG_NAMES
 from scalf_opt.viz.figures import pattern_search_figure, save_atomic, swing_figure
 
 
@@ -95,13 +94,9 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         if compare
         else f"# The paper's comparison (Tables 5 and 6) on {robot.name}"
     )
+    assert rep.pipeline.drives is not None
     metered = sorted(
-        {
-            drive.power_text
-            for leg in LEG_NAMES
-            for drive in rep.pipeline.physics(leg).drives
-            if not drive.charges_joint_power
-        }
+        {d.power_text for d in rep.pipeline.drives.values() if not d.charges_joint_power}
     )
     if compare:
         power = "`|tau qd| + |F_f v|`"

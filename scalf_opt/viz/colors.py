@@ -23,6 +23,9 @@ TRAJECTORY_COLORS: tuple[str, ...] = (
 JOINT_COLORS: dict[str, str] = {"hip": "#1f77b4", "knee": "#d62728"}
 """Colours of the two joints where a figure tells joints apart by colour."""
 
+LEG_COLORS: dict[str, str] = {"RF": "#1f77b4", "LH": "#d62728", "LF": "#2ca02c", "RH": "#ff7f0e"}
+"""Colours of the legs where a figure tells legs apart by colour."""
+
 
 def trajectory_color(index: int) -> str:
     """The colour of the ``index``-th trajectory shown (cycling after eight)."""

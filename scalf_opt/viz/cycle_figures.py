@@ -17,7 +17,7 @@ from matplotlib.figure import Figure
 
 from scalf_opt.locomotion.forces import GRAVITY_M_S2
 from scalf_opt.types import FIRST_PAIR, JOINT_ROLES, LEG_NAMES
-from scalf_opt.viz.colors import trajectory_color
+from scalf_opt.viz.colors import LEG_COLORS, trajectory_color
 from scalf_opt.viz.plotting import cycle_samples, shade_swing, style
 from scalf_opt.viz.trajectories import Trajectory, energy_models
 
@@ -118,7 +118,6 @@ def foot_force_figure(
         legs: The legs drawn.
     """
     cycle = trajectory.cycle
-    colors = {"RF": "#1f77b4", "LH": "#d62728", "LF": "#2ca02c", "RH": "#ff7f0e"}
     with style():
         fig, (ax_z, ax_x) = plt.subplots(
             2,
@@ -132,7 +131,7 @@ def foot_force_figure(
         for leg in legs:
             t, grf = cycle_samples(cycle.legs[leg], "grf")
             dash = "-" if leg in FIRST_PAIR else "--"
-            color = colors.get(leg, "#555555")
+            color = LEG_COLORS.get(leg, "#555555")
             ax_z.plot(t, grf[1], lw=1.5, ls=dash, color=color, label=leg)
             ax_x.plot(t, grf[0], lw=1.2, ls=dash, color=color)
             largest_x = max(largest_x, float(np.nanmax(np.abs(grf[0]))))

@@ -24,9 +24,7 @@ from matplotlib.ticker import MaxNLocator
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.files import write_with
 from scalf_opt.optimize.solve import SwingOptimum
-
-LEG_COLORS = ("#1f77b4", "#ff7f0e", "#2ca02c", "#d62728")
-"""One colour per leg of Figure 8, its line and its feasibility phase's hollow points."""
+from scalf_opt.viz.colors import LEG_COLORS
 
 
 def save_atomic(fig: Figure, path: Path) -> Path:
@@ -51,7 +49,8 @@ def pattern_search_figure(optima: Mapping[str, SwingOptimum]) -> Figure:
     fig, axes = plt.subplots(3, 1, figsize=(7, 7), sharex=True)
     ends = []  # each leg's last iteration of its feasibility phase
     styles = ("-o", "--s", "-.^", ":v")
-    for (leg, optimum), style, color in zip(optima.items(), styles, LEG_COLORS, strict=False):
+    for (leg, optimum), style in zip(optima.items(), styles, strict=False):
+        color = LEG_COLORS[leg]
         history = np.array(optimum.history)
         phase1 = np.array(optimum.feasibility_history, dtype=float).reshape(-1, 4)
         for ax, column, label in zip(
