@@ -75,6 +75,16 @@ SEARCH_VARIABLES = (
 SEARCH_UNIT = 0.01
 """One search unit of every variable: 10 ms, a duty of 0.01, 1 cm."""
 
+
+def from_search_units(units: float) -> float:
+    """A searched field's value [s, 1 or m] from search units.
+
+    Divided by the units per value (100, exact) rather than multiplied by ``SEARCH_UNIT``
+    (0.01, not a binary fraction): 57.5 units is the duty 0.575, not 0.5750000000000001.
+    """
+    return float(units) / (1.0 / SEARCH_UNIT)
+
+
 INITIAL_STEP = (5.0, 5.0, 2.0, 2.0, 2.0)
 """First step per variable [search units]: 50 ms, 0.05, 2 cm, 2 cm, 2 cm."""
 
@@ -191,7 +201,7 @@ def gait_at(base: Gait, speed_m_s: float, x: np.ndarray) -> Gait:
     Raises:
         GaitError: A field out of its range (the duty below 0.5, say).
     """
-    values = {name: float(v) * SEARCH_UNIT for name, v in zip(SEARCH_VARIABLES, x, strict=True)}
+    values = {name: from_search_units(v) for name, v in zip(SEARCH_VARIABLES, x, strict=True)}
     return at_speed(replace(base, **values), speed_m_s)  # type: ignore[arg-type]
 
 
@@ -405,7 +415,7 @@ def optimize_gait(
     mass = pipeline.robot.total_mass_kg
 
     def evaluate(x: np.ndarray) -> StanceEvaluation:
-        period_s, duty = (float(v) * SEARCH_UNIT for v in x[:2])
+        period_s, duty = (from_search_units(v) for v in x[:2])
         outside = box.outside(replace(base, period_s=period_s), duty)
         if outside is not None:  # before the gait: a duty below 0.5 is no Gait at all
             return StanceEvaluation(base, math.inf, outside)

@@ -25,6 +25,7 @@ from scalf_opt.optimize.gait_search import (
     at_speed,
     check_speed,
     cost_of_transport,
+    gait_at,
     limit_name,
     reference_unwalkable,
 )
@@ -45,6 +46,15 @@ def test_the_paper_s_gait_retimed_to_its_own_speed_is_the_paper_s_gait():
     fast = at_speed(Gait(), 1.5)
     assert fast.speed_m_s == pytest.approx(1.5, rel=1e-12)
     assert fast.step_length_m == pytest.approx(0.375, rel=1e-12)
+
+
+def test_a_searched_gait_s_fields_are_the_nearest_floats_to_their_grid_values():
+    # 57.5 units times 0.01 is 0.5750000000000001, which gaits.csv printed as the duty
+    gait = gait_at(Gait(), 1.0, np.array([55.0, 57.5, 77.5, 2.5, -1.5]))
+    assert (gait.period_s, gait.duty_cycle) == (0.55, 0.575)
+    assert (gait.stance_height_m, gait.stance_x_offset_front_m) == (0.775, 0.025)
+    assert gait.stance_x_offset_hind_m == -0.015
+    assert repr(gait.duty_cycle) == "0.575"
 
 
 def test_the_cheapest_is_not_above_the_paper_s_gait_nor_the_reference(search):
