@@ -78,6 +78,7 @@ class Kernel:
     rows: tuple[str, ...]
     compiled: bool = False
     _smooth: ca.Function | None = None
+    _smooth_hessian: ca.Function | None = None
     _exact: dict[str, ca.Function] = field(default_factory=dict)
     _mapped: dict[tuple[str, int], ca.Function] = field(default_factory=dict)
     nlps: dict[object, object] = field(default_factory=dict)
@@ -124,17 +125,31 @@ class Kernel:
             if self._smooth is None:
                 e = self._expressions("paper", HEAT_SMOOTHING_EPS_M_S)
                 name = casadi_name(self.physics.leg.name, self.space, "nlp_sample")
-                fn = ca.Function(
-                    name, [self._y], [ca.vertcat(e["p_mech"], ca.sum1(e["p_loss"]), e["c"])]
+                out = ca.vertcat(e["p_mech"], ca.sum1(e["p_loss"]), e["c"])
+                fn = ca.Function(name, [self._y], [out])
+                seed = ca.SX.sym("seed", out.numel())
+                hessian = ca.Function(
+                    f"{name}_hessian", [self._y, seed], [ca.hessian(ca.dot(seed, out), self._y)[0]]
                 )
                 adjoint = fn.reverse(1)
                 library = compile_library(
-                    name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian()]
+                    name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian(), hessian]
                 )
                 compiled = load_external(name, library)
                 self.compiled = self.compiled or compiled is not None
                 self._smooth = compiled or fn
+                self._smooth_hessian = load_external(hessian.name(), library) or hessian
         return self._smooth
+
+    def smooth_hessian(self) -> ca.Function:
+        """``(y (6), seed (5 + m)) -> (6 x 6)``: the Hessian of ``seed' smooth(y)`` in ``y``.
+
+        Compiled on its own: the adjoint's Jacobian that CasADi differentiates ``smooth`` with
+        computes two more 6 x (5 + m) blocks beside it, and took three times as long.
+        """
+        self.smooth()
+        assert self._smooth_hessian is not None
+        return self._smooth_hessian
 
     def exact(self, accounting: Accounting) -> ca.Function:
         """``y (6) -> out (4 + m)``: charged power (2), p_mech (2), c (m); exact energy."""

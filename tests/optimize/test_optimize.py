@@ -175,6 +175,50 @@ def test_compiled_kernel_derivatives_against_finite_differences(model, space):
     np.testing.assert_allclose(h, fd2, rtol=1e-4, atol=1e-5 * np.abs(h).max())
 
 
+@pytest.mark.parametrize(
+    ("robot", "family", "accounting"),
+    [
+        ("scalf", "joint-6", "paper"),
+        ("scalf", "fourier-4", "positive"),
+        ("scalf", "bspline-16", "regenerative"),
+        ("hyq", "joint-6", "paper"),  # valve-controlled: no joint power charged, no slacks
+    ],
+)
+def test_nlp_derivatives_from_the_kernels_equal_casadi_s_own(model, hyq, robot, family, accounting):
+    # the lifted one-leg NLP takes its constraint Jacobian and Lagrangian Hessian from the
+    # kernels' compiled derivatives, assembled by hand (nlp._sample_derivatives); CasADi's own
+    # AD through the NLP's constraint and objective functions is the independent reference
+    # (only the order of floating-point operations differs: 1e-9 of the largest entry)
+    base = model if robot == "scalf" else EnergyPipeline(hyq, read_gait(robot=hyq), loads="trunk")
+    pipeline = base.with_accounting(accounting)
+    problem = SwingProblem(pipeline, "RF", make_family(family))
+    solver = build_nlp(problem).solver
+    x, p = ca.MX.sym("x", solver.size1_in("x0")), ca.MX.sym("p", solver.size1_in("p"))
+    lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", solver.size1_in("lam_g0"))
+    g, f = solver.get_function("nlp_g")(x, p), solver.get_function("nlp_f")(x, p)
+    reference = ca.Function(
+        "reference",
+        [x, p, lam_f, lam_g],
+        [ca.jacobian(g, x), ca.triu(ca.hessian(lam_f * f + ca.dot(lam_g, g), x)[0])],
+    )
+    # the variables (theta, Y, slacks): the samples Y of a reachable swing, the rest random;
+    # the parameters (the affine path, the weights) random: the lifted rows are linear in them
+    rng = np.random.default_rng(7)
+    theta = np.full(problem.n_params, 0.3)
+    samples = problem.samples(theta).ravel(order="F") * (1 + 1e-3 * rng.standard_normal())
+    n_slacks = x.numel() - problem.n_params - samples.size
+    x0 = np.concatenate([theta, samples, rng.uniform(0.0, 50.0, n_slacks)])
+    p0 = rng.uniform(0.5, 1.5, p.numel())
+    lam0 = rng.standard_normal(lam_g.numel()) * 10.0
+    jac_ref, hess_ref = (ca.DM(m) for m in reference(x0, p0, 0.7, lam0))
+    jac = ca.DM(solver.get_function("nlp_jac_g")(x0, p0)[1])
+    hess = ca.DM(solver.get_function("nlp_hess_l")(x0, p0, 0.7, lam0))
+    for ours, theirs in ((jac, jac_ref), (hess, hess_ref)):
+        ours, theirs = np.array(ca.densify(ours)), np.array(ca.densify(theirs))
+        assert np.abs(theirs).max() > 0
+        np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-9 * np.abs(theirs).max())
+
+
 def test_an_unsolved_nlp_is_reported_not_presented(model):
     problem = SwingProblem(model, "RF", make_family("joint-4"))
     result = run_ipopt(problem, ipopt_options={"max_iter": 2})
