@@ -315,9 +315,11 @@ def test_a_badly_conditioned_basis_gets_a_map_that_orthogonalizes_it(model):
     assert np.array_equal(nlp.parameter_map(default, build_nlp(default).blocks[0]), np.eye(18))
 
 
-def test_conditioning_lets_ipopt_reach_a_lower_optimum_in_fewer_iterations(model, monkeypatch):
-    # from zero, SCalf's RF joint-12 (the plain NLP: 130 iterations to 12.81 J; conditioned:
-    # about 70 to 12.00 J, the same local search in better coordinates)
+def test_conditioning_lets_ipopt_converge_in_fewer_iterations(model, monkeypatch):
+    # from zero, SCalf's RF joint-12: conditioned, about 70 iterations to 12.00 J; the plain NLP
+    # took 130 to a local optimum of 12.81 J with CasADi's own derivatives and 191 to one of
+    # 11.57 J with the kernels' assembled ones (the same values to round-off): in the plain
+    # coordinates the path, and the optimum it ends on, follow the round-off
     from scalf_opt.optimize import nlp
 
     rich = SwingProblem(model.with_gait(Gait(sample_rate_hz=375)), "RF", make_family("joint-12"))
@@ -325,5 +327,4 @@ def test_conditioning_lets_ipopt_reach_a_lower_optimum_in_fewer_iterations(model
     monkeypatch.setattr(nlp, "parameter_map", lambda problem, block: np.eye(block.n_theta))
     plain = run_ipopt(rich)
     assert conditioned.success and plain.success
-    assert conditioned.swing_energy_j < plain.swing_energy_j - 0.1
-    assert conditioned.iterations < plain.iterations
+    assert conditioned.iterations < 0.7 * plain.iterations
