@@ -750,7 +750,7 @@ def _sample_derivatives(
     with the seed ``s = dL/dZ`` (the multipliers and weights of the rows and costs that take each
     output). CasADi's own derivatives of the mapped kernel propagate seeds through it, colour by
     colour, and took three to four times as long (measured at 1,025 samples: the Jacobian
-    6.6 ms, the Hessian 4.4 ms). The two are cross-checked in ``tests/optimize/test_nlp.py``.
+    6.6 ms, the Hessian 4.4 ms). The two are cross-checked in ``tests/optimize/test_optimize.py``.
     ``{}`` (CasADi's own) if the cost or the rows are not linear as assumed.
     """
     kernel, n, z = use.kernel, use.n, use.outputs
