@@ -58,6 +58,7 @@ from scalf_opt.interrupts import interruptible, stop_requested
 from scalf_opt.optimize.kernels import (
     STANCE_INPUTS,
     SYMBOLIC_LOCK,
+    Kernel,
     casadi_name,
     stance_kernel,
     stance_limited_bounds,
@@ -581,6 +582,11 @@ def _digest(matrix: ca.DM) -> str:
     return hashlib.sha256(b"".join(p.tobytes() for p in parts)).hexdigest()
 
 
+def _at_samples(fn: ca.Function, samples: ca.MX, n: int) -> ca.MX:
+    """A per-sample function at each of the ``n`` samples of ``samples`` (``6 n``, sample-major)."""
+    return fn.map(n, "serial")(ca.reshape(samples, 6, n))
+
+
 @dataclass(frozen=True)
 class _KernelUse:
     """Where one leg's NLP expressions use its compiled kernel.
@@ -591,14 +597,13 @@ class _KernelUse:
     from the kernel's own compiled derivatives (:func:`_sample_derivatives`).
 
     Attributes:
-        kernel: The leg's per-sample function (:meth:`~scalf_opt.optimize.kernels.Kernel.smooth`).
-        hessian: Its Hessian (:meth:`~scalf_opt.optimize.kernels.Kernel.smooth_hessian`).
+        kernel: The leg's kernel (its :meth:`~scalf_opt.optimize.kernels.Kernel.smooth`
+            function and that function's Hessian).
         samples: The kernel's inputs, ``6 n`` (sample-major): the variables ``Y`` when lifted.
         outputs: The stand-in symbol, ``rows x n``.
     """
 
-    kernel: ca.Function
-    hessian: ca.Function
+    kernel: Kernel
     samples: ca.MX
     outputs: ca.MX
 
@@ -608,10 +613,10 @@ class _KernelUse:
         return int(self.outputs.size2())
 
     def call(self, fn: ca.Function | None = None) -> ca.MX:
-        """The kernel (or ``fn``, the same function with other derivatives) at every sample."""
+        """The kernel at every sample, or ``fn`` (all samples at once, with other derivatives)."""
         if fn is not None:
             return ca.reshape(fn(self.samples), self.outputs.shape)
-        return self.kernel.map(self.n, "serial")(ca.reshape(self.samples, 6, self.n))
+        return _at_samples(self.kernel.smooth(), self.samples, self.n)
 
 
 def _swing_part(
@@ -640,8 +645,7 @@ def _swing_part(
         samples = ca.MX.sym(f"{problem.leg}_Y", 6 * n)
         variables.append(samples)
         constraints.append(samples - affine)
-    smooth = kernel.smooth()
-    out = ca.MX.sym(f"{problem.leg}_kernel_outputs", smooth.size1_out(0), n)
+    out = ca.MX.sym(f"{problem.leg}_kernel_outputs", kernel.smooth().size1_out(0), n)
     p_mech, loss, c = out[0:2, :], out[2, :], out[3:, :]
     cost = ca.mtimes(loss, weights)
     k = len(block.charged)
@@ -655,8 +659,7 @@ def _swing_part(
             constraints.append(ca.vec(ca.MX(rows)))
         cost += ca.sum2(ca.sum1(rule.smooth_cost(power, slacks)) * weights.T)
     constraints.append(ca.vec(c)[block.index.tolist()])
-    use = _KernelUse(smooth, kernel.smooth_hessian(), samples, out)
-    return theta, variables, parameters, constraints, cost, use
+    return theta, variables, parameters, constraints, cost, _KernelUse(kernel, samples, out)
 
 
 def _build(
@@ -755,14 +758,13 @@ def _sample_derivatives(
     NLPs with more than one leg or a stance term keep CasADi's: their rows depend on many
     samples' kernels at once.
     """
-    kernel, n, z = use.kernel, use.n, use.outputs
+    kernel, n, z = use.kernel.smooth(), use.n, use.outputs
     rows = kernel.size1_out(0)
     lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", g_z.numel())
     lagrangian = lam_f * cost_z + ca.dot(lam_g, g_z)
     seed = ca.jacobian(lagrangian, ca.vec(z)).T
     if ca.depends_on(seed, ca.vec(z)) or ca.depends_on(ca.gradient(lagrangian, x), x):
         return {}
-    y = ca.reshape(use.samples, 6, n)
 
     def block_diagonal(per_sample: ca.MX, pattern: ca.Sparsity) -> ca.MX:
         """``rows x (k n)`` mapped blocks, each with ``pattern``, as one block-diagonal matrix."""
@@ -782,14 +784,14 @@ def _sample_derivatives(
     kernels = ca.Function(
         f"{name}_kernels",
         [samples],
-        [ca.vec(kernel.map(n, "serial")(ca.reshape(samples, 6, n)))],
+        [ca.vec(_at_samples(kernel, samples, n))],
         ["i0"],
         ["o0"],
         {"custom_jacobian": custom, "jac_penalty": 0},
     )
     g = ca.substitute(g_z, z, use.call(kernels))
-    hessian = use.hessian  # (y, seed) -> d2 (seed' out) / d y2
-    h_blocks = hessian.map(n, "serial")(y, ca.reshape(seed, rows, n))
+    hessian = use.kernel.smooth_hessian()  # (y, seed) -> d2 (seed' out) / d y2
+    h_blocks = hessian.map(n, "serial")(ca.reshape(use.samples, 6, n), ca.reshape(seed, rows, n))
     lifted = block_diagonal(h_blocks, hessian.sparsity_out(0))
     after = x.numel() - block.n_theta - 6 * n
     full = ca.diagcat(ca.MX(block.n_theta, block.n_theta), lifted, ca.MX(after, after))
