@@ -19,10 +19,9 @@ machine's load; ratios are what to compare). The last lines, one per family, are
 ``FAMILY: Ipopt T s, SLSQP-FD T s, ratio Rx``.
 
 Then the drivers on top of the families, each timed whole (its every solve, sampling check
-and level; the modules it uses loaded before, as the families' kernels are: SciPy's B-splines
-took 0.4 s to import) and stated as a multiple of the last family's Ipopt solve in the same
-run, with the CPU time it took (every thread's and worker process's; on a loaded machine the
-wall-clock time grows with the load, the CPU time much less):
+and level) and stated as a multiple of the last family's Ipopt solve in the same run, with the
+CPU time it took (every thread's and worker process's; on a loaded machine the wall-clock time
+grows with the load, the CPU time much less):
 
 * ``bound RF``: the free-trajectory bound of the RF leg (``--family free``), its levels, and the
   energy still to gain;
@@ -51,7 +50,6 @@ import scalf_opt  # noqa: F401 (first: it pins OpenBLAS's kernels before numpy l
 
 # isort: on
 import numpy as np
-from scipy.interpolate import BSpline  # noqa: F401 (loaded before any timing)
 from scipy.optimize import minimize
 
 from scalf_opt.energy.pipeline import EnergyPipeline
