@@ -257,7 +257,9 @@ def tube(
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
     """A closed-ring tube mesh around a polyline, with a colour per point.
 
-    Consecutive repeated points (a foot resting in stance) are merged.
+    A ring is put at the first point of every arc length ``radius`` along the polyline and at its
+    end: closer rings would not show (a swing sampled at a bound's 6.7 kHz made Solo12's view
+    19 MB instead of 5 MB), and repeated points (a foot resting in stance) make none.
 
     Args:
         points: Polyline, shape (n, 3) [m].
@@ -270,8 +272,12 @@ def tube(
         (n * sides, 3).
     """
     points = np.asarray(points, dtype=float)
+    arc = np.concatenate([[0.0], np.cumsum(np.linalg.norm(np.diff(points, axis=0), axis=1))])
+    stretch = np.floor(arc / radius)
     keep = np.ones(len(points), dtype=bool)
-    keep[1:] = np.linalg.norm(np.diff(points, axis=0), axis=1) > 1e-9
+    keep[1:] = stretch[1:] > stretch[:-1]
+    last_kept = np.flatnonzero(keep)[-1]
+    keep[-1] = keep[-1] or arc[-1] - arc[last_kept] > 1e-9
     points, colors = points[keep], np.asarray(colors, dtype=float)[keep]
     n = len(points)
     tangent = np.gradient(points, axis=0) if n > 1 else np.array([[1.0, 0.0, 0.0]])

@@ -141,6 +141,26 @@ def test_tube_surrounds_its_polyline():
     np.testing.assert_allclose(distance, 0.01, rtol=1e-12)
 
 
+def test_a_densely_sampled_path_gets_a_ring_per_tube_radius_of_arc():
+    # a semicircle of 0.1 m sampled every 0.03 mm, as a bound's swing at several kHz is
+    angle = np.linspace(0.0, np.pi, 10_001)
+    points = 0.1 * np.stack([np.cos(angle), np.zeros_like(angle), np.sin(angle)], axis=1)
+    colors = np.stack([angle / np.pi, 1.0 - angle / np.pi, np.zeros_like(angle)], axis=1)
+    radius, sides = 0.01, 8
+    vertices, faces, vertex_colors = tube(points, radius, colors, sides=sides)
+    rings = vertices.reshape(-1, sides, 3)
+    centres = rings.mean(axis=1)
+    arc = 0.1 * np.pi
+    assert arc / radius <= len(rings) <= arc / radius + 2  # 32 or 33 rings, not 10,001
+    np.testing.assert_allclose(centres[[0, -1]], points[[0, -1]], atol=1e-15)
+    gaps = np.linalg.norm(np.diff(centres, axis=0), axis=1)
+    assert 0.99 * radius < gaps[:-1].min() and gaps.max() < 1.01 * radius  # about one radius
+    # each ring has the colour of the sample it stands on
+    nearest = np.argmin(np.linalg.norm(points[None, :, :] - centres[:, None, :], axis=2), axis=1)
+    np.testing.assert_array_equal(vertex_colors.reshape(-1, sides, 3)[:, 0], colors[nearest])
+    assert faces.shape == (2 * sides * (len(rings) - 1), 3)
+
+
 @pytest.mark.parametrize("name", ["hyq", "solo12"])
 def test_meshes_of_other_robots_load(name, request):
     robot = request.getfixturevalue(name)
