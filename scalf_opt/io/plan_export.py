@@ -149,6 +149,8 @@ def fitted_rate(gait: Gait, rate_hz: float) -> tuple[float, int]:
             f"a rate of {rate_hz:g} Hz is finer than the {finest:g} Hz the gait's phases allow",
             field="rate",
         )
+    if math.isclose(n, rate_hz * gait.period_s, rel_tol=1e-12):
+        return float(rate_hz), n  # it fits: not n / T, which may differ in the last bit
     return n / gait.period_s, n
 
 

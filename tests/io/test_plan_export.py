@@ -10,7 +10,7 @@ from scalf_opt.api import analyze_log, export_plan
 from scalf_opt.cli import main
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
-from scalf_opt.io.plan_export import planned_mechanical_energy_j, stream_columns
+from scalf_opt.io.plan_export import fitted_rate, planned_mechanical_energy_j, stream_columns
 from scalf_opt.locomotion.gait import EVENT_SIDE_S, Gait
 from scalf_opt.logs.analysis import leg_cylinders
 from scalf_opt.types import LEG_NAMES
@@ -100,6 +100,14 @@ def test_every_rate_is_an_evaluation_not_an_interpolation(optimum, scalf, export
         export_plan(optimum, scalf, rate_hz=10)
     with pytest.raises(ConfigError, match="cycles"):
         export_plan(optimum, scalf, rate_hz=1000, cycles=0)
+
+
+def test_a_rate_that_fits_is_kept_to_the_last_bit():
+    # 350 / 0.7 s is 500.00000000000006 in floating point: the export said "500 Hz, not 500 Hz"
+    gait = Gait(period_s=0.7, duty_cycle=0.6)
+    assert fitted_rate(gait, 500.0) == (500.0, 350)
+    assert fitted_rate(gait, 500.5) == (350 / 0.7, 350)  # one that does not fit: N / T
+    assert fitted_rate(Gait(), 333.0) == (332.0, 166)
 
 
 def test_the_csv_at_1000_hz_gives_back_the_plans_energy(optimum, tmp_path, capsys):
