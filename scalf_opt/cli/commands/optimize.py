@@ -3,7 +3,6 @@
 from __future__ import annotations
 
 import argparse
-import difflib
 import math
 from pathlib import Path
 
@@ -22,7 +21,6 @@ from scalf_opt.cli.options import (
     warn_without_effect,
 )
 from scalf_opt.energy.margins import DEFAULT_STOP_MARGIN_RAD, DEFAULT_STROKE_MARGIN_M
-from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
 
@@ -129,22 +127,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 
 def check_family(name: str) -> None:
-    """``--family`` names a swing family or ``free``; a near miss of ``free`` is named.
+    """``--family`` names a swing family or ``free`` (a near miss of either is named).
 
     Raises:
         ConfigError: Neither.
     """
     from scalf_opt.locomotion.swing.registry import make_family
 
-    if name == FREE_FAMILY:
-        return
-    try:
-        make_family(name)
-    except ConfigError as exc:
-        close = difflib.get_close_matches(name, [FREE_FAMILY], n=1, cutoff=0.7)
-        if not close or "did you mean" in str(exc):
-            raise
-        raise ConfigError(f"{exc}; did you mean {close[0]!r}?", field="family") from exc
+    if name != FREE_FAMILY:
+        make_family(name, also=(FREE_FAMILY,))
 
 
 def run(args: argparse.Namespace) -> int:

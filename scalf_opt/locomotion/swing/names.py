@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import re
+from collections.abc import Iterable
 
 from scalf_opt.errors import ConfigError, did_you_mean
 from scalf_opt.types import Space
@@ -28,14 +29,17 @@ def parse_bspline_name(name: str) -> int | None:
     return int(match.group(1)) if match else None
 
 
-def parse_fourier_name(name: str) -> tuple[Space, int]:
+def parse_fourier_name(name: str, also: Iterable[str] = ()) -> tuple[Space, int]:
     """``(space, order)`` of a ``fourier-N`` or ``joint-N`` name.
+
+    ``also``: other names the caller accepts (``free``), suggested for a near miss too.
 
     Raises:
         ConfigError: Not such a name, or an order outside 2..12.
     """
     match = _FAMILY_PATTERN.match(name)
     if not match:
+        also = tuple(also)
         known = [
             "reference",
             "paper",
@@ -44,11 +48,12 @@ def parse_fourier_name(name: str) -> tuple[Space, int]:
                 for kind in ("joint", "fourier")
                 for n in range(MIN_ORDER, MAX_ORDER + 1)
             ),
+            *also,
         ]
         raise ConfigError(
             f"unknown family {name!r}: use reference, paper, fourier-N (foot space) or "
             f"joint-N (joint space) with N in {MIN_ORDER}..{MAX_ORDER}"
-            f"{did_you_mean(str(name), known)}",
+            f"{''.join(f', or {other}' for other in also)}{did_you_mean(str(name), known)}",
             field="family",
         )
     order = int(match.group(2))

@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from collections.abc import Iterable
+
 from scalf_opt.locomotion.swing.bspline import BSplineFamily
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.fourier import PAPER_FREE_TERMS, FourierFamily, order_terms
@@ -9,11 +11,12 @@ from scalf_opt.locomotion.swing.names import parse_bspline_name, parse_fourier_n
 from scalf_opt.locomotion.swing.reference import ReferenceSpline
 
 
-def make_family(name: str) -> SwingFamily:
+def make_family(name: str, also: Iterable[str] = ()) -> SwingFamily:
     """Build a family from its name.
 
     ``reference``, ``paper``, ``fourier-N``, ``joint-N``, or ``bspline-K`` (the
-    free-trajectory bound's dense B-splines).
+    free-trajectory bound's dense B-splines). ``also``: other names the caller accepts, among
+    the suggestions for an unknown name.
 
     Raises:
         ConfigError: Unknown name or an order outside 2..12.
@@ -25,6 +28,6 @@ def make_family(name: str) -> SwingFamily:
     spans = parse_bspline_name(name)
     if spans is not None:
         return BSplineFamily(spans)
-    space, order = parse_fourier_name(name)
+    space, order = parse_fourier_name(name, also)
     terms = order_terms(order)
     return FourierFamily(name, space, (terms, terms))
