@@ -13,6 +13,11 @@ def _cell(value: object) -> str:
     return str(value)
 
 
+def _energy(value: float | None) -> str:
+    """An energy [J] to the millijoule, as the other commands' tables print them."""
+    return "" if value is None else f"{value:.3f}"
+
+
 def results_table(name: str, result: StudyRun) -> str:
     """The results as a text table, and the files written."""
     swept = result.columns[1 : result.columns.index("status")]
@@ -21,7 +26,7 @@ def results_table(name: str, result: StudyRun) -> str:
     lines.append("  ".join(f"{h:>12s}" for h in header) + "  status")
     for row in result.rows:
         cells = [str(row["case"]), *(_cell(row[s]) for s in swept)]
-        cells += [_cell(row["reference_energy_j"]), _cell(row["optimized_energy_j"])]
+        cells += [_energy(row["reference_energy_j"]), _energy(row["optimized_energy_j"])]
         cells.append(f"{row['saving_pct']:.2f} %" if row["saving_pct"] is not None else "")
         status = row["status"] + (f": {row['error']}" if row["error"] else "")
         lines.append("  ".join(f"{c:>12s}" for c in cells) + f"  {status}")
