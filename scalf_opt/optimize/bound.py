@@ -357,10 +357,9 @@ def _solve_level(
 
     ``warm``: ``theta0`` is another level's optimum, carried over: Ipopt starts with
     ``warm_options`` (:data:`WARM_START_OPTIONS`, or :data:`REVISIT_OPTIONS` on a revisit) and
-    the rows far from their bounds left out; a warm start that
-    fails (Go1's RF at 64 spans ran out of iterations before the constraint screening) is tried
-    again with Ipopt's own start and every retry strategy of the solver, with every row. Every
-    solve has :data:`LEVEL_OPTIONS`.
+    the rows far from their bounds left out; a warm start that fails (Go1's RF at 64 spans ran
+    out of iterations before the constraint screening) is tried again with Ipopt's own start and
+    every retry strategy of the solver, with every row. Every solve has :data:`LEVEL_OPTIONS`.
     """
     for ipopt in [warm_options, LEVEL_OPTIONS] if warm else [LEVEL_OPTIONS]:
         screen = ipopt is warm_options
