@@ -92,7 +92,7 @@ def _energy_notes(ax: Axes, trajectories: Sequence[Trajectory], leg: str, row: i
         ax.text(
             0.02,
             0.96 - 0.09 * index,
-            f"{energy:.4g} J per cycle",
+            f"{energy:.3f} J per cycle",
             transform=ax.transAxes,
             ha="left",
             va="top",

@@ -57,13 +57,14 @@ def legend_html(scene: Scene) -> str:
         f"paths of all four legs over {scene.n_cycles} gait cycles</div>"
     )
     for entry in scene.legend:
-        swing = ", ".join(f"{leg} {e:.4g}" for leg, e in entry.swing_energy_j.items())
+        # energies to the millijoule and powers to 10 mW, as the command line prints them
+        swing = ", ".join(f"{leg} {e:.3f}" for leg, e in entry.swing_energy_j.items())
         rows.append(
             "<div class='row'>"
             f"<span class='swatch' style='background:{entry.color}'></span>"
             f"<span class='label'>{html.escape(entry.label)}</span>"
-            f"<div class='numbers'>{entry.energy_j:.4g} J per cycle, "
-            f"{entry.average_power_w:.4g} W; swing [J]: {swing}"
+            f"<div class='numbers'>{entry.energy_j:.3f} J per cycle, "
+            f"{entry.average_power_w:.2f} W; swing [J]: {swing}"
             f" ({html.escape(entry.energy_model)})</div></div>"
         )
     if scene.color_by == "power":

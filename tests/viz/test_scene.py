@@ -210,3 +210,19 @@ def test_the_legend_names_each_trajectorys_loads_and_accounting(scalf, scalf_sho
     ]
     page = legend_html(scene)
     assert all(f"({model})" in page for model in models)
+
+
+def test_the_legend_prints_the_energies_as_the_command_line_does(scalf, scalf_shown):
+    """Every energy in the legend to the millijoule and every power to 10 mW, as ``view`` prints
+    them (``0.230`` beside ``0.125``, not ``0.23`` beside ``0.1249``)."""
+    from scalf_opt.viz.html import legend_html
+
+    _, shown = scalf_shown
+    scene = build_scene(scalf, shown, SceneOptions(n_cycles=1, frame_rate_hz=20.0))
+    page = legend_html(scene)
+    for trajectory in shown:
+        cycle = trajectory.cycle
+        swing = ", ".join(f"{leg} {c.swing_energy_j:.3f}" for leg, c in cycle.legs.items())
+        assert (
+            f"{cycle.energy_j:.3f} J per cycle, {cycle.average_power_w:.2f} W; swing [J]: {swing}"
+        ) in page
