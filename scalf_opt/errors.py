@@ -46,7 +46,20 @@ class LogError(ScalfError):
     """A measurement log (cylinder lengths and forces) cannot be read or is invalid."""
 
 
+AS_CLOSE = 0.06
+"""Candidates whose similarity to a mistyped word (difflib's ratio, 0 to 1) is within this of the
+closest one's are suggested beside it: ``--shank-scale`` is 0.84 from ``--shank-mass-scale`` and
+0.79 from ``--shank-length-scale``, and either may be meant."""
+
+
 def did_you_mean(word: str, candidates: Iterable[str]) -> str:
-    """``"; did you mean 'x'?"`` for the candidate closest to a mistyped ``word``, else ``""``."""
-    close = difflib.get_close_matches(word, list(candidates), n=1)
-    return f"; did you mean {close[0]!r}?" if close else ""
+    """``"; did you mean 'x'?"`` for the candidate closest to a mistyped ``word``, else ``""``.
+
+    ``'x' or 'y'`` when another candidate is about as close (:data:`AS_CLOSE`), closest first.
+    """
+    close = difflib.get_close_matches(word, list(dict.fromkeys(candidates)), n=3)
+    if not close:
+        return ""
+    best = difflib.SequenceMatcher(None, word, close[0]).ratio()
+    close = [c for c in close if difflib.SequenceMatcher(None, word, c).ratio() >= best - AS_CLOSE]
+    return f"; did you mean {' or '.join(repr(c) for c in close)}?"

@@ -168,6 +168,11 @@ def test_the_api_gives_the_command_line_s_numbers(tmp_path, capsys):
         (["evalute"], "invalid choice: 'evalute'"),
         (["evaluate", "--robot", "hyqq"], "did you mean 'hyq'?"),
         (["evaluate", "--perid", "0.4"], "did you mean '--period'?"),
+        # about as close to two flags: both named, the closer first
+        (
+            ["variant", "--shank-scale", "1.1", "--out", "v.urdf"],
+            "did you mean '--shank-mass-scale' or '--shank-length-scale'?",
+        ),
         (["evaluate", "--period", "x"], "argument --period: invalid float value: 'x'"),
         # argparse would keep the last value silently: LH alone, for a user who asked for two
         (["optimize", "--leg", "RF", "--leg", "LH"], "argument --leg: given more than once"),
