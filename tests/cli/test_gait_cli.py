@@ -82,3 +82,35 @@ def test_a_bad_option_is_one_line(argv, message, tmp_path, capsys):
     err = capsys.readouterr().err
     assert err.count("\n") == 1 and message in err, err
     assert not (tmp_path / "out").exists()
+
+
+def test_the_table_lines_up_each_columns_decimals():
+    """A searched field or a cost of transport has the same decimals in every row (``0.500``
+    beside ``0.575``, not ``0.5``); the speeds keep the digits they were given with."""
+    from scalf_opt.cli.commands.gait import gait_table
+
+    def row(speed, period, duty, cot):
+        return {
+            "speed_m_s": speed,
+            "period_s": period,
+            "duty_cycle": duty,
+            "step_length_m": speed * period * duty,
+            "stance_height_m": 0.8,
+            "stance_x_offset_front_m": 0.04,
+            "stance_x_offset_hind_m": -0.04,
+            "cost_of_transport": cot,
+            "default_cost_of_transport": 0.12,
+            "reference_cost_of_transport": 0.2,
+            "saving_vs_reference_pct": 100 * (1 - cot / 0.2),
+            "status": "ok",
+            "pinned_by": "",
+            "error": "",
+            "family": "joint-6",
+            "default_infeasible": "",
+        }
+
+    table = gait_table("scalf", [row(0.25, 0.8625, 0.5, 0.089), row(1.0, 0.5, 0.575, 0.1419)])
+    first, second = (line.split() for line in table.splitlines()[2:4])
+    fields = ["0.25", "0.8625", "0.500", "0.1078", "0.8000", "0.040", "-0.040"]
+    assert first[:9] == [*fields, "0.0890", "0.1200"]
+    assert second[:4] == ["1", "0.5000", "0.575", "0.2875"]

@@ -109,12 +109,24 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
 
 
-def _cell(value: Any, digits: int = 4) -> str:
+def _cell(value: Any, decimals: int | None = None) -> str:
+    """A table cell: a float with ``decimals``, or to 4 significant digits without; ``-`` if none.
+
+    A column's numbers line up with its decimals (``0.500`` beside ``0.575``); the speeds, which
+    the user gave, keep their own digits.
+    """
     if value is None or value == "":
         return "-"
     if isinstance(value, float):
-        return f"{value:.{digits}g}"
+        return f"{value:.4g}" if decimals is None else f"{value:.{decimals}f}"
     return str(value)
+
+
+FIELD_DECIMALS = {"period_s": 4, "duty_cycle": 3, "step_length_m": 4, "stance_height_m": 4}
+"""Decimals of the searched gait fields in the table: 0.1 ms, 0.001 of a period, 0.1 mm."""
+
+COST_DECIMALS = 4
+"""Decimals of the costs of transport in the table (dimensionless)."""
 
 
 def gait_table(robot: str, rows: list[dict[str, Any]]) -> str:
@@ -128,11 +140,10 @@ def gait_table(robot: str, rows: list[dict[str, Any]]) -> str:
     lines.append("  ".join(f"{h:>9s}" for h in header))
     for r in rows:
         cells = [_cell(r["speed_m_s"])]
-        for key in ("period_s", "duty_cycle", "step_length_m", "stance_height_m"):
-            cells.append(_cell(r[key]))
+        cells += [_cell(r[key], decimals) for key, decimals in FIELD_DECIMALS.items()]
         cells += [_cell(r["stance_x_offset_front_m"], 3), _cell(r["stance_x_offset_hind_m"], 3)]
-        cells += [_cell(r[k]) for k in ("cost_of_transport", "default_cost_of_transport")]
-        cells.append(_cell(r["reference_cost_of_transport"]))
+        costs = ("cost_of_transport", "default_cost_of_transport", "reference_cost_of_transport")
+        cells += [_cell(r[k], COST_DECIMALS) for k in costs]
         saved = r["saving_vs_reference_pct"]
         cells.append(f"{saved:.1f} %" if isinstance(saved, float) else "-")
         cells.append(r["status"])
