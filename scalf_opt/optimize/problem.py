@@ -264,18 +264,16 @@ class SwingProblem:
         """Exact objective of a member [J], feasible or not."""
         return self._energy_j(self.outputs(theta)) + self.stance_energy_j(theta)
 
-    def stance_excess(self, theta: np.ndarray) -> tuple[float, str | None]:
-        """How far the loaded stance legs cross a torque or force limit, and which one.
+    def _stance_shares(self, theta: np.ndarray) -> list[tuple[str, np.ndarray]]:
+        """Per limit of each loaded stance leg: its reason and its excess at every sample.
 
-        Under whole-body loads this leg's swing (through its twin) changes the torques of the
-        pair's stance legs; their effort limits and torque-dependent drive limits (a cylinder's
-        force) bind the swing as its own limits do. Returns the largest excess as a share of
-        the bound's size (0 when inside, and always under trunk loads) and its reason.
+        The excesses as shares of the bound's size (0 inside; ``inf`` where not finite). Empty
+        under trunk loads.
         """
         coupling = self.coupling
         if coupling is None:
-            return 0.0, None
-        worst, reason = 0.0, None
+            return []
+        shares = []
         torques = coupling.torques_nm(self.pipeline, (np.asarray(theta, dtype=float),))
         for term, tau in zip(coupling.terms, torques, strict=True):
             physics = self.pipeline.physics(term.leg)
@@ -286,12 +284,51 @@ class SwingProblem:
             values = np.array(fn(term.q, term.qd, tau)).reshape(len(bounds), -1)
             for b, row in zip(bounds, values, strict=True):
                 if not np.all(np.isfinite(row)):
-                    return math.inf, f"stance of {term.leg}: non-finite {b.name}"
-                excess = float(np.max(b.excess(row)))
-                share = excess / b.size
-                if share > worst:
-                    worst, reason = share, f"stance of {term.leg}: {b.name} beyond its {b.source}"
+                    shares.append(
+                        (f"stance of {term.leg}: non-finite {b.name}", np.array([np.inf]))
+                    )
+                    continue
+                reason = f"stance of {term.leg}: {b.name} beyond its {b.source}"
+                shares.append((reason, np.asarray(b.excess(row), dtype=float) / b.size))
+        return shares
+
+    def stance_excess(self, theta: np.ndarray) -> tuple[float, str | None]:
+        """How far the loaded stance legs cross a torque or force limit, and which one.
+
+        Under whole-body loads this leg's swing (through its twin) changes the torques of the
+        pair's stance legs; their effort limits and torque-dependent drive limits (a cylinder's
+        force) bind the swing as its own limits do. Returns the largest excess as a share of
+        the bound's size (0 when inside, and always under trunk loads) and its reason.
+        """
+        worst, reason = 0.0, None
+        for why, shares in self._stance_shares(theta):
+            share = float(np.max(shares))
+            if share > worst:
+                worst, reason = share, why
+                if math.isinf(share):
+                    break
         return worst, reason
+
+    def violation(self, theta: np.ndarray) -> float:
+        """The total constraint violation of a member: 0 exactly when it is feasible.
+
+        The sum of the rows' excesses beyond their round-off (each relative to its row's scale,
+        as :meth:`evaluate` weighs them) and of the loaded stance legs' excesses beyond
+        :data:`STANCE_LIMIT_RTOL` (shares of their bounds), over every sample; a motion that is
+        not finite counts as :meth:`evaluate` counts it. What the pattern search's feasibility
+        phase minimizes: every crossed limit counts at once, so a step that meets one limit
+        while another stays crossed is progress (HyQ's reference swing under whole-body loads
+        misses the clearance by 0.1 mm and crosses a stance cylinder's force limit by a fifth:
+        judged by the first crossing alone, meeting the clearance looked like a step back).
+        """
+        rows, _, finite = self._row_violation(self.outputs(theta)["c"])
+        if not finite:
+            return rows
+        stance = sum(
+            float(np.sum(np.where(shares > STANCE_LIMIT_RTOL, shares, 0.0)))
+            for _, shares in self._stance_shares(theta)
+        )
+        return rows + stance
 
     def energy_and_bound_excess(self, theta: np.ndarray) -> tuple[float, float]:
         """A member's exact objective [J] and how far it crosses its limits.
@@ -315,27 +352,36 @@ class SwingProblem:
     def evaluate(self, theta: np.ndarray) -> Evaluation:
         """Exact swing energy and feasibility of ``theta`` (family units)."""
         out = self.outputs(theta)
-        c = out["c"]
-        if not np.all(np.isfinite(c)):
-            if REACH in self.kernel.rows:
-                over = np.abs(c[self.kernel.row(REACH)]) - 1.0
-                amount = float(np.sum(over[over > 0])) or 1.0  # NaN angles: always > 0
-                return Evaluation(float("inf"), "foot target out of reach", amount)
-            return Evaluation(float("inf"), "non-finite motion", 1.0)
-        lower, upper = self.constraint_bounds
-        excess: np.ndarray = np.maximum(np.maximum(lower - c, c - upper), 0.0)
-        # relative to each row's scale (1 m, 1 rad, or the bound's size: 14 kN of force), so
-        # that the feasibility phase of the pattern search weighs every constraint alike
-        tol = self.constraint_tolerance
-        beyond: np.ndarray = np.where(excess > tol, excess, 0.0) * (FEASIBILITY_TOLERANCE / tol)
-        violation = float(np.sum(beyond))
-        if violation > 0.0:
-            row, sample = np.unravel_index(int(np.argmax(beyond)), beyond.shape)
-            return Evaluation(float("inf"), self._reason(int(row), int(sample)), violation)
+        violation, reason, _ = self._row_violation(out["c"])
+        if reason is not None:
+            return Evaluation(float("inf"), reason, violation)
         stance_share, stance_reason = self.stance_excess(theta)
         if stance_share > STANCE_LIMIT_RTOL:  # the NLP's rows hold these to Ipopt's tolerance
             return Evaluation(float("inf"), stance_reason, stance_share)
         return Evaluation(self._energy_j(out) + self.stance_energy_j(theta), None, 0.0)
+
+    def _row_violation(self, c: np.ndarray) -> tuple[float, str | None, bool]:
+        """The rows' violation at the samples' outputs ``c``, its reason, and whether finite.
+
+        Each row's excess beyond its round-off, relative to the row's scale (1 m, 1 rad, or the
+        bound's size: 14 kN of force), so that every constraint weighs alike; summed over rows
+        and samples. The reason is the largest excess's (``None`` when inside).
+        """
+        if not np.all(np.isfinite(c)):
+            if REACH in self.kernel.rows:
+                over = np.abs(c[self.kernel.row(REACH)]) - 1.0
+                amount = float(np.sum(over[over > 0])) or 1.0  # NaN angles: always > 0
+                return amount, "foot target out of reach", False
+            return 1.0, "non-finite motion", False
+        lower, upper = self.constraint_bounds
+        excess: np.ndarray = np.maximum(np.maximum(lower - c, c - upper), 0.0)
+        tol = self.constraint_tolerance
+        beyond: np.ndarray = np.where(excess > tol, excess, 0.0) * (FEASIBILITY_TOLERANCE / tol)
+        violation = float(np.sum(beyond))
+        if violation == 0.0:
+            return 0.0, None, True
+        row, sample = np.unravel_index(int(np.argmax(beyond)), beyond.shape)
+        return violation, self._reason(int(row), int(sample)), True
 
     def _reason(self, row: int, sample: int) -> str:
         name = self.kernel.rows[row]

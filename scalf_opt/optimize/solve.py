@@ -126,7 +126,7 @@ def run_pattern_search(
         return e.energy_j, e.reason
 
     def violation(theta: np.ndarray) -> tuple[float, str | None]:
-        return problem.evaluate(theta).violation, None
+        return problem.violation(theta), None
 
     phase1: PatternSearchResult | None = None
     if problem.evaluate(x0).reason is not None:

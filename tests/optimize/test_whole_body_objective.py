@@ -146,16 +146,50 @@ def test_an_alternation_cut_short_is_not_converged(scalf, monkeypatch):
     assert "NOT CONVERGED" in optimization_report(run)
 
 
-def test_an_alternation_stopped_by_a_leg_it_could_not_solve_says_so(hyq):
-    # HyQ's LH under whole-body loads: the pattern search's feasibility phase finds no
-    # feasible point of the paper family (Ipopt does); the alternation stops at that leg, and
-    # the report said it had settled ("1 rounds until a round changed the pair's energy ...")
+def test_an_alternation_stopped_by_a_leg_it_could_not_solve_says_so(hyq, monkeypatch):
+    # LH's feasibility phase made hopeless: HyQ's start is infeasible under whole-body loads
+    # (below), and a violation that never falls leaves LH without a feasible point; the
+    # alternation stops at that leg, and the report said it had settled ("1 rounds until a
+    # round changed the pair's energy ...")
+    real = SwingProblem.violation
+
+    def violation(self, theta):
+        return 1.0 if self.leg == "LH" else real(self, theta)
+
+    monkeypatch.setattr(SwingProblem, "violation", violation)
     pipeline = EnergyPipeline(hyq, read_gait(robot=hyq), loads="whole-body")
     run = optimize_swings(pipeline, ("RF", "LH"), make_family("paper"), Settings(method="pattern"))
     assert run.legs["RF"].success and not run.legs["LH"].success and not run.success
+    assert run.legs["LH"].best.status == "no feasible point found"
     text = optimization_report(run)
     assert "solved in turn, stopped in round 1, where LH was not solved;" in text
     assert "until a round changed" not in text
+
+
+def test_the_feasibility_phase_counts_every_crossed_limit(hyq):
+    """HyQ's default trot under whole-body loads: the start (the member closest to the
+    reference swing) misses the mid-swing clearance by a fraction of a millimetre and loads a
+    stance hip's cylinder a fifth beyond its pull. The feasibility phase judged a point by its
+    first crossing alone, so a step that met the clearance, leaving the stance limit crossed
+    (a share of 0.2), looked worse than the start (1e-4) and the search found no feasible
+    point on either leg; every crossing counted, it reaches one and the energy search runs."""
+    from scalf_opt.optimize.solve import run_pattern_search
+    from scalf_opt.optimize.starts import closest_member, reference_path
+
+    pipeline = EnergyPipeline(hyq, read_gait(robot=hyq), loads="whole-body")
+    family = make_family("joint-6")
+    problem = SwingProblem(pipeline, "RF", family)
+    start = closest_member(problem, reference_path(problem))
+    found = problem.evaluate(start)
+    assert found.reason == "mid-swing clearance" and 0.0 < found.violation < 1e-3
+    share, why = problem.stance_excess(start)
+    assert share > 0.2 and why.startswith("stance of ") and "cyl_force_hip" in why
+    # the total counts both: the rows' (as evaluate weighs them) and the stance samples'
+    assert problem.violation(start) > found.violation + share
+    result = run_pattern_search(problem, start)
+    assert result.success and result.stats["feasibility_phase_iterations"] > 0
+    assert problem.violation(result.theta) == 0.0 and problem.evaluate(result.theta).reason is None
+    assert result.objective_j == pytest.approx(problem.energy_j(result.theta), rel=1e-12)
 
 
 @pytest.mark.slow
