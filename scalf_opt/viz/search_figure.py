@@ -196,7 +196,7 @@ def _iteration_panel(ax: Axes, search: LegSearch, leg: str) -> None:
             mfc="white",
             lw=1.2,
         )
-        twin.set_ylabel("violation [m + rad]", color=FEASIBILITY_COLOR)
+        twin.set_ylabel("violation [m, rad, share of limit]", color=FEASIBILITY_COLOR)
         twin.tick_params(axis="y", colors=FEASIBILITY_COLOR)
         twin.set_ylim(bottom=0.0)
         twin.grid(False)
