@@ -52,14 +52,28 @@ closest one's are suggested beside it: ``--shank-scale`` is 0.84 from ``--shank-
 0.79 from ``--shank-length-scale``, and either may be meant."""
 
 
-def did_you_mean(word: str, candidates: Iterable[str]) -> str:
-    """``"; did you mean 'x'?"`` for the candidate closest to a mistyped ``word``, else ``""``.
+def close_matches(word: str, candidates: Iterable[str]) -> list[str]:
+    """The candidates closest to a mistyped ``word``, closest first.
 
-    ``'x' or 'y'`` when another candidate is about as close (:data:`AS_CLOSE`), closest first.
+    The closest one and any about as close (:data:`AS_CLOSE`); none when nothing is close
+    (difflib's similarity of 0.6).
     """
     close = difflib.get_close_matches(word, list(dict.fromkeys(candidates)), n=3)
     if not close:
-        return ""
+        return []
     best = difflib.SequenceMatcher(None, word, close[0]).ratio()
-    close = [c for c in close if difflib.SequenceMatcher(None, word, c).ratio() >= best - AS_CLOSE]
-    return f"; did you mean {' or '.join(repr(c) for c in close)}?"
+    return [c for c in close if difflib.SequenceMatcher(None, word, c).ratio() >= best - AS_CLOSE]
+
+
+def suggestion(close: Iterable[str]) -> str:
+    """``"; did you mean 'x'?"`` (``'x' or 'y'``) for the given matches, ``""`` for none."""
+    close = list(close)
+    return f"; did you mean {' or '.join(repr(c) for c in close)}?" if close else ""
+
+
+def did_you_mean(word: str, candidates: Iterable[str]) -> str:
+    """``"; did you mean 'x'?"`` for the candidates closest to a mistyped ``word``, else ``""``.
+
+    ``'x' or 'y'`` when another candidate is about as close (:data:`AS_CLOSE`), closest first.
+    """
+    return suggestion(close_matches(word, candidates))

@@ -25,7 +25,7 @@ from scalf_opt import __version__
 from scalf_opt.cli.commands import COMMANDS
 from scalf_opt.cli.console import Console, terminal_safe
 from scalf_opt.cli.options import default_outputs
-from scalf_opt.errors import ScalfError, did_you_mean
+from scalf_opt.errors import ScalfError, close_matches, did_you_mean, suggestion
 from scalf_opt.files import output_set, remove_stale_scratch
 from scalf_opt.interrupts import raise_if_stopped, stop_code, stop_on_signals
 
@@ -66,8 +66,11 @@ class Parser(argparse.ArgumentParser):
         if choice:
             hint = did_you_mean(choice.group(1), re.findall(r"'([^']*)'", choice.group(2)))
         elif unknown:
-            options = [o for action in self._actions for o in action.option_strings]
-            hint = did_you_mean(unknown.group(1), options)
+            # names compared without their dashes, which every flag shares: '--method' is no
+            # near miss of '--period'
+            options = {o.lstrip("-"): o for action in self._actions for o in action.option_strings}
+            close = close_matches(unknown.group(1).lstrip("-"), options)
+            hint = suggestion(options[name] for name in close)
         line = terminal_safe(" ".join(f"{message}{hint}".splitlines()))
         sys.stderr.write(f"scalf-opt: error: {line} (see {self.prog} --help)\n")
         sys.exit(2)

@@ -168,6 +168,8 @@ def test_the_api_gives_the_command_line_s_numbers(tmp_path, capsys):
         (["evalute"], "invalid choice: 'evalute'"),
         (["evaluate", "--robot", "hyqq"], "did you mean 'hyq'?"),
         (["evaluate", "--perid", "0.4"], "did you mean '--period'?"),
+        # a flag is compared without its dashes: '--method' is no near miss of '--period'
+        (["view", "--method", "pattern"], "unrecognized arguments: --method pattern (see"),
         # about as close to two flags: both named, the closer first
         (
             ["variant", "--shank-scale", "1.1", "--out", "v.urdf"],
