@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import itertools
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 from typing import Any
 
@@ -75,6 +75,7 @@ SEARCHED_GAIT_FIELDS = (
 
 _STUDY_KEYS = ("name", "urdf", "legs", "actuators", "optimize", SPEED, *SETTINGS)
 _TOP_KEYS = ("study", "gait", "variant", "sweep", "plot")
+_GAIT_FIELDS = tuple(f.name for f in fields(Gait))
 
 MAX_CASES = 10_000
 """Most cases a study may declare: about a week of 1-minute cases on one worker."""
@@ -277,6 +278,29 @@ def _check_gait_search(
             )
 
 
+def _misplaced(path: Path, name: str, value: Any) -> str:
+    """The error for a top-level entry that is not one of the file's tables.
+
+    A setting written above the first table (``family = "joint-4"``) is a top-level key in TOML;
+    the message says which table it belongs in when its name says so.
+    """
+    if not isinstance(value, dict):
+        home = next(
+            (t for t, keys in (("study", _STUDY_KEYS), ("gait", _GAIT_FIELDS)) if name in keys),
+            None,
+        )
+        if home is not None:
+            return f"{path}: {name} belongs in the [{home}] table: write it below a [{home}] line"
+        return (
+            f"{path}: unknown top-level key {name}{did_you_mean(name, _STUDY_KEYS + _GAIT_FIELDS)}"
+            f" (a study file holds only the tables {', '.join(_TOP_KEYS)})"
+        )
+    return (
+        f"{path}: unknown table [{name}]{did_you_mean(name, _TOP_KEYS)} "
+        f"(known: {', '.join(_TOP_KEYS)})"
+    )
+
+
 def read_study(path: str | Path) -> Study:
     """Read and check a study file and expand its cases.
 
@@ -288,10 +312,7 @@ def read_study(path: str | Path) -> Study:
     data = read_toml(path, "study")
     extra = sorted(set(data) - set(_TOP_KEYS))
     if extra:
-        raise ConfigError(
-            f"{path}: unknown table [{extra[0]}]{did_you_mean(extra[0], _TOP_KEYS)} "
-            f"(known: {', '.join(_TOP_KEYS)})"
-        )
+        raise ConfigError(_misplaced(path, extra[0], data[extra[0]]))
     tables = {}
     for key in _TOP_KEYS:
         value = data.get(key, {})

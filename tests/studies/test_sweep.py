@@ -65,6 +65,9 @@ x = "speed_m_s"
     [
         ("[study]\nrobots = 'x'\n", "unknown key study.robots; did you mean 'robot'"),
         ("[studies]\n", r"unknown table \[studies\]; did you mean 'study'"),
+        ("family = 'joint-4'\n[study]\n", r"family belongs in the \[study\] table"),
+        ("period_s = 0.4\n", r"period_s belongs in the \[gait\] table"),
+        ("robt = 'go1'\n", "unknown top-level key robt; did you mean 'robot'"),
         ("[sweep]\n'gait.speed' = [1]\n", r"unknown gait field 'speed' \(known"),
         ("[sweep]\n'hip' = [1]\n", "unknown sweep key 'hip'"),
         ("[sweep]\nclearance_m = [1]\n", "'clearance_m'; did you mean 'gait.clearance_m'"),
