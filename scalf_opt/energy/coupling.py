@@ -19,12 +19,20 @@ with ``tau_S0`` now free of both. The exact
 energy (:meth:`StanceCoupling.energy_j`) and the NLP's smooth form
 (:mod:`scalf_opt.optimize.nlp`) both read these arrays and the same CasADi functions (the twin's
 wrench, the stance legs' drive power), so the optimizers minimize what the evaluator reports.
+
+Half a cycle later the legs themselves swing during the other pair's stance (LF and RH for RF
+and LH) and load it the same way, their own parameters now in ``w``. On a robot symmetric about
+its sagittal midplane that stance mirrors the first and one window stands for both. Where the
+sides differ (HyQ's trunk 21.5 mm to the left of its midplane, Go1's 1.9 mm) the two stances
+differ in energy and in how close they come to a limit, and both count, each at half weight
+(:func:`stance_couplings`): the objective of the pair is then half the robot's cycle energy
+(on a symmetric robot, the pair's), and every loaded stance leg's limits bind the swings.
 """
 
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 import casadi as ca
@@ -69,14 +77,17 @@ class StanceTerm:
 
 @dataclass(frozen=True)
 class StanceCoupling:
-    """The pair's stance energy as a function of the swing parameters of ``legs``.
+    """A pair's stance energy as a function of the swing parameters of ``legs``.
 
     Attributes:
         legs: The legs whose swings are optimized (one, or both legs of the pair together).
-        varying: Their symmetric twins, swinging during the pair's stance, in the same order.
-        motions: Each twin's motion at the stance samples, affine in its leg's parameters.
-        terms: One per stance leg of the pair (``legs[0]`` and its diagonal partner).
-        weights: Trapezoidal weights of the stance samples [s].
+        varying: The legs swinging with those parameters during this stance, in the same order:
+            the legs' symmetric twins during the stance of the legs' own pair, or the legs
+            themselves during the other pair's (:func:`stance_couplings`).
+        motions: Each varying leg's motion at the stance samples, affine in the parameters.
+        terms: One per stance leg of the pair.
+        weights: Trapezoidal weights of the stance samples [s], times the window's share of the
+            objective (1, or 1/2 when two windows count).
     """
 
     legs: tuple[str, ...]
@@ -105,6 +116,35 @@ class StanceCoupling:
             total += float(np.sum(power @ self.weights))
         return total
 
+    def halved(self) -> StanceCoupling:
+        """This window at half the weight (one of two windows of the objective)."""
+        return replace(self, weights=self.weights / 2.0, _mapped={})
+
+    def mirrors(self, other: StanceCoupling, pipeline: EnergyPipeline) -> bool:
+        """Whether ``other``, the other pair's stance, is this one's mirror image.
+
+        The stance legs' paths, the weights and their torques at zero and at unit parameters
+        agree within :data:`MIRROR_RTOL` (the gains themselves differ: the lateral parts of the
+        wrench change sign between mirror-image legs, and so do their columns).
+        """
+        pairs = [(self.weights, other.weights)]
+        pairs += [(a.q, b.q) for a, b in zip(self.terms, other.terms, strict=True)]
+        pairs += [(a.qd, b.qd) for a, b in zip(self.terms, other.terms, strict=True)]
+        for value in (0.0, 1.0):
+            thetas = [np.full(m.n_params, value) for m in self.motions]
+            pairs += list(
+                zip(
+                    self.torques_nm(pipeline, thetas),
+                    other.torques_nm(pipeline, thetas),
+                    strict=True,
+                )
+            )
+        return all(
+            a.shape == b.shape
+            and bool(np.all(np.abs(a - b) <= MIRROR_RTOL * max(float(np.max(np.abs(a))), 1e-300)))
+            for a, b in pairs
+        )
+
     def _map(self, pipeline: EnergyPipeline) -> None:
         n = self.weights.size
         if not self._mapped:
@@ -114,6 +154,36 @@ class StanceCoupling:
             for term in self.terms:
                 power = pipeline.physics(term.leg).power_function(pipeline.accounting)
                 self._mapped[term.leg] = power.map(n)
+
+
+MIRROR_RTOL = 1e-12
+"""Two stance windows whose arrays agree within this share of their largest entry mirror each
+other: the robot is symmetric about its sagittal midplane, and one window stands for both."""
+
+
+def stance_couplings(
+    pipeline: EnergyPipeline, legs: tuple[str, ...], family: SwingFamily, swings: Swings
+) -> tuple[StanceCoupling, ...]:
+    """Every stance the swings of ``legs`` load, as a function of their parameters.
+
+    A swing of ``legs`` loads two stances over a cycle: its symmetric twin, repeating it half a
+    cycle later, loads the stance of the legs' own pair (the window of :func:`stance_coupling`),
+    and the legs themselves load the other pair's stance, which coincides with their own swing.
+    On a robot symmetric about its sagittal midplane the second window mirrors the first, and
+    one window stands for both (its energy the pair's stance energy, its limits the other pair's
+    too). Where the two differ (a trunk whose centre of mass is off the midplane: HyQ's, 21.5 mm
+    to the left), both windows count, each with half the weight: the stance part of the
+    objective is then half the stance energy of all four legs, which on the symmetric robot is
+    the pair's, and the limits of every loaded stance leg bind the swing.
+
+    Args: as :func:`stance_coupling`'s.
+    """
+    own = stance_coupling(pipeline, legs, family, swings)
+    twins = tuple(SYMMETRIC_TWIN[leg] for leg in legs)
+    other = _window(pipeline, SYMMETRIC_TWIN[legs[0]], legs, twins, family, swings)
+    if own.mirrors(other, pipeline):
+        return (own,)
+    return (own.halved(), other.halved())
 
 
 def stance_coupling(
@@ -127,23 +197,40 @@ def stance_coupling(
         family: Their swing family (the twins repeat it).
         swings: Every leg's swing; the twins' entries are ignored (they vary).
     """
-    gait = pipeline.gait
     pair = (legs[0], DIAGONAL_PARTNER[legs[0]])
     if not set(legs) <= set(pair):
         raise ValueError(f"legs {legs} are not one diagonal pair")
     twins = tuple(SYMMETRIC_TWIN[leg] for leg in legs)
+    return _window(pipeline, legs[0], twins, legs, family, swings)
+
+
+def _window(
+    pipeline: EnergyPipeline,
+    stance_leg: str,
+    varying: tuple[str, ...],
+    legs: tuple[str, ...],
+    family: SwingFamily,
+    swings: Swings,
+) -> StanceCoupling:
+    """The stance of ``stance_leg``'s pair with the swings of ``varying`` as the variables.
+
+    ``varying``: the swinging legs whose motion repeats the parameters of ``legs`` (in the same
+    order): the legs' twins, or the legs themselves.
+    """
+    gait = pipeline.gait
+    pair = (stance_leg, DIAGONAL_PARTNER[stance_leg])
     t = pipeline.stance_times_s
     n = t.size
-    cycle_times = stance_start_s(gait, legs[0]) + t  # the pair's stance: the same for both legs
+    cycle_times = stance_start_s(gait, stance_leg) + t  # the pair's stance: the same for both
     fixed = np.tile(static_wrench(pipeline.robot)[:, None], (1, n))
     for other in LEG_NAMES:
-        if other in twins:
+        if other in varying:
             continue
         own_family, theta = swings[other]
         motion = affine_leg_motion(pipeline, other, cycle_times, own_family, other in pair)
         fn = pipeline.physics(other).wrench_function(motion.space).map(n)
         fixed += np.array(fn(*motion.values(theta)))
-    distribution = pipeline.stance_distribution(legs[0])
+    distribution = pipeline.stance_distribution(stance_leg)
     shares = {s: distribution.force[s][:, [0, 2]] for s in pair}  # sagittal rows (n, 2, 6)
     terms = []
     for s in pair:
@@ -160,5 +247,5 @@ def stance_coupling(
         gain = -np.einsum("nrj,nrk->njk", jac, shares[s])  # -J^T K: (n, 2 joints, 6)
         tau_fixed = rnea + np.einsum("njk,kn->jn", gain, fixed)
         terms.append(StanceTerm(s, q, qd, tau_fixed, gain))
-    motions = tuple(affine_leg_motion(pipeline, twin, cycle_times, family) for twin in twins)
-    return StanceCoupling(legs, twins, motions, tuple(terms), trapezoid_weights(t))
+    motions = tuple(affine_leg_motion(pipeline, v, cycle_times, family) for v in varying)
+    return StanceCoupling(legs, varying, motions, tuple(terms), trapezoid_weights(t))

@@ -14,13 +14,15 @@ The inner minimization is the swing optimization of :func:`~scalf_opt.optimize.d
 optimum); the outer one is the paper's pattern search (:mod:`scalf_opt.optimize.pattern_search`)
 over the three stance numbers in centimetres, from the gait's stance, initial step
 :data:`STANCE_STEP_CM`, precision :data:`STANCE_PRECISION_CM`. The minimum over the pair is the
-minimum over the robot, because LF and RH repeat RF and LH. A stance is feasible when its path
-stays inside the reach and the joint range and every sample respects the leg's limits (URDF
-velocity and effort, the cylinders' stroke, force and speed); the swing keeps its constraints
-(ground, clearance H at mid-swing, limits) at the new height.
+minimum over the robot, because LF and RH repeat RF and LH; where the robot's sides differ (a
+trunk off its midplane loads one side's feet more) the sum is half the robot's energy, all four
+legs (:func:`pair_energy_j`). A stance is feasible when its path stays inside the reach and the
+joint range and every sample of every leg respects the leg's limits (URDF velocity and effort,
+the cylinders' stroke, force and speed); the swing keeps its constraints (ground, clearance H at
+mid-swing, limits) at the new height.
 
 Under whole-body loads the stance energy depends on the swings (the stance feet carry the
-swinging legs): a stance's total is the pair's cycle energy with its optimized swings
+swinging legs): a stance's total is the cycle energy with its optimized swings
 (:func:`pair_energy_j`), and its stance limits are checked with those swings too.
 
 The report splits the saving against the paper's stance with the reference swing into the part
@@ -44,6 +46,7 @@ from scalf_opt.errors import ScalfError
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.locomotion.trot import SYMMETRIC_TWIN
 from scalf_opt.optimize.driver import (
     Settings,
     SwingOptimization,
@@ -84,7 +87,8 @@ class StanceEvaluation:
     Attributes:
         gait: The gait with that stance.
         total_j: Energy of RF and LH over a cycle, stance and optimized swing, at the
-            optimization's rate [J] (:func:`pair_energy_j`; inf if infeasible).
+            optimization's rate [J]: half the robot's where its sides differ
+            (:func:`pair_energy_j`; inf if infeasible).
         reason: Why it is infeasible, else ``None``.
         run: The swing optimization at that stance (``None`` if the stance itself failed).
     """
@@ -176,12 +180,13 @@ class FreeStance:
 def _stance_feasible(
     pipeline: EnergyPipeline, legs: tuple[str, ...], margins: LimitMargins
 ) -> tuple[float, str | None]:
-    """Stance energy of ``legs`` [J], or ``(inf, reason)`` when the stance breaks a limit.
+    """Stance energy of ``legs`` and their twins [J], or ``(inf, reason)`` at a broken limit.
 
-    The joint range and the stroke count less their margins.
+    The joint range and the stroke count less their margins. The twins (LF and RH for RF and
+    LH) stand on the same stance path, but where the robot's sides differ they carry other loads.
     """
     total = 0.0
-    for leg in legs:
+    for leg in with_twins(legs):
         try:
             phase = pipeline.stance(leg)
         except ScalfError as exc:
@@ -197,21 +202,32 @@ def _stance_feasible(
 def pair_energy_j(
     pipeline: EnergyPipeline, family: SwingFamily, run: SwingOptimization, legs: tuple[str, ...]
 ) -> tuple[float, str | None]:
-    """The energy of ``legs`` over a cycle with the run's swings [J], or ``(inf, reason)``.
+    """Half the energy of ``legs`` and their twins over a cycle with the run's swings [J].
 
-    The pair's cycle as every report evaluates it (the stance loads of ``pipeline``'s model,
-    with these swings); infinite when a stance sample breaks a limit of its leg.
+    The cycle as every report evaluates it (the stance loads of ``pipeline``'s model, with these
+    swings), of ``legs`` and the symmetric twins that repeat their swings half a cycle later,
+    halved: the pair's energy (RF and LH) on a robot symmetric about its midplane, and half the
+    robot's where its sides differ (HyQ's trunk 21.5 mm to the left loads its left feet more),
+    as the swing's objective counts it (:func:`~scalf_opt.energy.coupling.stance_couplings`).
+    ``(inf, reason)`` when a stance sample of any of them breaks a limit of its leg.
     """
+    loaded = with_twins(legs)
     try:
-        cycle = pipeline.robot_cycle(family, run.thetas, legs)
+        cycle = pipeline.robot_cycle(family, run.thetas, loaded)
     except ScalfError as exc:
         return math.inf, str(exc)
-    for leg in legs:
+    for leg in loaded:
         beyond = violations(cycle.legs[leg].stance.values, leg_bounds(pipeline.physics(leg)))
         if beyond:
             b = beyond[0].bound
             return math.inf, f"stance of {leg}: {b.name} beyond its {b.source}"
-    return cycle.energy_j, None
+    return cycle.energy_j / 2.0, None
+
+
+def with_twins(legs: tuple[str, ...]) -> tuple[str, ...]:
+    """``legs`` and, after them, each one's symmetric twin (LF for RF) not already among them."""
+    twins = tuple(SYMMETRIC_TWIN[leg] for leg in legs)
+    return legs + tuple(t for i, t in enumerate(twins) if t not in legs and t not in twins[:i])
 
 
 class GaitTrials:

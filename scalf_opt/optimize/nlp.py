@@ -54,6 +54,7 @@ import casadi as ca
 import numpy as np
 
 from scalf_opt.energy.accounting import accounting as power_accounting
+from scalf_opt.energy.coupling import StanceCoupling
 from scalf_opt.interrupts import interruptible, stop_requested
 from scalf_opt.optimize.kernels import (
     STANCE_INPUTS,
@@ -222,7 +223,8 @@ class BuiltNlp:
         blocks: Each leg's part, in the order of the problem's legs.
         accounting: Power accounting.
         build_time_s: Time spent building it [s].
-        coupled: The shape of the pair's stance term under whole-body loads, else ``None``.
+        coupled: The shapes of the stance terms under whole-body loads (one per stance window
+            the swings load: :func:`coupled_shapes`), else empty.
         callback: Its iteration callback (kept alive with the solver).
     """
 
@@ -230,7 +232,7 @@ class BuiltNlp:
     blocks: tuple[LegBlock, ...]
     accounting: Accounting
     build_time_s: float
-    coupled: CoupledShape | None = None
+    coupled: tuple[CoupledShape, ...] = ()
     callback: StopCallback | None = None
 
     @property
@@ -302,31 +304,37 @@ class CoupledShape:
         return sum(len(c) for c in self.charged) * self.n_samples
 
 
-def coupled_shape(problem: SwingProblem | PairProblem) -> CoupledShape | None:
-    """The stance term's shape of ``problem`` (``None`` when its loads do not couple the legs)."""
-    coupling = problem.coupling
-    if coupling is None:
-        return None
+def coupled_shapes(problem: SwingProblem | PairProblem) -> tuple[CoupledShape, ...]:
+    """The shape of each stance term of ``problem``, one per stance window its swings load.
+
+    None when its loads do not couple the legs; one (the pair's stance) on a robot symmetric
+    about its midplane; two otherwise (:func:`~scalf_opt.energy.coupling.stance_couplings`).
+    """
     pipeline = problem.pipeline
-    charged = tuple(
-        tuple(i for i, d in enumerate(pipeline.physics(t.leg).drives) if d.charges_joint_power)
-        for t in coupling.terms
-    )
-    return CoupledShape(
-        coupling.varying,
-        coupling.motions[0].space,
-        tuple(t.leg for t in coupling.terms),
-        int(coupling.weights.size),
-        charged,
-        len(_stance_limits(problem)[0]),
-        problem.family.n_params > CONDENSED_MAX_PARAMS,
-    )
+    shapes = []
+    for coupling in problem.couplings:
+        charged = tuple(
+            tuple(i for i, d in enumerate(pipeline.physics(t.leg).drives) if d.charges_joint_power)
+            for t in coupling.terms
+        )
+        shapes.append(
+            CoupledShape(
+                coupling.varying,
+                coupling.motions[0].space,
+                tuple(t.leg for t in coupling.terms),
+                int(coupling.weights.size),
+                charged,
+                len(_stance_limits(problem, coupling)[0]),
+                problem.family.n_params > CONDENSED_MAX_PARAMS,
+            )
+        )
+    return tuple(shapes)
 
 
-def _stance_limits(problem: SwingProblem | PairProblem) -> tuple[np.ndarray, np.ndarray]:
-    """Lower and upper bounds of the stance legs' limited quantities at one sample."""
-    coupling = problem.coupling
-    assert coupling is not None
+def _stance_limits(
+    problem: SwingProblem | PairProblem, coupling: StanceCoupling
+) -> tuple[np.ndarray, np.ndarray]:
+    """Lower and upper bounds of a stance window's limited quantities at one sample."""
     bounds = [
         b for t in coupling.terms for b in stance_limited_bounds(problem.pipeline.physics(t.leg))
     ]
@@ -334,15 +342,14 @@ def _stance_limits(problem: SwingProblem | PairProblem) -> tuple[np.ndarray, np.
 
 
 def _stance_parameters(
-    problem: SwingProblem | PairProblem, theta_maps: Sequence[np.ndarray]
+    coupling: StanceCoupling, theta_maps: Sequence[np.ndarray]
 ) -> list[np.ndarray]:
-    """The stance term's parameter values, in :func:`_stance_cost`'s order.
+    """A stance term's parameter values, in :func:`_stance_cost`'s order.
 
-    ``theta_maps``: each varying twin's leg's :func:`parameter_map` ``M`` (its parameters are
-    ``M x`` of the NLP's variables ``x``, so the twin's basis enters as ``B M``).
+    ``theta_maps``: each varying leg's optimized leg's :func:`parameter_map` ``M`` (its
+    parameters are ``M x`` of the NLP's variables ``x``, so the varying leg's basis enters as
+    ``B M``).
     """
-    coupling = problem.coupling
-    assert coupling is not None
     n = coupling.weights.size
     data = np.vstack(
         [np.vstack([t.q, t.qd, t.tau_fixed_nm, t.gain.reshape(n, 12).T]) for t in coupling.terms]
@@ -391,9 +398,9 @@ def _stance_cost(
     thetas: Sequence[ca.MX],
     accounting: Accounting,
 ) -> tuple[ca.MX, list[ca.MX], list[ca.MX], list[ca.MX]]:
-    """The pair's smooth stance energy: ``(cost, parameters, slack variables, slack rows)``.
+    """A stance window's smooth energy: ``(cost, parameters, slack variables, slack rows)``.
 
-    ``thetas``: the parameters of each varying twin's leg, in the order of ``shape.varying``.
+    ``thetas``: the parameters each varying leg repeats, in the order of ``shape.varying``.
     """
     pipeline = problem.pipeline
     n = shape.n_samples
@@ -401,21 +408,22 @@ def _stance_cost(
     samples = []
     slack_vars: list[ca.MX] = []
     rows: list[ca.MX] = []
+    window = "".join(shape.stance_legs)
     for twin, theta in zip(shape.varying, thetas, strict=True):
         n_theta = theta.numel()
-        base = ca.MX.sym(f"{twin}_base", 6 * n)
-        basis = ca.MX.sym(f"{twin}_basis", 6 * n * n_theta)
+        base = ca.MX.sym(f"{window}_{twin}_base", 6 * n)
+        basis = ca.MX.sym(f"{window}_{twin}_basis", 6 * n * n_theta)
         parameters += [base, basis]
         y = base + ca.mtimes(ca.reshape(basis, 6 * n, n_theta), theta) if n_theta else base
         if shape.lifted:
-            lifted = ca.MX.sym(f"{twin}_Y", 6 * n)
+            lifted = ca.MX.sym(f"{window}_{twin}_Y", 6 * n)
             slack_vars.append(lifted)
             rows.append(lifted - y)
             y = lifted
         samples.append(ca.reshape(y, 6, n))
-    weights = ca.MX.sym("stance_weights", n)
+    weights = ca.MX.sym(f"{window}_stance_weights", n)
     rows_per_sample = STANCE_INPUTS * len(shape.stance_legs)
-    data = ca.MX.sym("stance_data", rows_per_sample * n)
+    data = ca.MX.sym(f"{window}_stance_data", rows_per_sample * n)
     parameters += [weights, data]
     kernel = stance_kernel(
         tuple(pipeline.physics(v) for v in shape.varying),
@@ -527,11 +535,11 @@ def build_nlp(
         raise ValueError("rows can be left out of one leg's NLP only")
     with SYMBOLIC_LOCK:  # one CasADi build at a time (leg threads)
         blocks, constants = zip(*(_block(leg, left_out) for leg in legs), strict=True)
-        shape = coupled_shape(problem)
+        shapes = coupled_shapes(problem)
         options = {
             **IPOPT_DEFAULTS,
             **({} if blocks[0].lifted else CONDENSED_OPTIONS),
-            **({} if shape is None else COUPLED_OPTIONS),
+            **(COUPLED_OPTIONS if shapes else {}),
             **(PAIR_OPTIONS if len(legs) > 1 else {}),
             **(ipopt_options or {}),
         }
@@ -540,7 +548,7 @@ def build_nlp(
         # in a worker thread a signal cannot stop the solve: its iteration callback does
         stoppable = threading.current_thread() is not threading.main_thread()
         key = (
-            shape,
+            shapes,
             tuple(leg.leg for leg in legs[1:]),
             tuple(
                 (
@@ -560,10 +568,10 @@ def build_nlp(
         if key not in kernel.nlps:
             start = time.perf_counter()
             solver, callback = _build(
-                problem, legs, blocks, constants, accounting, options, stoppable, shape
+                problem, legs, blocks, constants, accounting, options, stoppable, shapes
             )
             kernel.nlps[key] = BuiltNlp(
-                solver, blocks, accounting, time.perf_counter() - start, shape, callback
+                solver, blocks, accounting, time.perf_counter() - start, shapes, callback
             )
         built = kernel.nlps[key]
     assert isinstance(built, BuiltNlp)
@@ -670,7 +678,7 @@ def _build(
     accounting: Accounting,
     options: dict[str, Any],
     stoppable: bool,
-    shape: CoupledShape | None = None,
+    shapes: tuple[CoupledShape, ...] = (),
 ) -> tuple[ca.Function, StopCallback | None]:
     thetas: list[ca.MX] = []
     variables: list[ca.MX] = []
@@ -689,7 +697,7 @@ def _build(
         constraints += leg_rows
         costs.append(leg_cost)
     cost = sum(costs[1:], costs[0])
-    if shape is not None:
+    for shape in shapes:
         stance_cost, stance_params, stance_slacks, stance_rows = _stance_cost(
             problem, shape, thetas, accounting
         )
@@ -716,7 +724,7 @@ def _build(
     callback = StopCallback(f"{name}_stop") if stoppable else None
     derivatives = (
         _sample_derivatives(name, x, p, cost_z, g_z, uses[0], first)
-        if len(legs) == 1 and shape is None and first.lifted
+        if len(legs) == 1 and not shapes and first.lifted
         else {}
     )
     solver = ca.nlpsol(
@@ -907,21 +915,20 @@ def _swing_start(
 def _stance_start(
     start: _Start,
     shape: CoupledShape,
+    coupling: StanceCoupling,
     problem: SwingProblem | PairProblem,
     thetas0: Sequence[np.ndarray],
     accounting: Accounting,
     theta_maps: Sequence[np.ndarray],
     xs0: Sequence[np.ndarray],
 ) -> None:
-    """Append the stance term's start (its slacks at ``thetas0``), bounds and values.
+    """Append a stance term's start (its slacks at ``thetas0``), bounds and values.
 
     ``theta_maps``: each leg's :func:`parameter_map`, in the order of ``thetas0``; ``xs0``:
     each leg's variables at the start.
     """
-    coupling = problem.coupling
-    assert coupling is not None
     rule = power_accounting(accounting)
-    parameters = _stance_parameters(problem, theta_maps)
+    parameters = _stance_parameters(coupling, theta_maps)
     if shape.lifted:  # the twins' samples at the start, in _stance_cost's layout
         n = 6 * shape.n_samples
         for k, x0 in enumerate(xs0):
@@ -943,7 +950,7 @@ def _stance_start(
     n_rows = shape.n_slack_rows(accounting)
     start.rows(np.full(n_rows, slack_lo), np.full(n_rows, slack_hi))
     if shape.n_limited:
-        lo, hi = _stance_limits(problem)
+        lo, hi = _stance_limits(problem, coupling)
         start.rows(np.tile(lo, shape.n_samples), np.tile(hi, shape.n_samples))
     start.p += parameters
 
@@ -970,8 +977,8 @@ def solve_nlp(
         built.blocks, legs, thetas0, maps, xs0, strict=True
     ):
         _swing_start(start, block, leg, theta, built.accounting, theta_map, x0)
-    if built.coupled is not None:
-        _stance_start(start, built.coupled, problem, thetas0, built.accounting, maps, xs0)
+    for shape, coupling in zip(built.coupled, problem.couplings, strict=True):
+        _stance_start(start, shape, coupling, problem, thetas0, built.accounting, maps, xs0)
     x0 = np.concatenate(start.x0)
     scale = 1.0
     if built.normalized:

@@ -6,8 +6,11 @@ integral of the exact charged power over the swing samples; under a load model t
 the legs (whole-body loads) plus the stance energy of the leg's diagonal pair, which the swing
 changes through the loads its symmetric twin puts on the stance feet
 (:mod:`scalf_opt.energy.coupling`): with the other optimized legs' parameters fixed, this is
-the pair's energy over a cycle (half the robot's) up to a constant. Under trunk loads the
-stance energy does not depend on the swing and the objective is the swing energy alone.
+the pair's energy over a cycle (half the robot's) up to a constant. On a robot whose sides
+differ (a trunk off its midplane) the other pair's stance, which the leg's own swing loads,
+counts too, each stance at half weight: half the robot's energy, up to a constant. Under trunk
+loads the stance energy does not depend on the swing and the objective is the swing energy
+alone.
 Constraints at every swing sample (decision 14 and the actuators' limits): every bound
 of the leg (:func:`~scalf_opt.energy.limits.leg_bounds`: the joint range, the URDF's velocity
 and effort limits, the drives' bounds such as SCalf's cylinder stroke, force and speed), the
@@ -26,13 +29,13 @@ The samples are the pipeline's gait's swing grid: the caller chooses the rate
 from __future__ import annotations
 
 import math
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from functools import cached_property
 
 import numpy as np
 
-from scalf_opt.energy.coupling import StanceCoupling, stance_coupling
+from scalf_opt.energy.coupling import StanceCoupling, stance_couplings
 from scalf_opt.energy.limits import Bound
 from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
 from scalf_opt.energy.physics import LegPhysics, trapezoid_weights
@@ -100,19 +103,22 @@ class SwingProblem:
     stance_term: bool = True
 
     @cached_property
-    def coupling(self) -> StanceCoupling | None:
-        """The pair's stance as a function of this leg's swing (``None`` under trunk loads)."""
+    def couplings(self) -> tuple[StanceCoupling, ...]:
+        """The stances this leg's swing loads, as functions of it (none under trunk loads).
+
+        One window, the pair's stance, on a robot symmetric about its midplane; else both
+        pairs' stances at half weight each (:func:`~scalf_opt.energy.coupling.stance_couplings`).
+        """
         if not (self.stance_term and self.pipeline.load_model.couples_legs):
-            return None
+            return ()
         thetas = {**(self.others or {}), self.leg: np.zeros(self.n_params)}
         swings = self.pipeline.swings(self.family, thetas)
-        return stance_coupling(self.pipeline, (self.leg,), self.family, swings)
+        return stance_couplings(self.pipeline, (self.leg,), self.family, swings)
 
     def stance_energy_j(self, theta: np.ndarray) -> float:
-        """The part of the objective in the pair's stance [J] (0 under trunk loads)."""
-        if self.coupling is None:
-            return 0.0
-        return self.coupling.energy_j(self.pipeline, (np.asarray(theta, dtype=float),))
+        """The part of the objective in the stances the swing loads [J] (0 under trunk loads)."""
+        thetas = (np.asarray(theta, dtype=float),)
+        return sum((c.energy_j(self.pipeline, thetas) for c in self.couplings), 0.0)
 
     def swing_energy_j(self, theta: np.ndarray) -> float:
         """Exact swing energy of a member [J], feasible or not (the leg's own swing only)."""
@@ -270,12 +276,16 @@ class SwingProblem:
         The excesses as shares of the bound's size (0 inside; ``inf`` where not finite). Empty
         under trunk loads.
         """
-        coupling = self.coupling
-        if coupling is None:
-            return []
         shares = []
-        torques = coupling.torques_nm(self.pipeline, (np.asarray(theta, dtype=float),))
-        for term, tau in zip(coupling.terms, torques, strict=True):
+        thetas = (np.asarray(theta, dtype=float),)
+        loaded = [
+            (term, tau)
+            for coupling in self.couplings
+            for term, tau in zip(
+                coupling.terms, coupling.torques_nm(self.pipeline, thetas), strict=True
+            )
+        ]
+        for term, tau in loaded:
             physics = self.pipeline.physics(term.leg)
             bounds = stance_limited_bounds(physics)
             if not bounds:
@@ -427,11 +437,16 @@ class PairProblem:
         )
 
     @cached_property
-    def coupling(self) -> StanceCoupling:
-        """The pair's stance as a function of both legs' swings."""
+    def couplings(self) -> tuple[StanceCoupling, ...]:
+        """The stances both legs' swings load, as functions of them (as a leg's problem's)."""
         zeros = {leg: np.zeros(self.family.n_params) for leg in self.legs}
         swings = self.pipeline.swings(self.family, zeros)
-        return stance_coupling(self.pipeline, self.legs, self.family, swings)
+        return stance_couplings(self.pipeline, self.legs, self.family, swings)
+
+    def stance_energy_j(self, thetas: Sequence[np.ndarray]) -> float:
+        """The stance part of the objective [J] for each leg's parameters, in :attr:`legs` order."""
+        arrays = tuple(np.asarray(t, dtype=float) for t in thetas)
+        return sum((c.energy_j(self.pipeline, arrays) for c in self.couplings), 0.0)
 
     def leg_problem(self, leg: str, thetas: Mapping[str, np.ndarray]) -> SwingProblem:
         """``leg``'s problem, the other leg's parameters fixed at ``thetas``, its stance term in.

@@ -148,7 +148,7 @@ def run_pattern_search(
 
 def _swing_energy_j(problem: SwingProblem, theta: np.ndarray, objective_j: float) -> float:
     """The leg's own swing energy at a point whose objective is ``objective_j`` (inf: inf)."""
-    if problem.coupling is None or not math.isfinite(objective_j):
+    if not problem.couplings or not math.isfinite(objective_j):
         return objective_j
     return problem.swing_energy_j(theta)
 

@@ -117,7 +117,7 @@ def _leg_lines(result: LegResult, method: str, family: str) -> list[str]:
     else:  # whole-body loads: the swing pays for the stance it loads
         lines += [
             f"  swing energy {o.swing_energy_j:.4f} J {against}",
-            f"  objective (its swing and the pair's stance it loads) {o.objective_j:.4f} J; at "
+            f"  objective (its swing and the stance it loads) {o.objective_j:.4f} J; at "
             f"{CHECK_FACTOR}x the rate {result.check_energy_j:.4f} J "
             f"({100 * result.sampling_error:.3f} % apart)",
         ]
