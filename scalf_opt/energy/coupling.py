@@ -162,7 +162,11 @@ other: the robot is symmetric about its sagittal midplane, and one window stands
 
 
 def stance_couplings(
-    pipeline: EnergyPipeline, legs: tuple[str, ...], family: SwingFamily, swings: Swings
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    family: SwingFamily,
+    swings: Swings,
+    twins_repeat: bool = True,
 ) -> tuple[StanceCoupling, ...]:
     """Every stance the swings of ``legs`` load, as a function of their parameters.
 
@@ -176,11 +180,23 @@ def stance_couplings(
     objective is then half the stance energy of all four legs, which on the symmetric robot is
     the pair's, and the limits of every loaded stance leg bind the swing.
 
-    Args: as :func:`stance_coupling`'s.
+    When the twins swing with parameters of their own (every leg optimized on its own), a
+    twin's swing does not repeat the legs', and only the stance the legs' own swings load
+    depends on their parameters: that window alone, at full weight.
+
+    Args:
+        pipeline: Robot, gait, accounting (its load model must couple the legs).
+        legs: The optimized legs: one leg, or both legs of one diagonal pair.
+        family: Their swing family.
+        swings: Every leg's swing; the entries of the legs and of twins that repeat them are
+            ignored (they vary).
+        twins_repeat: The twins repeat the legs' swings half a cycle later (the paper's
+            symmetry); ``False``: they keep their own entries of ``swings``.
     """
+    other = _window(pipeline, SYMMETRIC_TWIN[legs[0]], legs, legs, family, swings)
+    if not twins_repeat:
+        return (other,)
     own = stance_coupling(pipeline, legs, family, swings)
-    twins = tuple(SYMMETRIC_TWIN[leg] for leg in legs)
-    other = _window(pipeline, SYMMETRIC_TWIN[legs[0]], legs, twins, family, swings)
     if own.mirrors(other, pipeline):
         return (own,)
     return (own.halved(), other.halved())

@@ -41,6 +41,7 @@ from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
 from scalf_opt.energy.physics import LegPhysics, trapezoid_weights
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
+from scalf_opt.locomotion.trot import SYMMETRIC_TWIN
 from scalf_opt.optimize.kernels import (
     FOOT_Z,
     FOOT_Z_ACCEL,
@@ -107,13 +108,16 @@ class SwingProblem:
         """The stances this leg's swing loads, as functions of it (none under trunk loads).
 
         One window, the pair's stance, on a robot symmetric about its midplane; else both
-        pairs' stances at half weight each (:func:`~scalf_opt.energy.coupling.stance_couplings`).
+        pairs' stances at half weight each (:func:`~scalf_opt.energy.coupling.stance_couplings`);
+        when the leg's twin is among :attr:`others` (every leg optimized on its own), the
+        stance the leg's own swing loads alone.
         """
         if not (self.stance_term and self.pipeline.load_model.couples_legs):
             return ()
         thetas = {**(self.others or {}), self.leg: np.zeros(self.n_params)}
         swings = self.pipeline.swings(self.family, thetas)
-        return stance_couplings(self.pipeline, (self.leg,), self.family, swings)
+        twins_repeat = SYMMETRIC_TWIN[self.leg] not in thetas
+        return stance_couplings(self.pipeline, (self.leg,), self.family, swings, twins_repeat)
 
     def stance_energy_j(self, theta: np.ndarray) -> float:
         """The part of the objective in the stances the swing loads [J] (0 under trunk loads)."""

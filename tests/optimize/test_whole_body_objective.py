@@ -334,6 +334,10 @@ def test_on_an_asymmetric_robot_the_objective_is_half_the_robots_cycle(hyq, scal
             swing = cycle.legs[leg].swing_energy_j
             assert problem.energy_j(thetas[leg]) == pytest.approx(swing + half_stance, rel=RTOL)
         assert len(problem.couplings) == windows
+        assert all(c.legs == legs for c in problem.couplings)
+        if windows == 2:  # the pair's stance (twins swinging), then the other pair's (legs)
+            twins = tuple({"RF": "LF", "LH": "RH"}[leg] for leg in legs)
+            assert [c.varying for c in problem.couplings] == [twins, legs]
         assert stance == pytest.approx(half_stance, rel=RTOL)
         if windows == 1:  # the symmetric robot: the pair's stance is half the four legs'
             pair_stance = cycle.legs["RF"].stance_energy_j + cycle.legs["LH"].stance_energy_j
@@ -346,3 +350,24 @@ def test_on_an_asymmetric_robot_the_objective_is_half_the_robots_cycle(hyq, scal
     rf_peak = np.abs(hyq_cycle.legs["RF"].stance.values["cyl_force_hip"]).max()
     lf_peak = np.abs(hyq_cycle.legs["LF"].stance.values["cyl_force_hip"]).max()
     assert abs(lf_peak - rf_peak) > 1e-3 * rf_peak
+
+
+@pytest.mark.parametrize("duty", [0.5, 0.6])
+def test_a_leg_optimized_on_its_own_pays_for_the_stance_its_own_swing_loads(scalf, duty):
+    """Every leg optimized on its own (a study's ``optimize = "all"``): a twin keeps its own
+    swing, so only the other pair's stance, during the leg's own swing, depends on the leg's
+    parameters; the objective is the leg's swing plus that stance, as the evaluator reports it
+    with all four legs' own swings."""
+    family = make_family("joint-4")
+    pipeline = EnergyPipeline(scalf, Gait(duty_cycle=duty), loads="whole-body")
+    rng = np.random.default_rng(5)
+    thetas = {leg: rng.normal(0.0, 2.0, family.n_params) for leg in ("RF", "LH", "LF", "RH")}
+    cycle = pipeline.robot_cycle(family, thetas)
+    for leg, loaded in (("RF", ("LF", "RH")), ("LF", ("RF", "LH"))):
+        others = {o: t for o, t in thetas.items() if o != leg}
+        problem = SwingProblem(pipeline, leg, family, others)
+        assert len(problem.couplings) == 1 and problem.couplings[0].varying == (leg,)
+        expected = cycle.legs[leg].swing_energy_j + sum(
+            cycle.legs[s].stance_energy_j for s in loaded
+        )
+        assert problem.energy_j(thetas[leg]) == pytest.approx(expected, rel=RTOL)
