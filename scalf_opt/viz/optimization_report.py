@@ -6,11 +6,12 @@ import math
 
 from scalf_opt.energy.cycle import change_percent
 from scalf_opt.energy.limits import printed_unit
-from scalf_opt.energy.peaks import CycleViolation, Peak
+from scalf_opt.energy.peaks import CycleViolation, Peak, cycle_violations
 from scalf_opt.optimize.bound import FreeBound
 from scalf_opt.optimize.driver import ALTERNATION_RTOL, LegResult, SwingOptimization
 from scalf_opt.optimize.free_stance import FreeStance
 from scalf_opt.optimize.sampling import CHECK_FACTOR
+from scalf_opt.types import JOINT_ROLES
 
 
 def _g(x: float) -> str:
@@ -67,7 +68,8 @@ def peaks_table(peaks: list[Peak], reference: list[Peak] | None = None) -> str:
             value = _g(p.value) if quantity in signed else _g(abs(p.value))
             ref = ref_rows.get((leg, joint), {}).get(quantity)
             if ref is not None:
-                value += f" ({_g(ref.value) if quantity in signed else _g(abs(ref.value))})"
+                shown = _g(ref.value) if quantity in signed else _g(abs(ref.value))
+                value += f" ({shown}{'*' if ref.exceeds else ''})"
             cells.append(f"{value}{'*' if p.exceeds else ' '}")
             if p.limit is None:
                 limit_cells.append("none ")
@@ -194,6 +196,8 @@ def optimization_warnings(run: SwingOptimization) -> list[str]:
             f"the cycle costs {optimized:.3f} J against the reference's {reference:.3f} J "
             f"({change_percent(optimized, reference):+.2f} %)"
         )
+    if worse:
+        cycles += _reference_beyond(run)
     for result in run.legs.values():
         if result.leg in worse:
             out.append(
@@ -209,6 +213,31 @@ def optimization_warnings(run: SwingOptimization) -> list[str]:
                 + "; ".join(f"{s.label} ({s.optimum.status})" for s in failed)
             )
     return out
+
+
+def _reference_beyond(run: SwingOptimization) -> str:
+    """``; the reference crosses ...``: the reference cycle's worst crossed limit, else ``""``.
+
+    An optimum kept inside every limit may cost more than a reference that is not.
+    """
+    reference, optimized = run.reference_cycle(), run.cycle()
+    physics = {leg: run.pipeline.physics(leg) for leg in reference.legs}
+    crossed = {(v.leg, v.violation.bound.name) for v in cycle_violations(optimized, physics)}
+    beyond = [
+        v
+        for v in cycle_violations(reference, physics)
+        if (v.leg, v.violation.bound.name) not in crossed
+    ]
+    if not beyond:
+        return ""
+    worst = max(beyond, key=lambda v: v.violation.excess / v.violation.bound.size)
+    b = worst.violation.bound
+    over = 100.0 * worst.violation.excess / b.size
+    others = f" and {len(beyond) - 1} more" if len(beyond) > 1 else ""
+    return (
+        f"; the reference crosses limits the optimum keeps: {worst.leg} "
+        f"{JOINT_ROLES[b.joint]} {b.quantity} by {over:.2g} % in {worst.phase}{others}"
+    )
 
 
 def bound_report(bounds: dict[str, FreeBound]) -> str:

@@ -299,6 +299,25 @@ def test_an_optimum_worse_than_the_reference_says_so(tmp_path, capsys):
         f"the cycle costs {optimized:.3f} J against the reference's {reference:.3f} J "
         f"({100 * (optimized / reference - 1):+.2f} %)"
     ) in out
+    assert "the reference crosses" not in out  # SCalf's reference keeps its limits
+
+
+def test_a_worse_optimum_says_which_limit_the_reference_crosses(capsys):
+    """HyQ's reference swings load the stance hips' cylinders a quarter beyond their pull; the
+    pattern search's optimum keeps every limit and costs more: the warning names the crossing,
+    and the peaks table marks the reference's peak beyond its limit inside its brackets."""
+    args = ["optimize", "--robot", "hyq", "--method", "pattern", "--family", "paper"]
+    code, out, _ = run(args, capsys)
+    assert code == 0 and "WORSE than the reference" in out
+    assert (
+        "; the reference crosses limits the optimum keeps: LF hip cyl_force by 25 % in stance"
+        in (out)
+    )
+    table = out.split("peaks over the cycle")[1].split("\nlimit ")[0].split("\n", 2)[2]
+    assert "*)" in table  # a reference peak beyond its limit, in its brackets
+    assert not any(cell.endswith("*") for cell in table.replace(")", ") ").split())  # the optimum's
+    _, reference_out, _ = run(["evaluate", "--robot", "hyq"], capsys)
+    assert "LF hip: cyl_force = -2773.94 N exceeds" in reference_out and "by 25 %" in reference_out
 
 
 def test_optimize_starts_and_regenerative_refusal(tmp_path, capsys):
