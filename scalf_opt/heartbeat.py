@@ -8,13 +8,44 @@ same), for solves and studies alike.
 
 from __future__ import annotations
 
+import contextlib
 import sys
 import threading
 import time
+from collections.abc import Callable, Iterator
 from types import TracebackType
 
 HEARTBEAT_S = 10.0
 """The longest silence on stderr during long work when the output is not a terminal [s]."""
+
+_listeners: list[Callable[[str | None], None]] = []
+"""Who shows what :func:`meanwhile` announces (the command line's progress, while it runs)."""
+
+
+@contextlib.contextmanager
+def meanwhile(doing: str) -> Iterator[None]:
+    """Long work inside a step that the step's label does not say (compiling a new kernel).
+
+    Shown beside the current step while the block runs (``joint-6 at 425 Hz: compiling ...``),
+    by whatever listens (:func:`listening`); nothing when nobody does.
+    """
+    for listener in list(_listeners):
+        listener(doing)
+    try:
+        yield
+    finally:
+        for listener in list(_listeners):
+            listener(None)
+
+
+@contextlib.contextmanager
+def listening(listener: Callable[[str | None], None]) -> Iterator[None]:
+    """Inside the block ``listener`` gets what :func:`meanwhile` announces, then ``None``."""
+    _listeners.append(listener)
+    try:
+        yield
+    finally:
+        _listeners.remove(listener)
 
 
 class Heartbeat:

@@ -10,7 +10,7 @@ from __future__ import annotations
 from types import TracebackType
 
 from scalf_opt.cli.console import progress_enabled
-from scalf_opt.heartbeat import HEARTBEAT_S, Heartbeat
+from scalf_opt.heartbeat import HEARTBEAT_S, Heartbeat, listening
 
 
 class ProgressBar:
@@ -39,9 +39,12 @@ class ProgressBar:
         elif enabled:
             self._heartbeat = Heartbeat(what, heartbeat_s)
         self._started = False
+        self._label = ""
+        self._listening = listening(self._aside)
 
     def step(self, label: str) -> None:
         """Start the next step, ``label`` describing it (the previous one is done)."""
+        self._label = label
         if self._heartbeat is not None:
             self._heartbeat.doing = label
         if self._bar is None:
@@ -51,9 +54,20 @@ class ProgressBar:
         self._started = True
         self._bar.set_postfix_str(label, refresh=True)
 
+    def _aside(self, doing: str | None) -> None:
+        """Show ``doing`` beside the current step (``None``: the step alone again)."""
+        text = doing if self._label == "" or doing is None else f"{self._label}: {doing}"
+        text = self._label if text is None else text
+        if self._heartbeat is not None:
+            self._heartbeat.doing = text
+        if self._bar is not None:
+            self._bar.set_postfix_str(text, refresh=True)
+
     def __enter__(self) -> ProgressBar:
         if self._heartbeat is not None:
             self._heartbeat.__enter__()
+        if self._bar is not None or self._heartbeat is not None:
+            self._listening.__enter__()
         return self
 
     def __exit__(
@@ -62,6 +76,8 @@ class ProgressBar:
         value: BaseException | None,
         traceback: TracebackType | None,
     ) -> None:
+        if self._bar is not None or self._heartbeat is not None:
+            self._listening.__exit__(kind, value, traceback)
         if self._heartbeat is not None:
             self._heartbeat.__exit__(kind, value, traceback)
         if self._bar is not None:

@@ -30,6 +30,7 @@ from pathlib import Path
 import casadi as ca
 
 from scalf_opt.files import scratch_folder
+from scalf_opt.heartbeat import meanwhile
 
 OPTIMIZATION_FLAG = "-O1"
 """gcc optimisation level: -O1 compiles the evaluator in a few seconds and runs it ~3x faster
@@ -223,7 +224,8 @@ def compile_library(name: str, functions: list[ca.Function]) -> Path | None:
                 target.parent.mkdir(parents=True, exist_ok=True)
                 partial = Path(tmp, target.name)
                 command = [compiler, OPTIMIZATION_FLAG, "-shared", "-fPIC", "-o", str(partial)]
-                _run_compiler([*command, str(source_path), "-lm"], Path(tmp))
+                with meanwhile(f"compiling {name} (once per machine)"):
+                    _run_compiler([*command, str(source_path), "-lm"], Path(tmp))
                 # atomic publish (another process may compile the same function): the library
                 # first, then its checksum, so a reader never trusts a partial file
                 for src, dst, text in (
