@@ -145,6 +145,8 @@ def foot_force_figure(
             textcoords="offset points",
             fontsize=7,
             color="#555555",
+            # the feet's curves cross the line: a backing keeps the label legible over them
+            bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.85, "pad": 1.0},
         )
         ax_z.set_ylabel("vertical force $F_z$ [N]")
         ax_z.set_title(
