@@ -22,8 +22,10 @@ through it (exact gradient, constraint Jacobian and Lagrangian Hessian).
 
 One NLP holds one leg, or both legs of a diagonal pair (:class:`~scalf_opt.optimize.problem
 .PairProblem`): one block of variables, rows and parameters per leg (:class:`LegBlock`), in the
-legs' order, then under whole-body loads the pair's stance term (:class:`CoupledShape`), whose
-torques take the wrenches of every optimized leg's twin.
+legs' order, then under whole-body loads a stance term per stance window the swings load
+(:class:`CoupledShape`): the pair's stance, whose torques take the wrenches of every optimized
+leg's twin, and on a robot whose sides differ the other pair's too, whose torques take the
+optimized legs' own wrenches (:func:`~scalf_opt.energy.coupling.stance_couplings`).
 
 The non-smooth energy is made smooth without changing its value at an optimum:
 
@@ -266,7 +268,8 @@ class CoupledShape:
     on SCalf's pair costs 18 ms instead of 28 (the same optimum to 1e-13 J).
 
     Attributes:
-        varying: The swinging twins whose wrenches load the stance feet (one per optimized leg).
+        varying: The swinging legs whose wrenches load the stance feet, one per optimized leg:
+            its twin in the pair's own stance, the leg itself in the other pair's.
         space: Its samples' space.
         stance_legs: The pair's legs.
         n_samples: Stance samples.
@@ -307,7 +310,7 @@ class CoupledShape:
 def coupled_shapes(problem: SwingProblem | PairProblem) -> tuple[CoupledShape, ...]:
     """The shape of each stance term of ``problem``, one per stance window its swings load.
 
-    None when its loads do not couple the legs; one (the pair's stance) on a robot symmetric
+    Empty when its loads do not couple the legs; one (the pair's stance) on a robot symmetric
     about its midplane; two otherwise (:func:`~scalf_opt.energy.coupling.stance_couplings`).
     """
     pipeline = problem.pipeline
@@ -409,14 +412,14 @@ def _stance_cost(
     slack_vars: list[ca.MX] = []
     rows: list[ca.MX] = []
     window = "".join(shape.stance_legs)
-    for twin, theta in zip(shape.varying, thetas, strict=True):
+    for swinging, theta in zip(shape.varying, thetas, strict=True):
         n_theta = theta.numel()
-        base = ca.MX.sym(f"{window}_{twin}_base", 6 * n)
-        basis = ca.MX.sym(f"{window}_{twin}_basis", 6 * n * n_theta)
+        base = ca.MX.sym(f"{window}_{swinging}_base", 6 * n)
+        basis = ca.MX.sym(f"{window}_{swinging}_basis", 6 * n * n_theta)
         parameters += [base, basis]
         y = base + ca.mtimes(ca.reshape(basis, 6 * n, n_theta), theta) if n_theta else base
         if shape.lifted:
-            lifted = ca.MX.sym(f"{window}_{twin}_Y", 6 * n)
+            lifted = ca.MX.sym(f"{window}_{swinging}_Y", 6 * n)
             slack_vars.append(lifted)
             rows.append(lifted - y)
             y = lifted
@@ -929,7 +932,7 @@ def _stance_start(
     """
     rule = power_accounting(accounting)
     parameters = _stance_parameters(coupling, theta_maps)
-    if shape.lifted:  # the twins' samples at the start, in _stance_cost's layout
+    if shape.lifted:  # the swinging legs' samples at the start, in _stance_cost's layout
         n = 6 * shape.n_samples
         for k, x0 in enumerate(xs0):
             base, basis = parameters[2 * k], parameters[2 * k + 1]
