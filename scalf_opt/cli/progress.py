@@ -56,8 +56,12 @@ class ProgressBar:
 
     def _aside(self, doing: str | None) -> None:
         """Show ``doing`` beside the current step (``None``: the step alone again)."""
-        text = doing if self._label == "" or doing is None else f"{self._label}: {doing}"
-        text = self._label if text is None else text
+        if doing is None:
+            text = self._label
+        elif self._label:
+            text = f"{self._label}: {doing}"
+        else:
+            text = doing
         if self._heartbeat is not None:
             self._heartbeat.doing = text
         if self._bar is not None:
@@ -66,8 +70,7 @@ class ProgressBar:
     def __enter__(self) -> ProgressBar:
         if self._heartbeat is not None:
             self._heartbeat.__enter__()
-        if self._bar is not None or self._heartbeat is not None:
-            self._listening.__enter__()
+        self._listening.__enter__()
         return self
 
     def __exit__(
@@ -76,8 +79,7 @@ class ProgressBar:
         value: BaseException | None,
         traceback: TracebackType | None,
     ) -> None:
-        if self._bar is not None or self._heartbeat is not None:
-            self._listening.__exit__(kind, value, traceback)
+        self._listening.__exit__(kind, value, traceback)
         if self._heartbeat is not None:
             self._heartbeat.__exit__(kind, value, traceback)
         if self._bar is not None:

@@ -156,6 +156,19 @@ class StanceCoupling:
                 self._mapped[term.leg] = power.map(n)
 
 
+def stances_energy_j(
+    couplings: Sequence[StanceCoupling],
+    pipeline: EnergyPipeline,
+    thetas: Sequence[np.ndarray],
+) -> float:
+    """The energy of every stance window of ``couplings`` [J] (weighted by its share).
+
+    ``thetas``: the parameters of the windows' ``legs``, in that order (0 with no window).
+    """
+    arrays = tuple(np.asarray(theta, dtype=float) for theta in thetas)
+    return sum((c.energy_j(pipeline, arrays) for c in couplings), 0.0)
+
+
 MIRROR_RTOL = 1e-12
 """Two stance windows whose arrays agree within this share of their largest entry mirror each
 other: the robot is symmetric about its sagittal midplane, and one window stands for both."""

@@ -174,6 +174,11 @@ class Violation:
     index: int
     excess: float
 
+    @property
+    def share(self) -> float:
+        """The excess as a share of the bound's size."""
+        return self.excess / self.bound.size
+
 
 def violations(outputs: dict[str, np.ndarray], bounds: tuple[Bound, ...]) -> list[Violation]:
     """Bounds that some sample exceeds (by more than the round-off tolerance), worst sample each."""

@@ -156,7 +156,7 @@ class CycleViolation:
         """One line: which leg, joint, quantity, value, bound, by how much and where."""
         b = self.violation.bound
         bound = f"limit {b.upper:g}" if b.symmetric else f"range [{b.lower:.6g}, {b.upper:.6g}]"
-        over = 100.0 * self.violation.excess / b.size
+        over = 100.0 * self.violation.share
         return (
             f"{self.leg} {JOINT_ROLES[b.joint]}: {b.quantity} = {self.violation.value:.6g} "
             f"{b.printed_unit} exceeds its {b.source} ({bound}) by {over:.2g} % in {self.phase} "

@@ -227,7 +227,7 @@ def pair_energy_j(
 def with_twins(legs: tuple[str, ...]) -> tuple[str, ...]:
     """``legs`` and, after them, each one's symmetric twin (LF for RF) not already among them."""
     twins = tuple(SYMMETRIC_TWIN[leg] for leg in legs)
-    return legs + tuple(t for i, t in enumerate(twins) if t not in legs and t not in twins[:i])
+    return legs + tuple(t for t in twins if t not in legs)
 
 
 class GaitTrials:

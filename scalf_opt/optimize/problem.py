@@ -35,7 +35,7 @@ from functools import cached_property
 
 import numpy as np
 
-from scalf_opt.energy.coupling import StanceCoupling, stance_couplings
+from scalf_opt.energy.coupling import StanceCoupling, stance_couplings, stances_energy_j
 from scalf_opt.energy.limits import Bound
 from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
 from scalf_opt.energy.physics import LegPhysics, trapezoid_weights
@@ -121,8 +121,7 @@ class SwingProblem:
 
     def stance_energy_j(self, theta: np.ndarray) -> float:
         """The part of the objective in the stances the swing loads [J] (0 under trunk loads)."""
-        thetas = (np.asarray(theta, dtype=float),)
-        return sum((c.energy_j(self.pipeline, thetas) for c in self.couplings), 0.0)
+        return stances_energy_j(self.couplings, self.pipeline, (theta,))
 
     def swing_energy_j(self, theta: np.ndarray) -> float:
         """Exact swing energy of a member [J], feasible or not (the leg's own swing only)."""
@@ -449,8 +448,7 @@ class PairProblem:
 
     def stance_energy_j(self, thetas: Sequence[np.ndarray]) -> float:
         """The stance part of the objective [J] for each leg's parameters, in :attr:`legs` order."""
-        arrays = tuple(np.asarray(t, dtype=float) for t in thetas)
-        return sum((c.energy_j(self.pipeline, arrays) for c in self.couplings), 0.0)
+        return stances_energy_j(self.couplings, self.pipeline, thetas)
 
     def leg_problem(self, leg: str, thetas: Mapping[str, np.ndarray]) -> SwingProblem:
         """``leg``'s problem, the other leg's parameters fixed at ``thetas``, its stance term in.

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 
-from scalf_opt.energy.cycle import change_percent
+from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.energy.limits import printed_unit
 from scalf_opt.energy.peaks import CycleViolation, Peak, cycle_violations
 from scalf_opt.optimize.bound import FreeBound
@@ -189,15 +189,16 @@ def optimization_warnings(run: SwingOptimization) -> list[str]:
     out = []
     cycles = ""
     worse = {leg for leg, r in run.legs.items() if r.success and r.worse_than_reference}
-    if worse and run.coupled:
-        optimized, reference = run.cycle().energy_j, run.reference_cycle().energy_j
-        cycles = (
-            f"; under {run.pipeline.loads} loads a swing is optimized with the stance it loads: "
-            f"the cycle costs {optimized:.3f} J against the reference's {reference:.3f} J "
-            f"({change_percent(optimized, reference):+.2f} %)"
-        )
     if worse:
-        cycles += _reference_beyond(run)
+        optimized, reference = run.cycle(), run.reference_cycle()
+        if run.coupled:
+            cycles = (
+                f"; under {run.pipeline.loads} loads a swing is optimized with the stance it "
+                f"loads: the cycle costs {optimized.energy_j:.3f} J against the reference's "
+                f"{reference.energy_j:.3f} J "
+                f"({change_percent(optimized.energy_j, reference.energy_j):+.2f} %)"
+            )
+        cycles += _reference_beyond(run, optimized, reference)
     for result in run.legs.values():
         if result.leg in worse:
             out.append(
@@ -215,12 +216,11 @@ def optimization_warnings(run: SwingOptimization) -> list[str]:
     return out
 
 
-def _reference_beyond(run: SwingOptimization) -> str:
+def _reference_beyond(run: SwingOptimization, optimized: RobotCycle, reference: RobotCycle) -> str:
     """``; the reference crosses ...``: the reference cycle's worst crossed limit, else ``""``.
 
     An optimum kept inside every limit may cost more than a reference that is not.
     """
-    reference, optimized = run.reference_cycle(), run.cycle()
     physics = {leg: run.pipeline.physics(leg) for leg in reference.legs}
     crossed = {(v.leg, v.violation.bound.name) for v in cycle_violations(optimized, physics)}
     beyond = [
@@ -230,9 +230,9 @@ def _reference_beyond(run: SwingOptimization) -> str:
     ]
     if not beyond:
         return ""
-    worst = max(beyond, key=lambda v: v.violation.excess / v.violation.bound.size)
+    worst = max(beyond, key=lambda v: v.violation.share)
     b = worst.violation.bound
-    over = 100.0 * worst.violation.excess / b.size
+    over = 100.0 * worst.violation.share
     others = f" and {len(beyond) - 1} more" if len(beyond) > 1 else ""
     return (
         f"; the reference crosses limits the optimum keeps: {worst.leg} "
