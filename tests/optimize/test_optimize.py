@@ -219,6 +219,50 @@ def test_nlp_derivatives_from_the_kernels_equal_casadi_s_own(model, hyq, robot, 
         np.testing.assert_allclose(ours, theirs, rtol=0, atol=1e-9 * np.abs(theirs).max())
 
 
+@pytest.mark.parametrize(
+    ("family", "loads"),
+    [("joint-6", "trunk"), ("joint-12", "trunk"), ("joint-6", "whole-body")],
+)
+def test_the_nlp_carries_a_dense_basis_on_its_nonzeros(scalf, family, loads):
+    # each joint of a Fourier family moves with its own parameters: the NLP's parameter B M
+    # holds only B M's nonzeros (half), and its lifted rows Y - Y_0 - (B M) x, the stance
+    # term's too under whole-body loads, vanish at samples computed apart, in numpy, from the
+    # dense basis (joint-12: M conditions the basis); a value misplaced fails by far
+    from scalf_opt.optimize import nlp
+
+    pipeline = EnergyPipeline(scalf, Gait(), loads=loads)
+    problem = SwingProblem(pipeline, "RF", make_family(family))
+    built = build_nlp(problem)
+    block = built.blocks[0]
+    theta_map = nlp.parameter_map(problem, block)
+    dense = nlp._basis_matrix(problem) @ theta_map
+    assert block.basis is not None
+    assert np.count_nonzero(dense) < 0.55 * dense.size
+    # with a stance term B is given whole (nlp.BasisPattern says why)
+    expected = dense != 0 if loads == "trunk" else np.ones_like(dense, dtype=bool)
+    assert np.array_equal(block.basis.mask, expected)
+    theta = np.random.default_rng(3).uniform(-5.0, 5.0, problem.n_params)  # deg
+    x_theta = np.linalg.solve(theta_map, theta)  # as solve_nlp starts
+    start = nlp._Start()
+    nlp._swing_start(start, block, problem, theta, built.accounting, theta_map, x_theta)
+    for shape, coupling in zip(built.coupled, problem.couplings, strict=True):
+        nlp._stance_start(
+            start, shape, coupling, problem, (theta,), built.accounting, [theta_map], [x_theta]
+        )
+    assert len(built.coupled) == (loads == "whole-body")
+    x0, p0 = np.concatenate(start.x0), np.concatenate([*start.p, [1.0]])
+    g = np.array(built.solver.get_function("nlp_g")(x0, p0)).ravel()
+    n = problem.n_samples
+    swing_rows = g[: 6 * n]
+    rows = block.n_slack_rows(built.accounting) + block.index.size
+    stance_rows = g[6 * n + rows :][: sum(s.n_lifted for s in built.coupled)]
+    assert stance_rows.size == sum(6 * s.n_samples for s in built.coupled)
+    # zero to the round-off of the products B theta and (B M) x: 1e-13 of their terms' sum
+    terms = np.abs(problem.samples_base).max() + (np.abs(dense) @ np.abs(x_theta)).max()
+    for lifted in (swing_rows, stance_rows):
+        np.testing.assert_allclose(lifted, 0.0, rtol=0, atol=1e-13 * terms)
+
+
 def test_an_unsolved_nlp_is_reported_not_presented(model):
     problem = SwingProblem(model, "RF", make_family("joint-4"))
     result = run_ipopt(problem, ipopt_options={"max_iter": 2})
