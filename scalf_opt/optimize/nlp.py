@@ -186,10 +186,15 @@ class BasisPattern:
     family's joint (or foot coordinate) moves with its own parameters only, so half of ``B`` is
     zero, and so is half of the Jacobian's and of Ipopt's KKT entries that couple the samples
     to the parameters. Measured on SCalf's RF, ``joint-6`` from zero at 300 Hz: 52 iterations as
-    before, the same optimum to the last bit, in 0.137 s instead of 0.158 s; the six robots'
-    ``joint-6`` legs from zero (trunk loads) took as many iterations to the same optima. The
-    pattern is every exact zero of ``B``: a zero that only some gaits have gives those gaits
-    their own NLP (the pattern is part of the NLP's shape).
+    before, the same optimum to the last bit, in 0.137 s instead of 0.158 s. The other robots'
+    Ipopt paths follow the round-off and changed with the structure: ``scalf-opt optimize
+    --loads trunk`` on the six robots' default trots (old code against new, one after the
+    other), SCalf's, HyQ's and ANYmal C's cycles the same to the printed digit in fewer
+    iterations (HyQ's RF 114 instead of 158, ANYmal C's 336 instead of 473); Go1's 8.056 J
+    instead of 8.062 J, A1's 8.499 J instead of 8.495 J and Solo12's 2.196 J instead of 2.213 J
+    (their sampled Coulomb friction makes neighbouring local optima), each in as many or fewer
+    iterations. The pattern is every exact zero of ``B``: a zero that only some gaits have
+    gives those gaits their own NLP (the pattern is part of the NLP's shape).
 
     An NLP with a stance term (whole-body loads) keeps ``B`` whole (:meth:`full`): there the
     pattern changed the order MUMPS eliminates in (METIS's, on the quasi-dense stance rows) and
