@@ -189,12 +189,13 @@ class BasisPattern:
     before, the same optimum to the last bit, in 0.137 s instead of 0.158 s. The other robots'
     Ipopt paths follow the round-off and changed with the structure: ``scalf-opt optimize
     --loads trunk`` on the six robots' default trots (old code against new, one after the
-    other), SCalf's, HyQ's and ANYmal C's cycles the same to the printed digit in fewer
-    iterations (HyQ's RF 114 instead of 158, ANYmal C's 336 instead of 473); Go1's 8.056 J
-    instead of 8.062 J, A1's 8.499 J instead of 8.495 J and Solo12's 2.196 J instead of 2.213 J
-    (their sampled Coulomb friction makes neighbouring local optima), each in as many or fewer
-    iterations. The pattern is every exact zero of ``B``: a zero that only some gaits have
-    gives those gaits their own NLP (the pattern is part of the NLP's shape).
+    other), SCalf's, HyQ's and ANYmal C's cycles the same to the printed digit (RF and LH in
+    114 and 190 iterations instead of 158 and 185 on HyQ, 336 and 242 instead of 473 and 200 on
+    ANYmal C); Go1's 8.056 J instead of 8.062 J, A1's 8.499 J instead of 8.495 J and Solo12's
+    2.196 J instead of 2.213 J (their sampled Coulomb friction makes neighbouring local optima),
+    each leg in as many or fewer iterations. The pattern is every exact zero of ``B``: a zero
+    that only some gaits have gives those gaits their own NLP (the pattern is part of the NLP's
+    shape).
 
     An NLP with a stance term (whole-body loads) keeps ``B`` whole (:meth:`full`): there the
     pattern changed the order MUMPS eliminates in (METIS's, on the quasi-dense stance rows) and
