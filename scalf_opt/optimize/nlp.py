@@ -12,8 +12,9 @@ several times faster than the condensed problem, where every sample depends on e
 of 0.63 s). Families with at most :data:`CONDENSED_MAX_PARAMS` parameters (the paper family)
 keep the condensed form, ``Y`` eliminated, which is faster for them.
 
-Parameters ``p = (Y_0, B, trapezoidal weights)``, so that one built NLP serves every problem of
-the same shape (leg, space, number of samples and parameters, accounting, constraint pattern):
+Parameters ``p = (Y_0, B, trapezoidal weights)`` (``B`` by its nonzeros: :class:`BasisPattern`),
+so that one built NLP serves every problem of the same shape (leg, space, number of samples and
+parameters, accounting, constraint pattern, the basis's pattern):
 other gaits, other families of the same size, the stance refinement. A family whose basis is
 sparse (the B-splines of the free-trajectory bound: each sample depends on four control
 points) keeps ``B`` as a sparse constant instead. The per-sample physics is the leg's compiled
