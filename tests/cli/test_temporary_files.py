@@ -81,3 +81,45 @@ def test_a_stopped_command_leaves_no_temporary_file(tmp_path, stop, code):
     assert proc.returncode == code, err
     assert "Traceback" not in err
     assert _leftovers(tmp_path) == []
+
+
+# A SIGINT while Python imports the command line (an import hook raises it as scalf_opt.cli.app
+# is being imported), and one that arrives once the command's own handlers are removed (a
+# stand-in command that raises it as it returns): both end with 130 and no traceback, as the
+# console script and `python -m scalf_opt` run (scalf_opt.__main__.run). Before run() installed
+# its handler first, the first printed a KeyboardInterrupt traceback and died of the signal (-2).
+_EARLY = """
+import importlib.abc, signal, sys
+
+class Interrupt(importlib.abc.MetaPathFinder):
+    def find_spec(self, name, path, target=None):
+        if name == "scalf_opt.cli.app":
+            signal.raise_signal(signal.SIGINT)
+        return None
+
+sys.meta_path.insert(0, Interrupt())
+from scalf_opt.__main__ import run
+run()
+"""
+
+_LATE = """
+import signal, sys
+import scalf_opt.cli.app as app
+
+def command(argv=None):
+    signal.raise_signal(signal.SIGINT)  # outside every handler of the command line's own
+    return 0
+
+app.main = command
+from scalf_opt.__main__ import run
+run()
+"""
+
+
+@pytest.mark.parametrize("script", [_EARLY, _LATE], ids=["while importing", "as it returns"])
+def test_ctrl_c_outside_a_command_exits_130_without_a_traceback(script):
+    done = subprocess.run(
+        [sys.executable, "-c", script], capture_output=True, text=True, timeout=120
+    )
+    assert done.returncode == 130, done.stderr
+    assert "Traceback" not in done.stderr
