@@ -55,12 +55,14 @@ closest one's are suggested beside it: ``--shank-scale`` is 0.84 from ``--shank-
 def close_matches(word: str, candidates: Iterable[str]) -> list[str]:
     """The candidates closest to a mistyped ``word``, closest first.
 
-    The closest one and any about as close (:data:`AS_CLOSE`); none when nothing is close
-    (difflib's similarity of 0.6).
+    The closest one and any about as close (:data:`AS_CLOSE`); else the candidates that begin
+    with ``word`` (three letters at least: ``duty`` for ``duty_cycle``, which difflib finds only
+    0.57 similar); none when nothing is close (difflib's similarity of 0.6).
     """
-    close = difflib.get_close_matches(word, list(dict.fromkeys(candidates)), n=3)
+    unique = list(dict.fromkeys(candidates))
+    close = difflib.get_close_matches(word, unique, n=3)
     if not close:
-        return []
+        return [c for c in unique if len(word) >= 3 and c.startswith(word)][:3]
     best = difflib.SequenceMatcher(None, word, close[0]).ratio()
     return [c for c in close if difflib.SequenceMatcher(None, word, c).ratio() >= best - AS_CLOSE]
 

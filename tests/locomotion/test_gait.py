@@ -78,6 +78,7 @@ def test_gait_file_round_trip(tmp_path):
     ("text", "error", "match"),
     [
         ("[gait]\nperiod = 0.5\n", ConfigError, "field 'period'; did you mean 'period_s'"),
+        ("[gait]\nduty = 0.6\n", ConfigError, "field 'duty'; did you mean 'duty_cycle'"),
         ("[gait]\nperiod_s = 'fast'\n", ConfigError, "period_s must be a number"),
         ("[gait]\ncycles = 2.5\n", ConfigError, "cycles must be an integer"),
         ("[gait\nperiod_s = 1\n", ConfigError, "not valid TOML"),
