@@ -93,7 +93,7 @@ def cycle_windows(
     first = first_touchdown_s(t_s, contact, gait, leg, period_s)
     count = int(np.floor((t_s[-1] - first) / period_s + 1e-9)) if np.isfinite(first) else 0
     if count < 1:
-        raise no_complete_cycle(source, leg, t_s, first, period_s)
+        raise no_complete_cycle(source, leg, t_s, first, period_s, stance)
     windows = [(first + k * period_s, first + (k + 1) * period_s) for k in range(count)]
     return stance, windows
 
@@ -115,13 +115,28 @@ def first_touchdown_s(
 
 
 def no_complete_cycle(
-    source: str, leg: str, t_s: np.ndarray, first_s: float, period_s: float
+    source: str,
+    leg: str,
+    t_s: np.ndarray,
+    first_s: float,
+    period_s: float,
+    stance: np.ndarray,
 ) -> LogError:
-    """The error for a leg whose samples hold no complete cycle from its first touch-down."""
+    """The error for a leg whose samples hold no complete cycle from its first touch-down.
+
+    ``stance``: whether each sample is in stance (the log's contact column, if it has one).
+    """
     if not np.isfinite(first_s):
+        if stance.all() or not stance.any():
+            where = "in contact at every sample" if stance.all() else "never in contact"
+            return LogError(
+                f"{source}: leg {leg} is {where} (its contact column has no 0 -> 1 step), "
+                "so the log holds no gait cycle of it"
+            )
         return LogError(
             f"{source}: leg {leg} never touches down in the log (its contact column has no "
-            "0 -> 1 step), so it holds no complete gait cycle"
+            "0 -> 1 step), so it holds no complete gait cycle (a cycle runs from a touch-down "
+            "to the next: log at least two more periods)"
         )
     return LogError(
         f"{source}: leg {leg} has no complete gait cycle: one period ({period_s:.4g} s) from its "

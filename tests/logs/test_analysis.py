@@ -198,5 +198,36 @@ def test_a_log_without_a_complete_cycle_says_where_its_first_cycle_would_end(pip
         "(log at least one more period)"
     )
     always = {leg: replace(d, contact=np.ones_like(d.contact)) for leg, d in log.legs.items()}
-    with pytest.raises(LogError, match="leg RF never touches down in the log"):
+    with pytest.raises(LogError, match="leg RF is in contact at every sample"):
         analyze_log(replace(log, legs=always), pipeline)
+    never = {leg: replace(d, contact=np.zeros_like(d.contact)) for leg, d in log.legs.items()}
+    with pytest.raises(LogError, match="leg RF is never in contact"):
+        analyze_log(replace(log, legs=never), pipeline)
+
+
+def test_a_log_that_starts_at_a_touch_down_needs_the_next_one(pipeline):
+    """One cycle without its closing sample (as `export` writes one): it starts at RF's
+    touch-down (contact 1 at t = 0, no 0 -> 1 step) and ends before the next, so RF lifts off
+    but never touches down in it."""
+    whole, _ = model_log(pipeline, REFERENCE_SWINGS, 160.0, cycles=1)
+    legs = {
+        leg: replace(
+            d,
+            t_s=d.t_s[:-1],
+            length_m=d.length_m[:, :-1],
+            force_n=d.force_n[:, :-1],
+            contact=d.contact[:-1],
+            rows=d.rows[:-1],
+        )
+        for leg, d in whole.legs.items()
+    }
+    log = replace(whole, legs=legs)
+    rf = log.legs["RF"]
+    assert rf.contact[0] and not rf.contact.all()
+    with pytest.raises(LogError) as error:
+        analyze_log(log, pipeline)
+    assert str(error.value).endswith(
+        "leg RF never touches down in the log (its contact column has no 0 -> 1 step), so it "
+        "holds no complete gait cycle (a cycle runs from a touch-down to the next: log at least "
+        "two more periods)"
+    )
