@@ -36,10 +36,22 @@ _received: list[int] = []
 """Signals the command line's handlers received (cleared when the command ends)."""
 
 
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C as the command line raises it: caught wherever ``KeyboardInterrupt`` is.
+
+    Why a subclass: CPython takes a ``KeyboardInterrupt`` of exactly that type that leaves code
+    run from source text (``exec`` or ``eval`` of a string, which dataclasses, named tuples and
+    enums do as their modules are imported) for an unhandled ^C, and under ``python -m`` the
+    interpreter then ends itself by SIGINT at exit, although the command caught the exception and
+    exited with 130 (seen as -2 by a parent process; about once in a hundred Ctrl-C's during a
+    command's first imports). A subclass is not that exact type.
+    """
+
+
 def _raise_for(signum: int) -> None:
     if signum == signal.SIGTERM:
         raise SystemExit(128 + signum)
-    raise KeyboardInterrupt
+    raise Interrupted
 
 
 def stop_code() -> int | None:
@@ -69,7 +81,7 @@ def raise_if_stopped() -> None:
     if _received:
         _raise_for(_received[0])
     if _cancelled.is_set() and threading.current_thread() is not threading.main_thread():
-        raise KeyboardInterrupt
+        raise Interrupted
 
 
 def results_in_order(futures: list[Future[R]]) -> list[R]:
@@ -109,8 +121,8 @@ def map_in_threads(fn: Callable[[T], R], items: Sequence[T], workers: int) -> li
 def stop_on_signals() -> Iterator[None]:
     """Install the command line's handlers, which remember the signal they raise.
 
-    Ctrl-C raises ``KeyboardInterrupt`` and SIGTERM (``kill``, a job scheduler)
-    ``SystemExit(143)``, so that both unwind and remove the temporary files.
+    Ctrl-C raises :class:`Interrupted` (a ``KeyboardInterrupt``) and SIGTERM (``kill``, a job
+    scheduler) ``SystemExit(143)``, so that both unwind and remove the temporary files.
     """
 
     def stop(signum: int, frame: FrameType | None) -> None:
@@ -156,7 +168,7 @@ def interruptible() -> Iterator[None]:
         received.append(signum)
         if callable(previous):
             previous(signum, frame)  # raises: in Python it propagates, in CasADi it ends the solve
-        raise KeyboardInterrupt
+        raise Interrupted
 
     if callable(previous):
         signal.signal(signal.SIGINT, note)
@@ -171,5 +183,5 @@ def interruptible() -> Iterator[None]:
             sys.stderr.write("\n".join(printed) + "\n")
             sys.stderr.flush()
     if received:  # Ctrl-C, swallowed by the solver
-        raise KeyboardInterrupt
+        raise Interrupted
     raise_if_stopped()

@@ -123,3 +123,34 @@ def test_ctrl_c_outside_a_command_exits_130_without_a_traceback(script):
     )
     assert done.returncode == 130, done.stderr
     assert "Traceback" not in done.stderr
+
+
+# Ctrl-C while a command runs source text (a dataclass, a named tuple or an enum being created,
+# as a module is imported): CPython took a KeyboardInterrupt that left such code for an
+# unhandled ^C, and under `python -m` ended the interpreter by SIGINT at exit although the
+# command had printed its one line and returned 130 (return code -2, about once in a hundred
+# interruptions of a study's first imports). The command line raises a subclass instead.
+_IN_SOURCE_TEXT = """
+import scalf_opt.cli.app as app
+
+def run_in_output_set(args):
+    exec("import signal\\nsignal.raise_signal(signal.SIGINT)\\nfor _ in range(1000): pass")
+    return 0
+
+app._run_in_output_set = run_in_output_set
+from scalf_opt.__main__ import run
+run()
+"""
+
+
+def test_ctrl_c_in_source_text_exits_130_under_python_m(tmp_path):
+    (tmp_path / "ctrl_c_in_source_text.py").write_text(_IN_SOURCE_TEXT)
+    done = subprocess.run(
+        [sys.executable, "-m", "ctrl_c_in_source_text", "evaluate"],
+        cwd=tmp_path,
+        capture_output=True,
+        text=True,
+        timeout=120,
+    )
+    assert done.returncode == 130, done.stderr
+    assert done.stderr.strip() == "scalf-opt: error: interrupted"
