@@ -150,6 +150,38 @@ def stop_on_signals() -> Iterator[None]:
 
 
 @contextlib.contextmanager
+def signals_held() -> Iterator[None]:
+    """Hold Ctrl-C and SIGTERM back while the block runs; deliver them once it is done.
+
+    For imports of native code that calls Python while it initialises: trimesh (which yourdfpy
+    imports) loads manifold3d when it is installed, a nanobind extension that builds Python enums
+    as it loads, and an exception raised there by a signal's handler aborted the interpreter or
+    crashed it (SIGABRT, SIGSEGV: 7 of 120 studies of a variant stopped by Ctrl-C within a tenth
+    of a second of their first scratch file, on a busy machine). Inside the block a signal is
+    only noted; afterwards the handlers in place before are restored and the first signal noted
+    is raised again, so it takes effect as it would have (the command line's handlers raise, the
+    defaults end the program). In a thread other than the main one (signals reach the main
+    thread only): the block runs as it is.
+    """
+    if threading.current_thread() is not threading.main_thread():
+        yield
+        return
+    held: list[int] = []
+
+    def hold(signum: int, frame: FrameType | None) -> None:
+        held.append(signum)
+
+    previous = {s: signal.signal(s, hold) for s in (signal.SIGINT, signal.SIGTERM)}
+    try:
+        yield
+    finally:
+        for signum, handler in previous.items():
+            signal.signal(signum, handler)
+        if held:
+            signal.raise_signal(held[0])
+
+
+@contextlib.contextmanager
 def interruptible() -> Iterator[None]:
     """Run a native solver inside: a signal it swallowed is raised again when it returns.
 

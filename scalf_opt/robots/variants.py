@@ -47,6 +47,7 @@ import pinocchio as pin
 from scalf_opt.actuators.sidecar import robot_sidecar_path, sidecar_path_for
 from scalf_opt.errors import ConfigError, ModelError
 from scalf_opt.files import MAX_TOML_BYTES, read_toml, read_untrusted_text, write_atomic
+from scalf_opt.interrupts import signals_held
 from scalf_opt.model.inertia import inertia_problems
 from scalf_opt.model.naming import legs_file_for
 from scalf_opt.model.robot import Robot
@@ -264,7 +265,8 @@ def variant_xml(robot: Robot, scales: VariantScales) -> str:
         ModelError: A leg's knee does not hang from its thigh, its foot not from its shank, or
             a joint or foot sits on the axis that moves it (no length to stretch).
     """
-    import yourdfpy  # imported here: a second URDF parser, needed only for variants
+    with signals_held():  # it imports trimesh, which may load native code: see signals_held
+        import yourdfpy  # imported here: a second URDF parser, needed only for variants
     from lxml import etree
 
     source = robot.urdf_path
