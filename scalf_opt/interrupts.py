@@ -154,14 +154,14 @@ def signals_held() -> Iterator[None]:
     """Hold Ctrl-C and SIGTERM back while the block runs; deliver them once it is done.
 
     For imports of native code that calls Python while it initialises: trimesh (which yourdfpy
-    imports) loads manifold3d when it is installed, a nanobind extension that builds Python enums
-    as it loads, and an exception raised there by a signal's handler aborted the interpreter or
-    crashed it (SIGABRT, SIGSEGV: 7 of 120 studies of a variant stopped by Ctrl-C within a tenth
-    of a second of their first scratch file, on a busy machine). Inside the block a signal is
-    only noted; afterwards the handlers in place before are restored and the first signal noted
-    is raised again, so it takes effect as it would have (the command line's handlers raise, the
-    defaults end the program). In a thread other than the main one (signals reach the main
-    thread only): the block runs as it is.
+    imports) loads manifold3d (its ``easy`` extra, which yourdfpy requires), a nanobind extension
+    that builds Python enums as it loads, and an exception raised there by a signal's handler
+    aborted the interpreter or crashed it (SIGABRT, SIGSEGV: 7 of 120 studies of a variant
+    stopped by Ctrl-C within a tenth of a second of their first scratch file, on a busy
+    machine). Inside the block a signal is only noted; afterwards the handlers in place before
+    are restored and the first signal noted is raised again, so it takes effect as it would
+    have (the command line's handlers raise, the defaults end the program). In a thread other
+    than the main one (signals reach the main thread only): the block runs as it is.
     """
     if threading.current_thread() is not threading.main_thread():
         yield
