@@ -32,6 +32,8 @@ def test_no_signal_no_effect():
 _IN_THE_IMPORT = """
 import importlib.abc, signal, sys
 
+signal.signal(signal.SIGINT, signal.default_int_handler)  # a background job inherits SIG_IGN
+
 class Interrupt(importlib.abc.MetaPathFinder):
     def find_spec(self, name, path, target=None):
         if name == "trimesh.boolean":
