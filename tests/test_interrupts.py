@@ -26,9 +26,9 @@ def test_no_signal_no_effect():
 
 
 # Ctrl-C as trimesh (which yourdfpy imports) begins to import its boolean module, which loads
-# manifold3d where it is installed: a native extension that aborted or crashed the interpreter
-# when the signal's exception was raised while it loaded. The signal is held: the import ends
-# whole, then the interruption is raised.
+# manifold3d (trimesh's `easy` extra, which yourdfpy requires): a native extension that aborted
+# or crashed the interpreter when the signal's exception was raised while it loaded. The signal
+# is held: the import ends whole, then the interruption is raised.
 _IN_THE_IMPORT = """
 import importlib.abc, signal, sys
 
