@@ -1,0 +1,211 @@
+"""Any topic of a ROS 2 bag, read through the message definitions the bag embeds (extra ``ros``).
+
+A robot's driver publishes its own messages (``unitree_go/msg/LowState``, ...), whose definitions
+a recorder writes into the bag (MCAP schemas, the sqlite3 bag's ``message_definitions``);
+``rosbags``' ``AnyReader`` builds its type store from them, so no ROS installation and no copy of
+the driver's message package is needed. :func:`read_topics` reads several topics in one pass over
+a bounded private copy of the bag (:func:`~scalf_opt.io.ros_bag.read_joint_states`' copy), each
+message turned into a row of numbers by the caller's function.
+
+Time: a stamp field (``header.stamp``: ``sec + 1e-9 nanosec``, or a number in ``time_unit_s``)
+when the request names one and it is set, else the time the recorder received the message [s].
+"""
+
+from __future__ import annotations
+
+import re
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+
+from scalf_opt.errors import LogError
+from scalf_opt.files import scratch_folder
+from scalf_opt.io.ros_bag import _bag_error, _bounded_copy, _rosbags
+
+MAX_VALUES = 100_000_000
+"""Most numbers one topic may hold (800 MB as doubles): 12 motors' angle, rate and torque and 4
+foot forces at 1 kHz for 42 minutes; a flood of messages is refused, not read into memory."""
+
+_STEP = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)(?:\[([0-9]+)\])?")
+
+
+def field_getter(path: str) -> Callable[[Any], Any]:
+    """A function that reads the field ``path`` (``motor_state[3].q``) of a message."""
+    steps = [
+        (m.group(1), None if m.group(2) is None else int(m.group(2))) for m in _STEP.finditer(path)
+    ]
+
+    def get(message: Any) -> Any:
+        value = message
+        for name, index in steps:
+            value = getattr(value, name)
+            if index is not None:
+                value = value[index]
+        return value
+
+    return get
+
+
+def seconds(value: Any, unit_s: float = 1.0) -> float:
+    """A stamp as seconds: a ``builtin_interfaces/Time`` or a number in ``unit_s``."""
+    if hasattr(value, "sec") and hasattr(value, "nanosec"):
+        return float(value.sec) + 1e-9 * float(value.nanosec)
+    return float(value) * unit_s
+
+
+@dataclass(frozen=True)
+class TopicRequest:
+    """A topic to read and how to turn each of its messages into numbers.
+
+    Attributes:
+        key: The request's name in the answer.
+        topic: The topic (``None``: the bag's one topic of ``message``).
+        message: The message type the topic must hold (``None``: any).
+        row: A message -> its numbers, shape (k,); may raise :class:`LogError` naming the field.
+        stamp: A stamp field path, or ``""`` for the recording time.
+        time_unit_s: Seconds per unit of a numeric stamp field.
+        what: What the topic holds, for messages (``joint states``, ``odometry``).
+    """
+
+    key: str
+    topic: str | None
+    message: str | None
+    row: Callable[[Any], np.ndarray]
+    stamp: str = ""
+    time_unit_s: float = 1.0
+    what: str = "messages"
+
+
+@dataclass(frozen=True)
+class TopicRows:
+    """One topic's messages as numbers.
+
+    Attributes:
+        topic: The topic.
+        message: Its message type.
+        t_s: Each message's time, shape (n,) [s], as recorded (not shifted).
+        values: The rows, shape (n, k).
+    """
+
+    topic: str
+    message: str
+    t_s: np.ndarray
+    values: np.ndarray
+
+
+def _choose(path: Path, request: TopicRequest, types: dict[str, set[str]]) -> str:
+    """The topic of a request: its own (checked), or the bag's one topic of its type."""
+    if request.topic is not None:
+        if request.topic not in types:
+            raise LogError(
+                f"{path}: no topic {request.topic!r} in the bag (its topics: "
+                f"{', '.join(sorted(types)) or 'none'})"[:400]
+            )
+        held = types[request.topic]
+        if request.message is not None and held != {request.message}:
+            raise LogError(
+                f"{path}: topic {request.topic!r} holds {', '.join(sorted(held))}, not "
+                f"{request.message}"[:300]
+            )
+        return request.topic
+    matching = sorted(t for t, held in types.items() if request.message in held)
+    if len(matching) != 1:
+        have = ", ".join(f"{t} ({', '.join(sorted(h))})" for t, h in sorted(types.items()))
+        raise LogError(
+            f"{path}: the bag has {len(matching) or 'no'} {request.message} topics "
+            f"({', '.join(matching) if matching else have or 'no topics'}); name one with --topic"[
+                :400
+            ]
+        )
+    return matching[0]
+
+
+def read_topics(path: str | Path, requests: Sequence[TopicRequest]) -> dict[str, TopicRows]:
+    """Read each requested topic of the bag ``path`` in one pass (module docstring).
+
+    Raises:
+        LogError: The bag cannot be read; a topic is missing, of another type, or ambiguous; a
+            message cannot be turned into numbers (the message names the topic and its index); a
+            value that is not finite; time that does not increase; a topic with no message; more
+            numbers than :data:`MAX_VALUES`.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise LogError(f"{path}: the bag does not exist")
+    with scratch_folder("bag") as folder:
+        return _read(path, _bounded_copy(path, folder), requests)
+
+
+def _read(path: Path, local: Path, requests: Sequence[TopicRequest]) -> dict[str, TopicRows]:
+    _rosbags()
+    from rosbags.highlevel import AnyReader
+
+    try:
+        reader = AnyReader([local])
+        reader.open()
+    except Exception as exc:  # rosbags raises many kinds on a broken file
+        raise _bag_error(path, exc) from exc
+    try:
+        types: dict[str, set[str]] = {}
+        for c in reader.connections:
+            if not isinstance(c.topic, str) or not c.topic:
+                raise LogError(f"{path}: a connection of the bag has no topic name")
+            types.setdefault(c.topic, set()).add(c.msgtype)
+        chosen = {r.key: _choose(path, r, types) for r in requests}
+        by_topic = {chosen[r.key]: r for r in requests}
+        if len(by_topic) != len(requests):
+            raise LogError(f"{path}: two requests name one topic")  # pragma: no cover
+        rows: dict[str, list[np.ndarray]] = {r.key: [] for r in requests}
+        times: dict[str, list[float]] = {r.key: [] for r in requests}
+        stamps = {r.key: field_getter(r.stamp) if r.stamp else None for r in requests}
+        connections = [c for c in reader.connections if c.topic in by_topic]
+        where = f"{path}"
+        try:
+            for conn, ns, raw in reader.messages(connections=connections):
+                request = by_topic[conn.topic]
+                where = f"{path}: topic {conn.topic}, message {len(rows[request.key])}"
+                msg: Any = reader.deserialize(raw, conn.msgtype)
+                stamp_of = stamps[request.key]
+                t = seconds(stamp_of(msg), request.time_unit_s) if stamp_of else 0.0
+                if not t > 0:
+                    t = ns * 1e-9
+                values = np.asarray(request.row(msg), dtype=float)
+                if not np.all(np.isfinite(values)) or not np.isfinite(t):
+                    raise LogError(f"{where}: a value is not a finite number")
+                previous = times[request.key]
+                if previous and t < previous[-1]:
+                    raise LogError(
+                        f"{where}: time {t!r} s goes back (the previous message has "
+                        f"{previous[-1]!r} s)"
+                    )
+                if (len(previous) + 1) * values.size > MAX_VALUES:
+                    raise LogError(
+                        f"{path}: topic {conn.topic} holds more than {MAX_VALUES:,} numbers: "
+                        "cut the bag to the part to analyse"
+                    )
+                previous.append(t)
+                rows[request.key].append(values)
+        except LogError:
+            raise
+        except (AttributeError, IndexError, TypeError, ValueError) as exc:
+            raise LogError(f"{where}: {_short(exc)} (the mapping names a field it lacks?)") from exc
+        except Exception as exc:
+            raise _bag_error(path, exc) from exc
+    finally:
+        reader.close()
+    answer = {}
+    for r in requests:
+        topic = chosen[r.key]
+        if not rows[r.key]:
+            raise LogError(f"{path}: topic {topic!r} has no messages")
+        message = ", ".join(sorted(types[topic]))
+        answer[r.key] = TopicRows(topic, message, np.array(times[r.key]), np.vstack(rows[r.key]))
+    return answer
+
+
+def _short(exc: Exception) -> str:
+    text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
+    return text[:200]

@@ -1,0 +1,206 @@
+"""A robot's whole joint log checked against its URDF: every leg's joints, clean samples.
+
+:func:`robot_log` takes the joint series of a bag or wide CSV
+(:mod:`~scalf_opt.logs.robot_sources`) and the robot, and
+
+* refuses a log that names a joint the robot does not have (a mapping's ``joints``), or lacks one
+  of a leg's actuated joints (every joint between the trunk and the foot: the abduction included);
+  joints of a message that are no leg's (an arm, a head) are set aside;
+* drops repeated stale samples (a row equal to the one before in every value: a driver that
+  re-publishes its last state) and counts them; refuses time that does not increase after that;
+* warns of gaps in the stamps (a step over :data:`GAP_FACTOR` times the median) and of angles
+  beyond a joint's URDF range (by more than :data:`RANGE_TOLERANCE_RAD`: the log of another robot,
+  or another zero).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from scalf_opt.errors import LogError, did_you_mean
+from scalf_opt.logs.robot_sources import JointSeries
+from scalf_opt.model.robot import Robot
+from scalf_opt.types import LEG_NAMES
+
+GAP_FACTOR = 5.0
+"""A step between samples this many times the median is a gap in the log."""
+
+RANGE_TOLERANCE_RAD = 0.05
+"""An angle this far beyond its URDF limit is out of range (encoders and calibration may read a
+little past a mechanical stop; 3 degrees more is another robot or another zero)."""
+
+
+def leg_joints(robot: Robot, leg: str) -> tuple[str, ...]:
+    """Every joint between the trunk and leg ``leg``'s foot, trunk first (URDF names)."""
+    model = robot.model
+    foot = robot.leg(leg).foot_frame
+    joint = model.frames[model.getFrameId(foot)].parentJoint
+    chain = []
+    while joint > 0:
+        chain.append(model.names[joint])
+        joint = model.parents[joint]
+    return tuple(reversed(chain))
+
+
+@dataclass(frozen=True)
+class RobotLog:
+    """A whole-robot joint log, checked (module docstring).
+
+    Attributes:
+        source: The file and topic.
+        legs: Per leg, its joints (URDF names, trunk first).
+        t_s: Sample times from the first, shape (n,) [s].
+        q_rad, tau_nm: Per joint (URDF name), its angle [rad] and torque [N m], shape (n,).
+        qd_rad_s: Per joint its rate [rad/s], or ``None`` when the log has no rates.
+        foot_force: Per leg with a foot sensor, its reading, shape (n,), or ``None``.
+        odometry: The trunk's ``(t_s, xy_m)`` from an odometry topic (times from the first
+            sample), or ``None``.
+        notes: What the checks found and did (dropped samples, gaps, ranges), one line each.
+        leg_model_joints: Per leg, the joints the sagittal model has (hip pitch, knee).
+    """
+
+    source: str
+    legs: dict[str, tuple[str, ...]]
+    t_s: np.ndarray
+    q_rad: dict[str, np.ndarray]
+    qd_rad_s: dict[str, np.ndarray] | None
+    tau_nm: dict[str, np.ndarray]
+    foot_force: dict[str, np.ndarray] | None
+    odometry: tuple[np.ndarray, np.ndarray] | None
+    notes: tuple[str, ...]
+    leg_model_joints: dict[str, tuple[str, ...]]
+
+    @property
+    def sample_rate_hz(self) -> float:
+        """The median sample rate [Hz]."""
+        return float(1.0 / np.median(np.diff(self.t_s)))
+
+
+def _known_joints(robot: Robot, series: JointSeries, named: bool) -> list[int]:
+    """Rows of the series that are the robot's joints; unknown ones refused unless ``named``."""
+    model = robot.model
+    known = {model.names[j] for j in range(1, model.njoints)}
+    rows = []
+    for row, joint in enumerate(series.joints):
+        if joint in known:
+            rows.append(row)
+        elif not named:
+            raise LogError(
+                f"{series.source}: joint {joint!r} of the mapping is not a joint of "
+                f"{robot.name}{did_you_mean(joint, known)} (is the log of another robot? "
+                "--robot)"[:400]
+            )
+    return rows
+
+
+def _stale(series: JointSeries, rows: list[int]) -> np.ndarray:
+    """Samples equal to the one before in every value (a re-published state)."""
+    parts = [series.q_rad[rows], series.tau_nm[rows]]
+    if series.qd_rad_s is not None:
+        parts.append(series.qd_rad_s[rows])
+    if series.foot_force is not None:
+        parts.append(np.vstack(list(series.foot_force.values())))
+    values = np.vstack(parts)
+    same = np.all(values[:, 1:] == values[:, :-1], axis=0)
+    return np.concatenate([[False], same])
+
+
+def robot_log(series: JointSeries, robot: Robot, named: bool = False) -> RobotLog:
+    """Check ``series`` against ``robot`` (module docstring).
+
+    Args:
+        series: The joint series.
+        robot: The robot.
+        named: The joints are names the messages carry (``JointState``): names that are no
+            joint of the robot are set aside, not refused.
+
+    Raises:
+        LogError: A joint of the mapping the robot does not have; a leg joint missing; fewer than
+            three samples; time that does not increase once stale samples are dropped.
+    """
+    source = series.source
+    rows = _known_joints(robot, series, named)
+    present = {series.joints[r]: r for r in rows}
+    legs = {leg: leg_joints(robot, leg) for leg in LEG_NAMES}
+    for leg, joints in legs.items():
+        missing = [j for j in joints if j not in present]
+        if missing:
+            held = ", ".join(series.joints[:6]) + (", ..." if len(series.joints) > 6 else "")
+            raise LogError(
+                f"{source}: leg {leg}'s joint {missing[0]!r} is not in the log (it holds {held}; "
+                f"give the robot with --robot, or map the joints with --mapping)"[:400]
+            )
+    used = [present[j] for joints in legs.values() for j in joints]
+    notes = []
+    set_aside = len(series.joints) - len(used)
+    if set_aside:
+        notes.append(f"{set_aside} joint(s) of the log are no leg's and are set aside")
+    stale = _stale(series, used)
+    keep = ~stale
+    if stale.any():
+        notes.append(
+            f"{int(stale.sum())} repeated stale sample(s) dropped (equal to the one before in "
+            "every value)"
+        )
+    t = series.t_s[keep]
+    if t.size < 3:
+        raise LogError(f"{source}: {t.size} samples: too few to analyse")
+    steps = np.diff(t)
+    if np.any(steps <= 0):
+        k = int(np.flatnonzero(steps <= 0)[0]) + 1
+        raise LogError(
+            f"{source}: sample {int(series.rows[keep][k])}: its time {t[k]!r} s does not "
+            "increase and its values differ from the sample before"
+        )
+    median = float(np.median(steps))
+    gaps = steps > GAP_FACTOR * median
+    if gaps.any():
+        notes.append(
+            f"{int(gaps.sum())} gap(s) in the time stamps (steps over {GAP_FACTOR:g} times the "
+            f"median {median * 1e3:.3g} ms; the longest {steps.max() * 1e3:.4g} ms at "
+            f"t = {t[int(np.argmax(steps))] - t[0]:.4g} s): power is interpolated across them"
+        )
+    model = robot.model
+    for joint in (j for joints in legs.values() for j in joints):
+        q = series.q_rad[present[joint], keep]
+        jid = model.getJointId(joint)
+        lo = float(model.lowerPositionLimit[model.idx_qs[jid]])
+        hi = float(model.upperPositionLimit[model.idx_qs[jid]])
+        beyond = max(lo - float(q.min()), float(q.max()) - hi)
+        if np.isfinite(lo) and np.isfinite(hi) and hi > lo and beyond > RANGE_TOLERANCE_RAD:
+            notes.append(
+                f"warning: {joint} reaches {np.degrees(beyond):.1f} deg beyond its URDF range "
+                f"[{np.degrees(lo):.1f}, {np.degrees(hi):.1f}] deg (a log of another robot?)"
+            )
+    t0 = float(t[0])
+    odometry = None
+    if series.odometry is not None:
+        odometry = (series.odometry[0] - t0, series.odometry[1])
+
+    def by_joint(array: np.ndarray) -> dict[str, np.ndarray]:
+        return {j: array[present[j], keep] for joints in legs.values() for j in joints}
+
+    return RobotLog(
+        source=source,
+        legs=legs,
+        t_s=t - t0,
+        q_rad=by_joint(series.q_rad),
+        qd_rad_s=None if series.qd_rad_s is None else by_joint(series.qd_rad_s),
+        tau_nm=by_joint(series.tau_nm),
+        foot_force=None
+        if series.foot_force is None
+        else {leg: f[keep] for leg, f in series.foot_force.items()},
+        odometry=odometry,
+        notes=tuple(notes),
+        leg_model_joints={leg: tuple(robot.leg(leg).joint_names) for leg in LEG_NAMES},
+    )
+
+
+def neutral_configuration(robot: Robot) -> np.ndarray:
+    """The robot's reference configuration (or Pinocchio's neutral one), shape (nq,)."""
+    if robot.reference_q is not None:
+        return np.array(robot.reference_q, dtype=float)
+    return pin.neutral(robot.model)
