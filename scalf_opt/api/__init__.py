@@ -20,6 +20,7 @@ from scalf_opt.api.logs import LogResult, analyze_log
 from scalf_opt.api.optimization import OptimizationResult, optimize_swing
 from scalf_opt.api.presentation import NotSolvedError, figures, view
 from scalf_opt.api.reproduction import PaperResult, paper
+from scalf_opt.api.robot_logs import RobotLogResult, analyze_robot_log
 from scalf_opt.api.simulation import SimulationResult, simulate
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.robots.loading import load_robot
@@ -33,8 +34,10 @@ __all__ = [
     "NotSolvedError",
     "OptimizationResult",
     "PaperResult",
+    "RobotLogResult",
     "SimulationResult",
     "analyze_log",
+    "analyze_robot_log",
     "evaluate",
     "export_plan",
     "figures",

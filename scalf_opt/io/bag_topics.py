@@ -209,3 +209,31 @@ def _read(path: Path, local: Path, requests: Sequence[TopicRequest]) -> dict[str
 def _short(exc: Exception) -> str:
     text = str(exc).strip().splitlines()[0] if str(exc).strip() else type(exc).__name__
     return text[:200]
+
+
+def topic_types(path: str | Path) -> dict[str, set[str]]:
+    """Each topic of the bag ``path`` and its message types (the bag's index only).
+
+    Raises:
+        LogError: The bag cannot be read.
+    """
+    path = Path(path)
+    if not path.exists():
+        raise LogError(f"{path}: the bag does not exist")
+    _rosbags()
+    from rosbags.highlevel import AnyReader
+
+    with scratch_folder("bag") as folder:
+        local = _bounded_copy(path, folder)
+        try:
+            reader = AnyReader([local])
+            reader.open()
+        except Exception as exc:  # rosbags raises many kinds on a broken file
+            raise _bag_error(path, exc) from exc
+        try:
+            types: dict[str, set[str]] = {}
+            for c in reader.connections:
+                types.setdefault(str(c.topic), set()).add(c.msgtype)
+            return types
+        finally:
+            reader.close()

@@ -1,17 +1,20 @@
-"""When each foot of a logged robot is on the ground: its force sensor, its joints' torques, its motion.
+"""When each foot of a logged robot is on the ground: its force sensor, its torques, its motion.
 
 * ``foot force``: the leg's sensor reading against thresholds low in the span between its low
-  and high levels (5th and 95th percentiles; :data:`ON_SHARE`, :data:`OFF_SHARE`). A sensor whose span is under
-  :data:`MIN_FORCE_SPAN` of its level reads nothing (Go1's often read zero): the motion decides.
+  and high levels (5th and 95th percentiles; :data:`ON_SHARE`, :data:`OFF_SHARE`). A sensor
+  whose span is under :data:`MIN_FORCE_SPAN` of its level reads nothing (Go1's often read zero):
+  the next method decides.
 * ``joint torque``: the same test on the vertical force the leg's joint torques imply
   (:func:`torque_forces_n`), for a log without foot sensors (the torques a motor driver
   estimates from its current are enough: the stance carries the robot's weight, the swing none);
-* ``motion``, where the torques do not tell stance from swing: the foot's height in its leg plane (the trunk frame with the abduction undone) by
-  the URDF's kinematics (Pinocchio) at every logged configuration. A swing is where the foot rises over half its lift (robust to noise and
-  to the trunk's bobbing); it is widened on both sides while the foot is more than
+* ``motion``, where the torques do not tell stance from swing: the foot's height in its leg
+  plane (the trunk frame with the abduction undone) by the URDF's kinematics (Pinocchio) at
+  every logged configuration. A swing is where the foot rises over half its lift (robust to
+  noise and to the trunk's bobbing), widened on both sides while the foot is more than
   :data:`LIFT_TOLERANCE` of its lift above its stance level (the median height of the samples in
   the lowest quarter of the span), so that lift-off and touch-down are where the foot leaves and
-  meets that level, not where it crosses half the lift.
+  meets that level, not where it crosses half the lift. A foot that leaves the ground slowly is
+  found late by its height: the torques come first for that reason.
 """
 
 from __future__ import annotations

@@ -17,6 +17,7 @@ topic, or given) the cost of transport ``P / (m g v)``.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from itertools import pairwise
 from typing import Any
 
 import numpy as np
@@ -199,7 +200,7 @@ def joint_rates(
 
 
 def _integrals(
-    t: np.ndarray, power: np.ndarray, stance: np.ndarray, a: int, b: int
+    t: np.ndarray, power: np.ndarray, stance: np.ndarray, a: int | np.integer, b: int | np.integer
 ) -> tuple[float, float]:
     """Stance and swing energy of samples ``a..b``: trapezoids, each by its first sample's phase."""
     dt = np.diff(t[a : b + 1])
@@ -239,7 +240,8 @@ def analyze_robot_log(
         contacts: Each leg's stance samples.
         mass_kg: The robot's mass [kg].
         speed_m_s: The forward speed [m/s]; ``None``: the odometry's, if the log has one.
-        half_window_s, degree: The velocity filter, where the log has no rates.
+        half_window_s: The velocity filter's half window [s], where the log has no rates.
+        degree: The velocity filter's polynomial degree.
 
     Raises:
         LogError: A leg with fewer than two touch-downs (no complete cycle).
@@ -266,10 +268,7 @@ def analyze_robot_log(
         per_cycle = np.zeros(downs.size - 1)
         for joint in leg_joints:
             power = np.abs(log.tau_nm[joint] * rates[joint])
-            parts = [
-                _integrals(t, power, stance, a, b)
-                for a, b in zip(downs[:-1], downs[1:], strict=True)
-            ]
+            parts = [_integrals(t, power, stance, a, b) for a, b in pairwise(downs)]
             per_cycle += np.array([s + w for s, w in parts])
             per_joint.append(
                 JointEnergy(
@@ -284,7 +283,7 @@ def analyze_robot_log(
         lengths = np.diff(t[downs])
         in_stance = [
             float(np.sum(np.diff(t[a : b + 1])[stance[a:b]]) / (t[b] - t[a]))
-            for a, b in zip(downs[:-1], downs[1:], strict=True)
+            for a, b in pairwise(downs)
         ]
         legs[leg] = LegCycles(
             leg,

@@ -101,16 +101,30 @@ def synthetic_trot(export, cycles_skip: float = 0.0):
         dq[base + 1 : base + 3] = v["qd"]
         tau[base + 1 : base + 3] = v["tau"]
         force[("FR", "FL", "RR", "RL").index(prefix)] = STANCE_FORCE * v["contact"]
-    start = int(round(cycles_skip * period / (t[1] - t[0])))
+    start = round(cycles_skip * period / (t[1] - t[0]))
     return t[start:] - t[start], q[:, start:], dq[:, start:], tau[:, start:], force[:, start:]
 
 
-def write_lowstate_bag(path: Path, t, q, dq, tau, force, topic="/lowstate", t0_s=1_767_225_600.0):
-    """A ``unitree_go/msg/LowState`` MCAP bag with its definitions embedded (module docstring)."""
-    from rosbags.rosbag2 import StoragePlugin, Writer
-    from rosbags.typesys import Stores, get_typestore, get_types_from_msg
+def write_lowstate_bag(
+    path: Path,
+    t,
+    q,
+    dq,
+    tau,
+    force,
+    topic="/lowstate",
+    t0_s=1_767_225_600.0,
+    odometry_speed_m_s=None,
+):
+    """A ``unitree_go/msg/LowState`` MCAP bag with its definitions embedded (module docstring).
 
-    store = get_typestore(Stores.EMPTY)
+    With ``odometry_speed_m_s``, a ``nav_msgs/msg/Odometry`` topic ``/odom`` at a tenth of the
+    rate: the trunk moving forward at that speed.
+    """
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
     for name, text in UNITREE_GO_MSGS.items():
         store.register(get_types_from_msg(text, name))
     types = store.types
@@ -174,6 +188,8 @@ def write_lowstate_bag(path: Path, t, q, dq, tau, force, topic="/lowstate", t0_s
             )
             data = store.serialize_cdr(msg, "unitree_go/msg/LowState")
             writer.write(conn, round((t0_s + float(tk)) * 1e9), data)
+        if odometry_speed_m_s is not None:
+            _write_odometry(writer, store, t, t0_s, odometry_speed_m_s)
     (folder / f"{folder.name}.mcap").rename(path)
     for leftover in folder.iterdir():
         leftover.unlink()
@@ -181,8 +197,33 @@ def write_lowstate_bag(path: Path, t, q, dq, tau, force, topic="/lowstate", t0_s
     return path
 
 
+def _write_odometry(writer, store, t, t0_s, speed_m_s):
+    types = store.types
+    odom = "nav_msgs/msg/Odometry"
+    conn = writer.add_connection("/odom", odom, typestore=store)
+    header, stamp = types["std_msgs/msg/Header"], types["builtin_interfaces/msg/Time"]
+    pose_cov, pose = types["geometry_msgs/msg/PoseWithCovariance"], types["geometry_msgs/msg/Pose"]
+    point, quat = types["geometry_msgs/msg/Point"], types["geometry_msgs/msg/Quaternion"]
+    twist_cov, twist = (
+        types["geometry_msgs/msg/TwistWithCovariance"],
+        types["geometry_msgs/msg/Twist"],
+    )
+    vector = types["geometry_msgs/msg/Vector3"]
+    for tk in t[::10]:
+        ns = round((t0_s + float(tk)) * 1e9)
+        msg = types[odom](
+            header(stamp(ns // 1_000_000_000, ns % 1_000_000_000), "odom"),
+            "base",
+            pose_cov(
+                pose(point(speed_m_s * float(tk), 0.0, 0.3), quat(0.0, 0.0, 0.0, 1.0)), np.zeros(36)
+            ),
+            twist_cov(twist(vector(speed_m_s, 0.0, 0.0), vector(0.0, 0.0, 0.0)), np.zeros(36)),
+        )
+        writer.write(conn, ns, store.serialize_cdr(msg, odom))
+
+
 def write_sdk_csv(path: Path, t, q, dq, tau, force):
-    """Unitree SDK-style wide CSV: ``time_ms``, ``q_i``, ``dq_i``, ``tau_est_i``, ``foot_force_i``."""
+    """An SDK-style wide CSV: ``time_ms``, ``q_i``, ``dq_i``, ``tau_est_i``, ``foot_force_i``."""
     header = ["time_ms"]
     header += [f"q_{i}" for i in range(12)] + [f"dq_{i}" for i in range(12)]
     header += [f"tau_est_{i}" for i in range(12)] + [f"foot_force_{i}" for i in range(4)]

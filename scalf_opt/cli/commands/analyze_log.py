@@ -70,6 +70,34 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "cylinder) it is; repeat for every leg joint (default: the URDF's own names); other "
         "joints are ignored",
     )
+    robot_log = parser.add_argument_group(
+        "a robot's own log, every joint (a bag of any message type, a wide CSV)"
+    )
+    robot_log.add_argument(
+        "--mapping",
+        metavar="NAME|FILE",
+        help="where the log keeps each joint: a mapping file (.toml; examples/mappings/) or a "
+        "built-in one (joint_state, unitree_go, unitree_legged_msgs); a bag whose topic is a "
+        "Unitree LowState is read without it",
+    )
+    robot_log.add_argument(
+        "--odometry",
+        metavar="TOPIC",
+        help="a nav_msgs/Odometry topic of the bag: the trunk's speed (the cost of transport)",
+    )
+    robot_log.add_argument(
+        "--speed",
+        dest="speed_m_s",
+        type=float,
+        metavar="X",
+        help="the forward speed [m/s] (over the odometry's): the cost of transport",
+    )
+    robot_log.add_argument(
+        "--compare",
+        action="store_true",
+        help="evaluate the model at the log's measured gait (period, duty, speed, stance height) "
+        "and compare every joint's energy; with --figure, their power over a cycle",
+    )
     parser.add_argument(
         "--plan",
         type=Path,
@@ -102,8 +130,13 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.api import analyze_log
+    from scalf_opt.api.robot_logs import is_robot_log
     from scalf_opt.logs.report import log_report
 
+    if is_robot_log(
+        args.log, args.topic, args.mapping, args.odometry, args.speed_m_s, args.compare
+    ):
+        return run_robot_log(args)
     if args.figure is not None and args.plan is None:
         raise ConfigError("--figure: draws the log against the plan: give --plan DIR too")
     if args.figure is not None and args.figure.suffix != ".png":
@@ -138,6 +171,49 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     data = result.to_dict()
     if "plan_comparison" in data:
         args.console.text(plan_report(data["plan_comparison"]))
+    args.console.json(data)
+    for path in written:
+        args.console.text(f"wrote {path}")
+    return 0
+
+
+def run_robot_log(args: argparse.Namespace) -> int:
+    """A robot's own log, every joint (``--mapping``, a LowState bag, ``--compare``)."""
+    from scalf_opt.api import analyze_robot_log
+    from scalf_opt.logs.robot_report import robot_log_report
+
+    for given, option in (
+        (args.plan, "--plan"),
+        (args.signals, "--signals"),
+        (args.joints, "--joint"),
+        (args.period_s, "--period"),
+        (args.gait, "--gait"),
+    ):
+        if given:
+            raise ConfigError(
+                f"{option} is for a log of the sagittal joints; a robot's own log (every joint, "
+                "--mapping) measures its gait and compares with the model by --compare"
+            )
+    if args.figure is not None:
+        if not args.compare:
+            raise ConfigError("--figure: draws the log against the model: give --compare too")
+        if args.figure.suffix != ".png":
+            raise ConfigError(f"--figure {args.figure}: give a .png file")
+    check_output_file(args.figure, "--figure")
+    robot = load_robot(args, None)
+    result = analyze_robot_log(
+        args.log,
+        robot,
+        mapping=args.mapping,
+        topic=args.topic,
+        odometry_topic=args.odometry,
+        speed_m_s=args.speed_m_s,
+        compare=args.compare,
+        command=args.argv,
+    )
+    written = [result.write_figure(args.figure)] if args.figure is not None else []
+    data = result.to_dict()
+    args.console.text(robot_log_report(data))
     args.console.json(data)
     for path in written:
         args.console.text(f"wrote {path}")
