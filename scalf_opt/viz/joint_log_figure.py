@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Any
+
 import matplotlib
 
 matplotlib.use("Agg")  # files only: no display needed
@@ -13,16 +15,15 @@ from matplotlib.figure import Figure
 from scalf_opt.viz.plotting import fitted_title
 
 
-def joint_comparison_figure(comparison: object, title: str) -> Figure:
+def joint_comparison_figure(comparison: Any, title: str) -> Figure:
     """A panel per joint (a row per leg, trunk first): measured and planned power over a cycle.
 
     Args:
-        comparison: A :class:`~scalf_opt.logs.log_plan.LogPlanComparison`.
+        comparison: A ``scalf_opt.logs.log_plan.LogPlanComparison`` (its ``joints``, each with
+            ``leg``, ``joint``, ``measured_j``, ``planned_j``, ``ratio``, ``measured_w`` and
+            ``planned_w`` on its ``phase`` grid, and its ``gait``): the floor above draws it.
         title: Figure title.
     """
-    from scalf_opt.logs.log_plan import LogPlanComparison
-
-    assert isinstance(comparison, LogPlanComparison)
     legs = list(dict.fromkeys(c.leg for c in comparison.joints))
     columns = max(sum(1 for c in comparison.joints if c.leg == leg) for leg in legs)
     fig, axes = plt.subplots(

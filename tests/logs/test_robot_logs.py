@@ -1,6 +1,6 @@
 """A robot's own log, every joint: Unitree's LowState bag and SDK CSV, contacts, the model beside.
 
-The logs are a known synthetic Go1 trot (:mod:`tests.logs.unitree_logs`): the model's reference
+The logs are a known synthetic Go1 trot (``examples/unitree_log.py``): the model's reference
 trot with an abduction motion added, written as Unitree's driver and SDK write them. The truth is
 the dense integral of ``|tau dq|`` of the very samples written, so the reader, the contacts and
 the cycle alignment are what is tested, not the model.
@@ -20,8 +20,10 @@ from scalf_opt.errors import ConfigError, LogError
 from scalf_opt.logs.contacts import motion_stance
 from scalf_opt.logs.mapping import BUILT_IN, mapping_from_dict
 
-sys.path.insert(0, str(Path(__file__).parent))
-from unitree_logs import (
+sys.path.insert(0, str(Path(__file__).parents[2] / "examples"))
+from unitree_log import (
+    ABDUCTION_NM,
+    ABDUCTION_RAD,
     UNITREE_ORDER,
     exact_energy_j,
     synthetic_trot,
@@ -71,6 +73,8 @@ def test_a_lowstate_bag_and_an_sdk_csv_give_every_joints_energy(trot, logs):
         for joint, energy in energies.items():
             truth = exact[UNITREE_ORDER.index(joint)]
             assert energy == pytest.approx(truth, rel=1e-4), joint
+            if joint.endswith("_hip_joint"):  # the abduction's closed form, pi A B per cycle
+                assert energy == pytest.approx(np.pi * ABDUCTION_RAD * ABDUCTION_NM, rel=1e-4)
         for leg in result.analysis.legs.values():
             assert leg.contact_method == "foot force"
             assert leg.period_s == pytest.approx(PERIOD_S, rel=1e-3)

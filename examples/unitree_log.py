@@ -1,9 +1,15 @@
 """A known synthetic Go1 trot written as Unitree's robots write it: a LowState bag, an SDK CSV.
 
+``python examples/unitree_log.py PLAN_DIR OUT_DIR`` samples the plan saved in ``PLAN_DIR`` (the
+``summary.json`` of ``scalf-opt evaluate --robot go1 --out PLAN_DIR``, or of ``optimize``) at
+500 Hz over 6 cycles, starting 37 % into RF's cycle as a recording would, and writes
+``OUT_DIR/go1_lowstate.mcap`` and ``OUT_DIR/go1_sdk.csv``: logs to try ``analyze-log`` on
+before a robot's own (the tests read them too).
+
 The trot is the plan of ``scalf-opt export`` (hip pitch and knee of every leg, their torques and
 contacts) with an abduction motion added, ``q = A sin(w t + phi)``, ``tau = B cos(w t + phi)``,
-so that the abduction does work the sagittal model does not (its exact energy per cycle is
-``4 A B w |...|``, checked by the test through the dense samples instead). The bag is written with
+so that the abduction does work the sagittal model does not: ``integral |tau dq|`` over a cycle
+is exactly ``pi A B`` (0.754 J per hip), a closed form the tests check the reader against. The bag is written with
 ``rosbags``' writer and the message definitions of ``unitree_ros2``'s ``unitree_go`` package
 embedded, as a recorder does: nothing of scalf-opt's own writer.
 """
@@ -245,3 +251,26 @@ def exact_energy_j(t, dq, tau, period_s):
     cycles = int(np.floor((t[-1] - t[0]) / period_s + 1e-9))
     end = np.searchsorted(t, t[0] + cycles * period_s + 1e-9)
     return np.trapezoid(power[:, :end], t[:end], axis=1) / cycles
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Write the two logs of a saved plan (module docstring)."""
+    import sys
+
+    import scalf_opt  # noqa: F401  (first: the BLAS it pins)
+    from scalf_opt.api import export_plan
+
+    plan, out = (argv if argv is not None else sys.argv[1:])[:2]
+    folder = Path(out)
+    folder.mkdir(parents=True, exist_ok=True)
+    export = export_plan(plan, "go1", rate_hz=500, cycles=6).export
+    arrays = synthetic_trot(export, cycles_skip=0.37)
+    for path in (
+        write_lowstate_bag(folder / "go1_lowstate.mcap", *arrays),
+        write_sdk_csv(folder / "go1_sdk.csv", *arrays),
+    ):
+        print(f"wrote {path}")
+
+
+if __name__ == "__main__":
+    main()
