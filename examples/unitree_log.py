@@ -9,9 +9,9 @@ before a robot's own (the tests read them too).
 The trot is the plan of ``scalf-opt export`` (hip pitch and knee of every leg, their torques and
 contacts) with an abduction motion added, ``q = A sin(w t + phi)``, ``tau = B cos(w t + phi)``,
 so that the abduction does work the sagittal model does not: ``integral |tau dq|`` over a cycle
-is exactly ``pi A B`` (0.754 J per hip), a closed form the tests check the reader against. The bag is written with
-``rosbags``' writer and the message definitions of ``unitree_ros2``'s ``unitree_go`` package
-embedded, as a recorder does: nothing of scalf-opt's own writer.
+is exactly ``pi A B`` (0.754 J per hip), a closed form the tests check the reader against. The
+bag is written with ``rosbags``' writer and the message definitions of ``unitree_ros2``'s
+``unitree_go`` package embedded, as a recorder does: nothing of scalf-opt's own writer.
 """
 
 from __future__ import annotations
