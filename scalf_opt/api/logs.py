@@ -58,6 +58,8 @@ class LogResult:
         data = {"provenance": provenance(self.robot, self.command), **self.analysis.as_dict()}
         if self.measured is not None:
             data["velocity_source"] = self.measured.velocity_source
+            if self.measured.velocity_source == "measured":
+                data["filter"] = None  # the log's own velocities: nothing was filtered
         data["log_kind"] = "joint" if self.joint_log else "cylinder"
         # the cylinders draw supply pressure x flow: friction_heat_per_cycle_j is that beyond |F v|
         data["drives_meter_their_power"] = self.metered

@@ -49,11 +49,18 @@ def field_getter(path: str) -> Callable[[Any], Any]:
     return get
 
 
-def seconds(value: Any, unit_s: float = 1.0) -> float:
-    """A stamp as seconds: a ``builtin_interfaces/Time`` or a number in ``unit_s``."""
+def stamp_s(value: Any, unit_s: float, origin_ns: int) -> float | None:
+    """A stamp field as seconds after ``origin_ns``, or ``None`` when it is not set (zero).
+
+    A ``builtin_interfaces/Time`` is taken in integer nanoseconds before the origin is subtracted
+    (seconds since the epoch as a double resolve only a quarter of a microsecond); a number is
+    taken in ``unit_s`` as it is (a driver's own clock: a tick count from its start).
+    """
     if hasattr(value, "sec") and hasattr(value, "nanosec"):
-        return float(value.sec) + 1e-9 * float(value.nanosec)
-    return float(value) * unit_s
+        ns = int(value.sec) * 1_000_000_000 + int(value.nanosec)
+        return (ns - origin_ns) * 1e-9 if ns > 0 else None
+    seconds = float(value) * unit_s
+    return seconds if seconds > 0 else None
 
 
 @dataclass(frozen=True)
@@ -86,7 +93,8 @@ class TopicRows:
     Attributes:
         topic: The topic.
         message: Its message type.
-        t_s: Each message's time, shape (n,) [s], as recorded (not shifted).
+        t_s: Each message's time, shape (n,) [s], from the bag's first recorded message (a
+            stamp field in a number of ``time_unit_s``: as it is).
         values: The rows, shape (n, k).
     """
 
@@ -163,15 +171,17 @@ def _read(path: Path, local: Path, requests: Sequence[TopicRequest]) -> dict[str
         stamps = {r.key: field_getter(r.stamp) if r.stamp else None for r in requests}
         connections = [c for c in reader.connections if c.topic in by_topic]
         where = f"{path}"
+        origin_ns = int(reader.start_time)
         try:
             for conn, ns, raw in reader.messages(connections=connections):
                 request = by_topic[conn.topic]
                 where = f"{path}: topic {conn.topic}, message {len(rows[request.key])}"
                 msg: Any = reader.deserialize(raw, conn.msgtype)
                 stamp_of = stamps[request.key]
-                t = seconds(stamp_of(msg), request.time_unit_s) if stamp_of else 0.0
-                if not t > 0:
-                    t = ns * 1e-9
+                stamped = (
+                    stamp_s(stamp_of(msg), request.time_unit_s, origin_ns) if stamp_of else None
+                )
+                t = stamped if stamped is not None else (ns - origin_ns) * 1e-9
                 values = np.asarray(request.row(msg), dtype=float)
                 if not np.all(np.isfinite(values)) or not np.isfinite(t):
                     raise LogError(f"{where}: a value is not a finite number")

@@ -8,7 +8,7 @@ _PERIOD_SOURCES = {
     "--period": "given",
     "contact": "median time between touch-downs",
     "gait": "the gait's",
-    "motion": "the motion's, from the lengths' self-similarity",
+    "motion": "the motion's, from the {signals}' self-similarity",
 }
 
 # a bag's time origin is its first message (scalf_opt.logs.bag_log)
@@ -27,6 +27,8 @@ def _phases(analysis: LogAnalysis) -> str:
 
 _CYLINDER_WORDS = {
     "log": "cylinder log",
+    "signals": "lengths",
+    "robot": "the robot (4 legs)",
     "velocity": "cylinder velocity",
     "measured": "the log's own (measured speeds, no filter)",
     "power": "sum |F v|",
@@ -45,6 +47,8 @@ _WORDS = {
     },
     "joint": {
         "log": "joint log",
+        "signals": "joint angles",
+        "robot": "the hip pitch and knee joints (4 legs; every joint with --mapping joint_state)",
         "velocity": "joint velocity",
         "measured": "the log's own (measured rates, no filter)",
         "power": "sum |tau qd|",
@@ -73,7 +77,8 @@ def log_report(
     lines = [
         f"{words['log']} {analysis.source}: legs {', '.join(analysis.legs)}, "
         f"{analysis.sample_rate_hz:.1f} Hz",
-        f"gait period {analysis.period_s:.4g} s ({_PERIOD_SOURCES[analysis.period_source]})",
+        f"gait period {analysis.period_s:.4g} s "
+        f"({_PERIOD_SOURCES[analysis.period_source].format(signals=words['signals'])})",
         _phases(analysis),
         f"{words['velocity']}: degree-{filt['degree']} least-squares fit over "
         f"{1e3 * filt['window_s']:.0f} ms ({filt['samples']} samples)"
@@ -98,7 +103,7 @@ def log_report(
         f"total {'':6s}  {total['swing']:10.3f}  {total['stance']:11.3f}  {total['cycle']:10.3f}  "
         f"{heat:18.3f}",
         "",
-        f"average power of the robot ({len(analysis.legs)} legs): "
+        f"average power of {words['robot'].replace('4 legs', f'{len(analysis.legs)} legs')}: "
         f"{analysis.average_power_w:.2f} W mechanical; {analysis.average_total_power_w:.2f} W "
         f"{words['total']}",
     ]

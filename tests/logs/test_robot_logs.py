@@ -298,3 +298,91 @@ def test_mapping_tables_check_their_fields():
             },
             "m",
         )
+
+
+def test_a_joint_state_bag_counts_every_joint_with_its_mapping(trot, tmp_path, capsys):
+    """The same joints as JointState: the sagittal route says what it leaves out, the mapping
+    ``joint_state`` counts every joint, and the two agree on the hip pitch and knee."""
+    from scalf_opt.io.ros_bag import JointStateSeries, write_bag
+
+    _, (t, q, dq, tau, _) = trot
+    bag = write_bag(
+        tmp_path / "js.mcap",
+        [JointStateSeries("/joint_states", tuple(UNITREE_ORDER), t + 1.0, q, dq, tau)],
+    )
+    assert main(["analyze-log", str(bag), "--robot", "go1"]) == 0
+    out = capsys.readouterr().out
+    assert "the joint angles' self-similarity" in out
+    assert "average power of the hip pitch and knee joints (4 legs; every joint with " in out
+    assert main(["analyze-log", str(bag), "--robot", "go1", "--json"]) == 0
+    sagittal = json.loads(capsys.readouterr().out)
+    assert sagittal["velocity_source"] == "measured" and sagittal["filter"] is None
+    every = analyze_robot_log(bag, "go1", mapping="joint_state").analysis
+    assert len(every.joints) == 12
+    modelled = sum(j.cycle_j / every.legs[j.leg].period_s for j in every.joints if j.modelled)
+    assert modelled == pytest.approx(sagittal["average_power_w"], rel=0.01)
+
+
+def test_a_sqlite3_bag_and_the_older_unitree_messages(trot, tmp_path):
+    """``unitree_legged_msgs/msg/LowState`` (camelCase fields) in an sqlite3 bag that stores its
+    message definitions: recognised by its type, read through the built-in mapping."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_types_from_msg, get_typestore
+
+    _, (t, q, dq, tau, force) = trot
+    store = get_typestore(Stores.EMPTY)
+    store.register(
+        get_types_from_msg(
+            "uint8 mode\nfloat32 q\nfloat32 dq\nfloat32 ddq\nfloat32 tauEst\n",
+            "unitree_legged_msgs/msg/MotorState",
+        )
+    )
+    store.register(
+        get_types_from_msg(
+            "uint8 levelFlag\nMotorState[20] motorState\nint16[4] footForce\nuint32 tick\n",
+            "unitree_legged_msgs/msg/LowState",
+        )
+    )
+    motor = store.types["unitree_legged_msgs/msg/MotorState"]
+    low = store.types["unitree_legged_msgs/msg/LowState"]
+    folder = tmp_path / "legacy"
+    with Writer(folder, version=9, storage_plugin=StoragePlugin.SQLITE3) as writer:
+        conn = writer.add_connection("/low_state", low.__msgtype__, typestore=store)
+        for k, tk in enumerate(t):
+            motors = [
+                motor(
+                    10,
+                    *(float(a[j, k]) if j < 12 else 0.0 for a in (q, dq)),
+                    0.0,
+                    float(tau[j, k]) if j < 12 else 0.0,
+                )
+                for j in range(20)
+            ]
+            msg = low(0, motors, force[:, k].astype(np.int16), k)
+            writer.write(conn, round((100.0 + tk) * 1e9), store.serialize_cdr(msg, low.__msgtype__))
+    result = analyze_robot_log(folder, "go1")
+    assert result.mapping == "unitree_legged_msgs"
+    reference = analyze_robot_log(
+        write_lowstate_bag(tmp_path / "new.mcap", t, q, dq, tau, force), "go1"
+    )
+    for new, old in zip(reference.analysis.joints, result.analysis.joints, strict=True):
+        # 1e-6, not 1e-9: the MCAP writer above stamps 2026's epoch plus t in doubles, a grid of
+        # a quarter microsecond (2e-8 here); the reader keeps integer nanoseconds
+        assert old.cycle_j == pytest.approx(new.cycle_j, rel=1e-6)
+
+
+def test_ranges_and_gaps_are_warned(trot, tmp_path):
+    _, (t, q, dq, tau, force) = trot
+    shifted = q.copy()
+    shifted[2] -= 1.5  # FR_calf_joint 1.5 rad off: another zero, or another robot
+    late = t.copy()
+    late[300:] += 0.05  # 50 ms without a message
+    bag = write_lowstate_bag(tmp_path / "odd.mcap", late, shifted, dq, tau, force)
+    notes = analyze_robot_log(bag, "go1").analysis.notes
+    assert any(
+        n.startswith("warning: FR_calf_joint reaches") and "beyond its URDF range" in n
+        for n in notes
+    ), notes
+    assert any(
+        n.startswith("1 gap(s) in the time stamps") and "the longest 52 ms" in n for n in notes
+    ), notes
