@@ -60,8 +60,9 @@ class RobotLogResult:
         g = self.comparison.gait
         measured = self.analysis.average_power_w
         title = (
-            f"{self.analysis.source} ({self.robot.name}) against the sagittal model at T "
-            f"{g.period_s:.3g} s, duty {g.duty_cycle:.3g}, {self.analysis.speed_m_s:.3g} m/s: "
+            f"{self.analysis.source} ({self.robot.name}) against the sagittal model at T\u00a0"
+            f"{g.period_s:.3g}\u00a0s, duty\u00a0{g.duty_cycle:.3g}, "
+            f"{self.analysis.speed_m_s:.3g}\u00a0m/s (dashed: lift-off, log and model): "
             f"{measured:.1f} W measured (every joint), "
             f"{sum(c.planned_j / g.period_s for c in self.comparison.joints):.1f} W planned"
         )

@@ -22,8 +22,7 @@ from typing import Any
 import numpy as np
 
 from scalf_opt.errors import LogError
-from scalf_opt.files import scratch_folder
-from scalf_opt.io.ros_bag import _bag_error, _bounded_copy, _rosbags
+from scalf_opt.io.ros_bag import _bag_error, opened_bag
 
 MAX_VALUES = 100_000_000
 """Most numbers one topic may hold (800 MB as doubles): 12 motors' angle, rate and torque and 4
@@ -141,71 +140,56 @@ def read_topics(path: str | Path, requests: Sequence[TopicRequest]) -> dict[str,
             numbers than :data:`MAX_VALUES`.
     """
     path = Path(path)
-    if not path.exists():
-        raise LogError(f"{path}: the bag does not exist")
-    with scratch_folder("bag") as folder:
-        return _read(path, _bounded_copy(path, folder), requests)
+    with opened_bag(path) as reader:
+        return _read(path, reader, requests)
 
 
-def _read(path: Path, local: Path, requests: Sequence[TopicRequest]) -> dict[str, TopicRows]:
-    _rosbags()
-    from rosbags.highlevel import AnyReader
-
+def _read(path: Path, reader: Any, requests: Sequence[TopicRequest]) -> dict[str, TopicRows]:
+    """:func:`read_topics` of the opened bag ``reader``; messages name ``path``."""
+    types: dict[str, set[str]] = {}
+    for c in reader.connections:
+        if not isinstance(c.topic, str) or not c.topic:
+            raise LogError(f"{path}: a connection of the bag has no topic name")
+        types.setdefault(c.topic, set()).add(c.msgtype)
+    chosen = {r.key: _choose(path, r, types) for r in requests}
+    by_topic = {chosen[r.key]: r for r in requests}
+    if len(by_topic) != len(requests):
+        raise LogError(f"{path}: two requests name one topic")  # pragma: no cover
+    rows: dict[str, list[np.ndarray]] = {r.key: [] for r in requests}
+    times: dict[str, list[float]] = {r.key: [] for r in requests}
+    stamps = {r.key: field_getter(r.stamp) if r.stamp else None for r in requests}
+    connections = [c for c in reader.connections if c.topic in by_topic]
+    where = f"{path}"
+    origin_ns = int(reader.start_time)
     try:
-        reader = AnyReader([local])
-        reader.open()
-    except Exception as exc:  # rosbags raises many kinds on a broken file
-        raise _bag_error(path, exc) from exc
-    try:
-        types: dict[str, set[str]] = {}
-        for c in reader.connections:
-            if not isinstance(c.topic, str) or not c.topic:
-                raise LogError(f"{path}: a connection of the bag has no topic name")
-            types.setdefault(c.topic, set()).add(c.msgtype)
-        chosen = {r.key: _choose(path, r, types) for r in requests}
-        by_topic = {chosen[r.key]: r for r in requests}
-        if len(by_topic) != len(requests):
-            raise LogError(f"{path}: two requests name one topic")  # pragma: no cover
-        rows: dict[str, list[np.ndarray]] = {r.key: [] for r in requests}
-        times: dict[str, list[float]] = {r.key: [] for r in requests}
-        stamps = {r.key: field_getter(r.stamp) if r.stamp else None for r in requests}
-        connections = [c for c in reader.connections if c.topic in by_topic]
-        where = f"{path}"
-        origin_ns = int(reader.start_time)
-        try:
-            for conn, ns, raw in reader.messages(connections=connections):
-                request = by_topic[conn.topic]
-                where = f"{path}: topic {conn.topic}, message {len(rows[request.key])}"
-                msg: Any = reader.deserialize(raw, conn.msgtype)
-                stamp_of = stamps[request.key]
-                stamped = (
-                    stamp_s(stamp_of(msg), request.time_unit_s, origin_ns) if stamp_of else None
+        for conn, ns, raw in reader.messages(connections=connections):
+            request = by_topic[conn.topic]
+            where = f"{path}: topic {conn.topic}, message {len(rows[request.key])}"
+            msg: Any = reader.deserialize(raw, conn.msgtype)
+            stamp_of = stamps[request.key]
+            stamped = stamp_s(stamp_of(msg), request.time_unit_s, origin_ns) if stamp_of else None
+            t = stamped if stamped is not None else (ns - origin_ns) * 1e-9
+            values = np.asarray(request.row(msg), dtype=float)
+            if not np.all(np.isfinite(values)) or not np.isfinite(t):
+                raise LogError(f"{where}: a value is not a finite number")
+            previous = times[request.key]
+            if previous and t < previous[-1]:
+                raise LogError(
+                    f"{where}: time {t!r} s goes back (the previous message has {previous[-1]!r} s)"
                 )
-                t = stamped if stamped is not None else (ns - origin_ns) * 1e-9
-                values = np.asarray(request.row(msg), dtype=float)
-                if not np.all(np.isfinite(values)) or not np.isfinite(t):
-                    raise LogError(f"{where}: a value is not a finite number")
-                previous = times[request.key]
-                if previous and t < previous[-1]:
-                    raise LogError(
-                        f"{where}: time {t!r} s goes back (the previous message has "
-                        f"{previous[-1]!r} s)"
-                    )
-                if (len(previous) + 1) * values.size > MAX_VALUES:
-                    raise LogError(
-                        f"{path}: topic {conn.topic} holds more than {MAX_VALUES:,} numbers: "
-                        "cut the bag to the part to analyse"
-                    )
-                previous.append(t)
-                rows[request.key].append(values)
-        except LogError:
-            raise
-        except (AttributeError, IndexError, TypeError, ValueError) as exc:
-            raise LogError(f"{where}: {_short(exc)} (the mapping names a field it lacks?)") from exc
-        except Exception as exc:
-            raise _bag_error(path, exc) from exc
-    finally:
-        reader.close()
+            if (len(previous) + 1) * values.size > MAX_VALUES:
+                raise LogError(
+                    f"{path}: topic {conn.topic} holds more than {MAX_VALUES:,} numbers: "
+                    "cut the bag to the part to analyse"
+                )
+            previous.append(t)
+            rows[request.key].append(values)
+    except LogError:
+        raise
+    except (AttributeError, IndexError, TypeError, ValueError) as exc:
+        raise LogError(f"{where}: {_short(exc)} (the mapping names a field it lacks?)") from exc
+    except Exception as exc:
+        raise _bag_error(path, exc) from exc
     answer = {}
     for r in requests:
         topic = chosen[r.key]
@@ -227,23 +211,8 @@ def topic_types(path: str | Path) -> dict[str, set[str]]:
     Raises:
         LogError: The bag cannot be read.
     """
-    path = Path(path)
-    if not path.exists():
-        raise LogError(f"{path}: the bag does not exist")
-    _rosbags()
-    from rosbags.highlevel import AnyReader
-
-    with scratch_folder("bag") as folder:
-        local = _bounded_copy(path, folder)
-        try:
-            reader = AnyReader([local])
-            reader.open()
-        except Exception as exc:  # rosbags raises many kinds on a broken file
-            raise _bag_error(path, exc) from exc
-        try:
-            types: dict[str, set[str]] = {}
-            for c in reader.connections:
-                types.setdefault(str(c.topic), set()).add(c.msgtype)
-            return types
-        finally:
-            reader.close()
+    with opened_bag(Path(path)) as reader:
+        types: dict[str, set[str]] = {}
+        for c in reader.connections:
+            types.setdefault(str(c.topic), set()).add(c.msgtype)
+        return types

@@ -20,6 +20,8 @@ import math
 import os
 import shutil
 import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -188,10 +190,36 @@ def read_joint_states(path: str | Path, topic: str | None = None) -> JointStateS
             do not increase (the message names the topic and the message's index).
     """
     path = Path(path)
+    with opened_bag(path) as reader:
+        return _read_joint_states(path, reader, topic)
+
+
+@contextmanager
+def opened_bag(path: Path) -> Iterator[Any]:
+    """``rosbags``' ``AnyReader``, opened on a bounded private copy of the bag ``path``.
+
+    The reader is given the copy, nothing else (:func:`_bounded_copy`); its errors name ``path``.
+
+    Raises:
+        LogError: The bag does not exist, is too large, or cannot be opened (truncated, not a
+            bag).
+    """
     if not path.exists():
         raise LogError(f"{path}: the bag does not exist")
-    with scratch_folder("bag") as folder:  # the reader is given a bounded copy, nothing else
-        return _read_joint_states(path, _bounded_copy(path, folder), topic)
+    _rosbags()
+    from rosbags.highlevel import AnyReader
+
+    with scratch_folder("bag") as folder:
+        local = _bounded_copy(path, folder)
+        try:
+            reader = AnyReader([local])
+            reader.open()
+        except Exception as exc:  # rosbags raises many kinds on a broken file
+            raise _bag_error(path, exc) from exc
+        try:
+            yield reader
+        finally:
+            reader.close()
 
 
 MAX_BAG_BYTES = 512 * 1024 * 1024
@@ -220,72 +248,61 @@ def _bounded_copy(path: Path, folder: Path) -> Path:
     return copy
 
 
-def _read_joint_states(path: Path, local: Path, topic: str | None) -> JointStateSeries:
-    """:func:`read_joint_states` of the bag's copy ``local``; messages name ``path``."""
-    _rosbags()
-    from rosbags.highlevel import AnyReader
-
-    try:
-        reader = AnyReader([local])
-        reader.open()
-    except Exception as exc:  # rosbags raises many kinds on a broken file
-        raise _bag_error(path, exc) from exc
-    try:
-        states = sorted({c.topic for c in reader.connections if c.msgtype == JOINT_STATE})
-        have = ", ".join(states) if states else "none"
-        if topic is None:
-            if len(states) != 1:
-                raise LogError(
-                    f"{path}: the bag has {len(states) or 'no'} JointState topics ({have}); "
-                    "name one with --topic"
-                )
-            topic = states[0]
-        connections = [c for c in reader.connections if c.topic == topic]
-        if not connections:
+def _read_joint_states(path: Path, reader: Any, topic: str | None) -> JointStateSeries:
+    """:func:`read_joint_states` of the opened bag ``reader``; messages name ``path``."""
+    states = sorted({c.topic for c in reader.connections if c.msgtype == JOINT_STATE})
+    have = ", ".join(states) if states else "none"
+    if topic is None:
+        if len(states) != 1:
             raise LogError(
-                f"{path}: no topic {topic!r} in the bag (its JointState topics: {have}); "
+                f"{path}: the bag has {len(states) or 'no'} JointState topics ({have}); "
                 "name one with --topic"
             )
-        kinds = {c.msgtype for c in connections}
-        if kinds != {JOINT_STATE}:
-            raise LogError(
-                f"{path}: topic {topic!r} holds {', '.join(sorted(kinds))}, not {JOINT_STATE}"
-            )
-        names: tuple[str, ...] | None = None
-        times: list[float] = []
-        columns: dict[str, list[np.ndarray]] = {"position": [], "velocity": [], "effort": []}
-        try:
-            for index, (conn, ns, raw) in enumerate(reader.messages(connections=connections)):
-                msg: Any = reader.deserialize(raw, conn.msgtype)
-                stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
-                t = stamp if stamp > 0 else ns * 1e-9
-                here = tuple(msg.name)
-                where = f"{path}: topic {topic}, message {index}"
-                if names is None:
-                    names = here
-                elif here != names:
-                    raise LogError(f"{where}: joint names {list(here)} differ from the first's")
-                if times and not t > times[-1]:
+        topic = states[0]
+    connections = [c for c in reader.connections if c.topic == topic]
+    if not connections:
+        raise LogError(
+            f"{path}: no topic {topic!r} in the bag (its JointState topics: {have}); "
+            "name one with --topic"
+        )
+    kinds = {c.msgtype for c in connections}
+    if kinds != {JOINT_STATE}:
+        raise LogError(
+            f"{path}: topic {topic!r} holds {', '.join(sorted(kinds))}, not {JOINT_STATE}"
+        )
+    names: tuple[str, ...] | None = None
+    times: list[float] = []
+    columns: dict[str, list[np.ndarray]] = {"position": [], "velocity": [], "effort": []}
+    try:
+        for index, (conn, ns, raw) in enumerate(reader.messages(connections=connections)):
+            msg: Any = reader.deserialize(raw, conn.msgtype)
+            stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
+            t = stamp if stamp > 0 else ns * 1e-9
+            here = tuple(msg.name)
+            where = f"{path}: topic {topic}, message {index}"
+            if names is None:
+                names = here
+            elif here != names:
+                raise LogError(f"{where}: joint names {list(here)} differ from the first's")
+            if times and not t > times[-1]:
+                raise LogError(
+                    f"{where}: time stamp {t!r} s does not increase (the previous message "
+                    f"has {times[-1]!r} s)"
+                )
+            times.append(t)
+            for field, values in columns.items():
+                array = np.asarray(getattr(msg, field), dtype=float)
+                if array.size not in (0, len(names)):
                     raise LogError(
-                        f"{where}: time stamp {t!r} s does not increase (the previous message "
-                        f"has {times[-1]!r} s)"
+                        f"{where}: {field} has {array.size} values for {len(names)} joints"
                     )
-                times.append(t)
-                for field, values in columns.items():
-                    array = np.asarray(getattr(msg, field), dtype=float)
-                    if array.size not in (0, len(names)):
-                        raise LogError(
-                            f"{where}: {field} has {array.size} values for {len(names)} joints"
-                        )
-                    if not np.all(np.isfinite(array)):
-                        raise LogError(f"{where}: {field} holds a value that is not finite")
-                    values.append(array)
-        except LogError:
-            raise
-        except Exception as exc:
-            raise _bag_error(path, exc) from exc
-    finally:
-        reader.close()
+                if not np.all(np.isfinite(array)):
+                    raise LogError(f"{where}: {field} holds a value that is not finite")
+                values.append(array)
+    except LogError:
+        raise
+    except Exception as exc:
+        raise _bag_error(path, exc) from exc
     if names is None:
         raise LogError(f"{path}: topic {topic!r} has no messages")
     series: dict[str, np.ndarray | None] = {}

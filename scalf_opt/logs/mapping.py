@@ -113,6 +113,21 @@ class LogMapping:
         return self if topic is None else replace(self, topic=topic)
 
 
+def _unitree_low_state(package: str, motors: str, torque: str, feet: str) -> LogMapping:
+    """A Unitree ``LowState`` message's mapping: the package's field names, Unitree's order."""
+    return LogMapping(
+        name=package,
+        source="bag",
+        message=f"{package}/msg/LowState",
+        joints=UNITREE_JOINTS,
+        position=f"{motors}[{{i}}].q",
+        velocity=f"{motors}[{{i}}].dq",
+        effort=f"{motors}[{{i}}].{torque}",
+        foot_force=f"{feet}[{{i}}]",
+        feet=UNITREE_FEET,
+    )
+
+
 BUILT_IN: dict[str, LogMapping] = {
     "joint_state": LogMapping(
         name="joint_state",
@@ -125,27 +140,9 @@ BUILT_IN: dict[str, LogMapping] = {
         velocity="velocity",
         effort="effort",
     ),
-    "unitree_go": LogMapping(
-        name="unitree_go",
-        source="bag",
-        message="unitree_go/msg/LowState",
-        joints=UNITREE_JOINTS,
-        position="motor_state[{i}].q",
-        velocity="motor_state[{i}].dq",
-        effort="motor_state[{i}].tau_est",
-        foot_force="foot_force[{i}]",
-        feet=UNITREE_FEET,
-    ),
-    "unitree_legged_msgs": LogMapping(
-        name="unitree_legged_msgs",
-        source="bag",
-        message="unitree_legged_msgs/msg/LowState",
-        joints=UNITREE_JOINTS,
-        position="motorState[{i}].q",
-        velocity="motorState[{i}].dq",
-        effort="motorState[{i}].tauEst",
-        foot_force="footForce[{i}]",
-        feet=UNITREE_FEET,
+    "unitree_go": _unitree_low_state("unitree_go", "motor_state", "tau_est", "foot_force"),
+    "unitree_legged_msgs": _unitree_low_state(
+        "unitree_legged_msgs", "motorState", "tauEst", "footForce"
     ),
 }
 """The mappings known by name (``--mapping unitree_go``); a bag whose topic has one of their

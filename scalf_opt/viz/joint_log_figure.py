@@ -18,6 +18,8 @@ from scalf_opt.viz.plotting import fitted_title
 def joint_comparison_figure(comparison: Any, title: str) -> Figure:
     """A panel per joint (a row per leg, trunk first): measured and planned power over a cycle.
 
+    Dashed lines mark lift-off: the log's (orange) and the model's (blue, dotted).
+
     Args:
         comparison: A ``scalf_opt.logs.log_plan.LogPlanComparison`` (its ``joints``, each with
             ``leg``, ``joint``, ``measured_j``, ``planned_j``, ``ratio``, ``measured_w`` and
@@ -60,11 +62,11 @@ def joint_comparison_figure(comparison: Any, title: str) -> Figure:
             if row == len(legs) - 1:
                 ax.set_xlabel("phase of the leg's cycle (0: touch-down)", fontsize=8)
             ax.tick_params(labelsize=7)
-    duty = comparison.gait.duty_cycle
-    stance_end = np.array([duty])
+    # lift-off: the log's measured one and the model's (they differ for a flying trot)
     for ax in np.ravel(axes):
         if ax.get_visible():
-            ax.axvline(float(stance_end[0]), color="0.5", lw=0.8, ls="--")
+            ax.axvline(comparison.log_duty_cycle, color="tab:orange", lw=0.8, ls="--")
+            ax.axvline(comparison.gait.duty_cycle, color="tab:blue", lw=0.8, ls=":")
     fig.suptitle(fitted_title(title, 3.6 * columns, 9.0), fontsize=9)
     fig.tight_layout()
     return fig
