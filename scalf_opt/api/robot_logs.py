@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
@@ -172,7 +172,7 @@ def analyze_robot_log(
             message), a log of another robot (joint names), a leg that never touches down twice.
         ConfigError: A bad mapping, a speed that is not > 0, ``compare`` without a speed.
     """
-    from scalf_opt.logs.contacts import foot_heights_m, log_contacts
+    from scalf_opt.logs.contacts import foot_heights_m, log_contacts, weight_note
     from scalf_opt.logs.robot_energy import analyze_robot_log as analyze
     from scalf_opt.logs.robot_energy import joint_rates
     from scalf_opt.logs.robot_log import robot_log
@@ -191,6 +191,9 @@ def analyze_robot_log(
         series = bag_series(path, chosen, odometry_topic)
     log = robot_log(series, robot, named=chosen.names is not None)
     contacts = log_contacts(log, robot)
+    weight = weight_note(log, robot, contacts.stance)
+    if weight is not None:
+        log = replace(log, notes=(*log.notes, weight))
     analysis = analyze(log, contacts, robot.total_mass_kg, speed_m_s)
     comparison = None
     if compare:

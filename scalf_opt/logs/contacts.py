@@ -25,6 +25,7 @@ import numpy as np
 import pinocchio as pin
 
 from scalf_opt.errors import LogError
+from scalf_opt.locomotion.forces import GRAVITY_M_S2
 from scalf_opt.logs.robot_log import RobotLog, leg_joints, neutral_configuration
 from scalf_opt.model.robot import Robot
 
@@ -118,28 +119,33 @@ def foot_heights_m(log: RobotLog, robot: Robot) -> dict[str, np.ndarray]:
     return heights
 
 
-def torque_forces_n(log: RobotLog, robot: Robot) -> dict[str, np.ndarray]:
+def torque_forces_n(
+    log: RobotLog, robot: Robot, samples: np.ndarray | None = None
+) -> dict[str, np.ndarray]:
     """Per leg, the ground's vertical force on the foot that the joint torques imply [N].
 
     ``tau - g(q) = -J^T f`` of the leg's joints (quasi-static: the legs' inertia left out),
     solved for ``f`` by least squares; ``g`` the gravity torque of the fixed-trunk model and ``J``
     the foot's translation Jacobian in the trunk's axes. The vertical component: the weight a
-    stance foot carries.
+    stance foot carries. ``samples``: the sample indices to evaluate (default: every one).
     """
     model = robot.model
     data = model.createData()
-    q = np.tile(neutral_configuration(robot)[:, None], (1, log.t_s.size))
+    index = np.arange(log.t_s.size) if samples is None else samples
+    q = np.tile(neutral_configuration(robot)[:, None], (1, index.size))
     for joint, values in log.q_rad.items():
-        q[model.idx_qs[model.getJointId(joint)]] = values
+        q[model.idx_qs[model.getJointId(joint)]] = values[index]
     zero = np.zeros(model.nv)
     frames = {leg: model.getFrameId(robot.leg(leg).foot_frame) for leg in log.legs}
     columns = {
         leg: [model.idx_vs[model.getJointId(j)] for j in joints] for leg, joints in log.legs.items()
     }
-    torques = {leg: np.vstack([log.tau_nm[j] for j in joints]) for leg, joints in log.legs.items()}
-    forces = {leg: np.empty(log.t_s.size) for leg in log.legs}
+    torques = {
+        leg: np.vstack([log.tau_nm[j][index] for j in joints]) for leg, joints in log.legs.items()
+    }
+    forces = {leg: np.empty(index.size) for leg in log.legs}
     frame_axes = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
-    for k in range(log.t_s.size):
+    for k in range(index.size):
         gravity = pin.rnea(model, data, q[:, k], zero, zero)
         pin.computeJointJacobians(model, data, q[:, k])
         pin.updateFramePlacements(model, data)
@@ -149,6 +155,51 @@ def torque_forces_n(log: RobotLog, robot: Robot) -> dict[str, np.ndarray]:
             force = np.linalg.lstsq(jacobian.T, -load, rcond=None)[0]
             forces[leg][k] = force[2]
     return forces
+
+
+MOST_WEIGHT_SAMPLES = 20_000
+"""The weight check evaluates at most this many samples, evenly spread (a mean needs no more)."""
+
+WEIGHT_TOLERANCE = 0.25
+"""The torques may carry this share more or less than the robot's weight before a warning (the
+legs' inertia is left out of the estimate, and a motor's torque estimate is rough)."""
+
+
+def carried_mass_kg(log: RobotLog, robot: Robot, stance: dict[str, np.ndarray]) -> float | None:
+    """The mass the legs' joint torques hold up on average over whole cycles [kg].
+
+    The sum over legs of :func:`torque_forces_n`, averaged over the whole cycles of the first leg
+    (from its first touch-down to its last; over a period the trunk's momentum repeats, so the
+    feet carry the weight on average, a flying trot's too), over ``g``. ``None`` without two
+    touch-downs.
+    """
+    on = next(iter(stance.values()))
+    downs = np.flatnonzero(on[1:] & ~on[:-1]) + 1
+    if downs.size < 2:
+        return None
+    step = max(1, int(downs[-1] - downs[0]) // MOST_WEIGHT_SAMPLES)
+    index = np.arange(downs[0], downs[-1] + 1, step)
+    total = sum(torque_forces_n(log, robot, index).values())
+    t = log.t_s[index]
+    return float(np.trapezoid(total, t) / (t[-1] - t[0]) / GRAVITY_M_S2)
+
+
+def weight_note(log: RobotLog, robot: Robot, stance: dict[str, np.ndarray]) -> str | None:
+    """A line comparing the weight the torques carry with the robot's (a warning when far)."""
+    carried = carried_mass_kg(log, robot, stance)
+    if carried is None:
+        return None
+    mass = robot.total_mass_kg
+    line = (
+        f"the joint torques hold up {carried:.3g} kg on average over the cycles; {robot.name} "
+        f"weighs {mass:.3g} kg"
+    )
+    if abs(carried / mass - 1.0) > WEIGHT_TOLERANCE:
+        return (
+            f"warning: {line}: a log of another robot, torques in other units, or another "
+            "sign convention?"
+        )
+    return line
 
 
 def motion_stance(height_m: np.ndarray, source: str, leg: str) -> np.ndarray:

@@ -23,6 +23,7 @@ from typing import Any
 import numpy as np
 
 from scalf_opt.errors import LogError
+from scalf_opt.locomotion.forces import GRAVITY_M_S2
 from scalf_opt.logs.contacts import Contacts
 from scalf_opt.logs.derivative import (
     DEFAULT_DEGREE,
@@ -31,9 +32,6 @@ from scalf_opt.logs.derivative import (
     local_polynomial_derivative,
 )
 from scalf_opt.logs.robot_log import RobotLog
-
-GRAVITY_M_S2 = 9.81
-"""Standard gravity for the cost of transport [m/s^2] (the project's constant)."""
 
 MIN_SAMPLES_PER_CYCLE = 40
 """Fewer samples per gait cycle than this and the energy misses the power's peaks (a warning)."""

@@ -386,3 +386,29 @@ def test_ranges_and_gaps_are_warned(trot, tmp_path):
     assert any(
         n.startswith("1 gap(s) in the time stamps") and "the longest 52 ms" in n for n in notes
     ), notes
+
+
+def test_the_torques_hold_up_the_robots_weight(trot, logs, tmp_path):
+    """The plan's torques, turned back into foot forces by the URDF's Jacobians, carry the
+    robot's weight over a cycle (2 %: the legs' inertia is left out of the estimate); torques in
+    other units (here twice) are warned."""
+    from scalf_opt.logs.contacts import carried_mass_kg
+
+    result = analyze_robot_log(logs[0], "go1")
+    go1 = result.robot
+    line = next(n for n in result.analysis.notes if "hold up" in n)
+    assert not line.startswith("warning") and line.endswith(
+        f"go1 weighs {go1.total_mass_kg:.3g} kg"
+    )
+    from scalf_opt.logs.contacts import log_contacts
+    from scalf_opt.logs.mapping import BUILT_IN as MAPPINGS_BUILT_IN
+    from scalf_opt.logs.robot_log import robot_log
+    from scalf_opt.logs.robot_sources import bag_series
+
+    log = robot_log(bag_series(logs[0], MAPPINGS_BUILT_IN["unitree_go"], None), go1)
+    carried = carried_mass_kg(log, go1, log_contacts(log, go1).stance)
+    assert carried == pytest.approx(go1.total_mass_kg, rel=0.02)
+    _, (t, q, dq, tau, force) = trot
+    bag = write_lowstate_bag(tmp_path / "double.mcap", t, q, dq, 2 * tau, force)
+    notes = analyze_robot_log(bag, "go1").analysis.notes
+    assert any(n.startswith("warning: the joint torques hold up 2") for n in notes), notes
