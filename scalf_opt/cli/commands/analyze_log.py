@@ -75,14 +75,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
     robot_log.add_argument(
         "--mapping",
-        metavar="NAME|FILE",
-        help="where the log keeps each joint: a mapping file (.toml; examples/mappings/) or a "
-        "built-in one (joint_state, unitree_go, unitree_legged_msgs); a bag whose topic is a "
-        "Unitree LowState is read without it",
+        metavar="FILE",
+        help="where the log keeps each joint: a mapping file (.toml; examples/mappings/) or the "
+        "name of a built-in one (joint_state, unitree_go, unitree_legged_msgs); a bag whose "
+        "topic is a Unitree LowState is read without it",
     )
     robot_log.add_argument(
         "--odometry",
-        metavar="TOPIC",
+        metavar="NAME",
         help="a nav_msgs/Odometry topic of the bag: the trunk's speed (the cost of transport)",
     )
     robot_log.add_argument(
