@@ -14,8 +14,10 @@ bag is written with ``rosbags``' writer and the message definitions of ``unitree
 ``unitree_go`` package embedded, as a recorder does: nothing of scalf-opt's own writer.
 """
 
+# ruff: noqa: I001  (scalf_opt first: numpy then runs on the BLAS kernels it pins)
 from __future__ import annotations
 
+import scalf_opt  # noqa: F401
 import csv
 from pathlib import Path
 
@@ -257,7 +259,6 @@ def main(argv: list[str] | None = None) -> None:
     """Write the two logs of a saved plan (module docstring)."""
     import sys
 
-    import scalf_opt  # noqa: F401  (first: the BLAS it pins)
     from scalf_opt.api import export_plan
 
     plan, out = (argv if argv is not None else sys.argv[1:])[:2]

@@ -319,4 +319,11 @@ def read_any_log(
     text = read_untrusted_text(path, "log", MAX_LOG_BYTES, LogError)
     if is_export_csv(text[:4096]):
         return export_csv_log(text, str(path))
+    header = next(csv.reader(io.StringIO(text[:4096])), [])
+    if "leg" not in [cell.strip() for cell in header]:
+        raise LogError(
+            f"{path}: row 1: neither a cylinder log (t_s, leg, ...) nor the CSV of export: a "
+            "robot's own CSV (a column per joint) is read through a mapping: --mapping "
+            "FILE.toml (examples/mappings/unitree_sdk_csv.toml is Unitree's SDK log)"
+        )
     return parse_log(text, str(path))
