@@ -3,8 +3,9 @@
 :func:`robot_log` takes the joint series of a bag or wide CSV
 (:mod:`~scalf_opt.logs.robot_sources`) and the robot, and
 
-* refuses a log that names a joint the robot does not have (a mapping's ``joints``), or lacks one
-  of a leg's actuated joints (every joint between the trunk and the foot: the abduction included);
+* refuses a log that names a joint the robot does not have (a mapping's ``joints``), or lacks a
+  leg's hip pitch or knee; counts every other joint between the trunk and a foot (the abduction)
+  that it holds, and warns of those it lacks (a plan's export holds only the sagittal joints);
   joints of a message that are no leg's (an arm, a head) are set aside;
 * drops repeated stale samples (a row equal to the one before in every value: a driver that
   re-publishes its last state) and counts them; refuses time that does not increase after that;
@@ -124,17 +125,27 @@ def robot_log(series: JointSeries, robot: Robot, named: bool = False) -> RobotLo
     source = series.source
     rows = _known_joints(robot, series, named)
     present = {series.joints[r]: r for r in rows}
-    legs = {leg: leg_joints(robot, leg) for leg in LEG_NAMES}
-    for leg, joints in legs.items():
-        missing = [j for j in joints if j not in present]
+    legs = {}
+    absent = []
+    for leg in LEG_NAMES:
+        chain = leg_joints(robot, leg)
+        sagittal = robot.leg(leg).joint_names
+        missing = [j for j in sagittal if j not in present]
         if missing:
             held = ", ".join(series.joints[:6]) + (", ..." if len(series.joints) > 6 else "")
             raise LogError(
                 f"{source}: leg {leg}'s joint {missing[0]!r} is not in the log (it holds {held}; "
                 f"give the robot with --robot, or map the joints with --mapping)"[:400]
             )
+        legs[leg] = tuple(j for j in chain if j in present)
+        absent += [j for j in chain if j not in present]
     used = [present[j] for joints in legs.values() for j in joints]
     notes = []
+    if absent:
+        notes.append(
+            f"warning: {len(absent)} leg joint(s) of {robot.name} are not in the log and their "
+            f"work is not counted: {', '.join(absent[:8])}{', ...' if len(absent) > 8 else ''}"
+        )
     set_aside = len(series.joints) - len(used)
     if set_aside:
         notes.append(f"{set_aside} joint(s) of the log are no leg's and are set aside")

@@ -34,7 +34,8 @@ def robot_log_report(data: dict[str, Any]) -> str:
     count = len(data["joints"])
     lines += [
         "",
-        f"average power of the robot (every leg joint, {count}): {data['average_power_w']:.2f} W; "
+        f"average power of the robot (every leg joint in the log: {count}): "
+        f"{data['average_power_w']:.2f} W; "
         f"the joints the sagittal model leaves out do {100 * data['left_out_share']:.1f} % of it",
     ]
     if data["cost_of_transport"] is not None:
@@ -45,7 +46,7 @@ def robot_log_report(data: dict[str, Any]) -> str:
         )
     else:
         lines.append("no speed (give --speed or an odometry topic): no cost of transport")
-    lines += [f"note: {note}" for note in data["notes"]]
+    lines += [_note(note) for note in data["notes"]]
     if "model_comparison" in data:
         lines += ["", *comparison_lines(data["model_comparison"])]
     return "\n".join(lines)
@@ -66,5 +67,10 @@ def comparison_lines(c: dict[str, Any]) -> list[str]:
             f"{joint[:26]:26s}  {j['leg']:4s}  {j['measured_j']:12.3f}  {j['planned_j']:12.3f}"
             f"   {ratio}"
         )
-    lines += [f"note: {note}" for note in c["notes"]]
+    lines += [_note(note) for note in c["notes"]]
     return lines
+
+
+def _note(text: str) -> str:
+    """A note line: ``warning: ...`` as it is, anything else as ``note: ...``."""
+    return text if text.startswith("warning:") else f"note: {text}"

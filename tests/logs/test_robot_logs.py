@@ -412,3 +412,39 @@ def test_the_torques_hold_up_the_robots_weight(trot, logs, tmp_path):
     bag = write_lowstate_bag(tmp_path / "double.mcap", t, q, dq, 2 * tau, force)
     notes = analyze_robot_log(bag, "go1").analysis.notes
     assert any(n.startswith("warning: the joint torques hold up 2") for n in notes), notes
+
+
+def test_a_log_without_the_abduction_is_read_and_says_so(trot, tmp_path):
+    """A plan's export holds the hip pitch and knee only: read, the missing joints named; a log
+    without a knee is refused."""
+    from scalf_opt.io.ros_bag import JointStateSeries, write_bag
+
+    _, (t, q, dq, tau, _) = trot
+    keep = [k for k, j in enumerate(UNITREE_ORDER) if not j.endswith("_hip_joint")]
+    names = tuple(UNITREE_ORDER[k] for k in keep)
+    bag = write_bag(
+        tmp_path / "sagittal.mcap",
+        [JointStateSeries("/joint_states", names, t + 1.0, q[keep], dq[keep], tau[keep])],
+    )
+    analysis = analyze_robot_log(bag, "go1", mapping="joint_state").analysis
+    assert len(analysis.joints) == 8 and analysis.left_out_share == 0.0
+    assert any(
+        n.startswith("warning: 4 leg joint(s) of go1 are not in the log") and "FR_hip_joint" in n
+        for n in analysis.notes
+    )
+    keep = [k for k, j in enumerate(UNITREE_ORDER) if j != "RL_calf_joint"]
+    bag = write_bag(
+        tmp_path / "kneeless.mcap",
+        [
+            JointStateSeries(
+                "/joint_states",
+                tuple(UNITREE_ORDER[k] for k in keep),
+                t + 1.0,
+                q[keep],
+                dq[keep],
+                tau[keep],
+            )
+        ],
+    )
+    with pytest.raises(LogError, match="leg LH's joint 'RL_calf_joint' is not in the log"):
+        analyze_robot_log(bag, "go1", mapping="joint_state")
