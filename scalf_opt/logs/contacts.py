@@ -143,17 +143,22 @@ def torque_forces_n(
     torques = {
         leg: np.vstack([log.tau_nm[j][index] for j in joints]) for leg, joints in log.legs.items()
     }
-    forces = {leg: np.empty(index.size) for leg in log.legs}
+    gravity = np.empty((index.size, model.nv))
+    jacobians = {leg: np.empty((index.size, len(columns[leg]), 3)) for leg in log.legs}
     frame_axes = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
     for k in range(index.size):
-        gravity = pin.rnea(model, data, q[:, k], zero, zero)
+        gravity[k] = pin.rnea(model, data, q[:, k], zero, zero)
         pin.computeJointJacobians(model, data, q[:, k])
         pin.updateFramePlacements(model, data)
         for leg, frame in frames.items():
-            jacobian = pin.getFrameJacobian(model, data, frame, frame_axes)[:3, columns[leg]]
-            load = torques[leg][:, k] - gravity[columns[leg]]
-            force = np.linalg.lstsq(jacobian.T, -load, rcond=None)[0]
-            forces[leg][k] = force[2]
+            jacobian = pin.getFrameJacobian(model, data, frame, frame_axes)
+            jacobians[leg][k] = jacobian[:3, columns[leg]].T
+    forces = {}
+    for leg, jt in jacobians.items():
+        load = torques[leg].T - gravity[:, columns[leg]]  # (n, joints)
+        # least squares of J^T f = -load at every sample at once (pinv of each J^T)
+        force = -np.einsum("nij,nj->ni", np.linalg.pinv(jt), load)
+        forces[leg] = force[:, 2]
     return forces
 
 
