@@ -189,7 +189,8 @@ def analyze_robot_log(
         series = csv_series(path, chosen)
     else:
         series = bag_series(path, chosen, odometry_topic)
-    log = robot_log(series, robot, named=chosen.names is not None)
+    place = "row" if chosen.source == "csv" else "message"
+    log = robot_log(series, robot, chosen.names is not None, place, chosen.time or "t_s")
     contacts = log_contacts(log, robot)
     weight = weight_note(log, robot, contacts.stance)
     if weight is not None:

@@ -281,6 +281,9 @@ def _read_joint_states(path: Path, reader: Any, topic: str | None) -> JointState
             here = tuple(msg.name)
             where = f"{path}: topic {topic}, message {index}"
             if names is None:
+                twice = sorted({n for n in here if here.count(n) > 1})
+                if twice:
+                    raise LogError(f"{where}: joint {twice[0]!r} is named twice in one message")
                 names = here
             elif here != names:
                 raise LogError(f"{where}: joint names {list(here)} differ from the first's")

@@ -41,6 +41,7 @@ from scalf_opt.logs.log_file import (
     MAX_LOG_BYTES,
     CylinderLog,
     LegLog,
+    check_times,
     parse_log,
 )
 from scalf_opt.types import JOINT_ROLES, LEG_NAMES
@@ -129,6 +130,7 @@ def bag_log(
     joint_legs: dict[str, JointLegLog] = {}
     without_cylinders = chosen == "joints" and not _has_cylinders(pipeline)
     t = series.t_s - series.t_s[0]
+    check_times(source, "", t, np.arange(t.size), place="message")
     for leg in LEG_NAMES:
         joints = pipeline.robot.leg(leg).joint_names
         present = [j in urdf_to_bag for j in joints]
@@ -287,6 +289,7 @@ def _export_joint_log(rows: list[list[str]], header: list[str], source: str) -> 
     for leg in LEG_NAMES:
         if samples[leg]:
             d = np.array(samples[leg]).T
+            check_times(source, leg, d[0], np.array(numbers[leg]))
             legs[leg] = JointLegLog(
                 d[0], d[2:4], d[4:6], d[6:8], d[1] > 0.5, np.array(numbers[leg])
             )

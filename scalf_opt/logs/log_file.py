@@ -124,16 +124,29 @@ def _header(text: str, source: str) -> tuple[list[str], int]:
     return header, end + 1
 
 
-def _check_times(source: str, leg: str, t_s: np.ndarray, rows: np.ndarray) -> None:
-    """Check one leg's times: within :data:`MAX_TIME_S`, increasing by :data:`MIN_STEP_S` or more.
+def check_times(
+    source: str,
+    leg: str,
+    t_s: np.ndarray,
+    rows: np.ndarray,
+    place: str = "row",
+    column: str = TIME,
+) -> None:
+    """Check a series' times: within :data:`MAX_TIME_S`, increasing by :data:`MIN_STEP_S` or more.
 
-    A repeated or denormal step is refused, not divided by.
+    A repeated or denormal step is refused, not divided by. ``place`` names what ``rows``
+    count: ``row`` (a CSV's, with its time ``column``) or ``message`` (a bag topic's); ``leg`` the
+    leg whose samples these are (``""``: every leg's).
+
+    Raises:
+        LogError: The first time beyond the bound or too close to the one before, named.
     """
+    where = f"row {{}}, column {column}" if place == "row" else f"{place} {{}}"
     big = np.flatnonzero(np.abs(t_s) > MAX_TIME_S)
     if big.size:
         k = int(big[0])
         raise LogError(
-            f"{source}: row {rows[k]}, column {TIME}: {float(t_s[k])!r} s is beyond the "
+            f"{source}: {where.format(rows[k])}: {float(t_s[k])!r} s is beyond the "
             f"{MAX_TIME_S:g} s a log's clock may read"
         )
     steps = np.diff(t_s)
@@ -148,9 +161,10 @@ def _check_times(source: str, leg: str, t_s: np.ndarray, rows: np.ndarray) -> No
                 f"({1 / MIN_STEP_S:g} Hz) a log may be sampled at"
             )
         )
+        previous = f"{leg} {place}" if leg else place
         raise LogError(
-            f"{source}: row {rows[k]}, column {TIME}: {float(t_s[k])!r} s {what} (the previous "
-            f"{leg} row, row {rows[k - 1]}, has {float(t_s[k - 1])!r} s)"
+            f"{source}: {where.format(rows[k])}: {float(t_s[k])!r} s {what} (the previous "
+            f"{previous}, {place} {rows[k - 1]}, has {float(t_s[k - 1])!r} s)"
         )
 
 
@@ -175,7 +189,7 @@ def _legs(
         mine = np.flatnonzero(legs == leg)
         if not mine.size:
             continue
-        _check_times(source, leg, t_s[mine], rows[mine])
+        check_times(source, leg, t_s[mine], rows[mine])
         out[leg] = LegLog(
             t_s=t_s[mine],
             length_m=values[mine, 0:2].T.copy(),

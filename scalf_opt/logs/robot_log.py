@@ -22,6 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 from scalf_opt.errors import LogError, did_you_mean
+from scalf_opt.logs.log_file import check_times
 from scalf_opt.logs.robot_sources import JointSeries
 from scalf_opt.model.robot import Robot
 from scalf_opt.types import LEG_NAMES
@@ -109,7 +110,13 @@ def _stale(series: JointSeries, rows: list[int]) -> np.ndarray:
     return np.concatenate([[False], same])
 
 
-def robot_log(series: JointSeries, robot: Robot, named: bool = False) -> RobotLog:
+def robot_log(
+    series: JointSeries,
+    robot: Robot,
+    named: bool = False,
+    place: str = "message",
+    time_column: str = "t_s",
+) -> RobotLog:
     """Check ``series`` against ``robot`` (module docstring).
 
     Args:
@@ -117,10 +124,14 @@ def robot_log(series: JointSeries, robot: Robot, named: bool = False) -> RobotLo
         robot: The robot.
         named: The joints are names the messages carry (``JointState``): names that are no
             joint of the robot are set aside, not refused.
+        place: What the series' ``rows`` count, for messages: ``message`` (a bag) or ``row``.
+        time_column: A CSV's time column, for messages.
 
     Raises:
-        LogError: A joint of the mapping the robot does not have; a leg joint missing; fewer than
-            three samples; time that does not increase once stale samples are dropped.
+        LogError: A joint of the mapping the robot does not have; a hip pitch or knee missing;
+            fewer than three samples; once stale samples are dropped, times that do not increase
+            by 10 us or more, or that span more than 116 days
+            (:func:`~scalf_opt.logs.log_file.check_times`).
     """
     source = series.source
     rows = _known_joints(robot, series, named)
@@ -159,13 +170,8 @@ def robot_log(series: JointSeries, robot: Robot, named: bool = False) -> RobotLo
     t = series.t_s[keep]
     if t.size < 3:
         raise LogError(f"{source}: {t.size} samples: too few to analyse")
+    check_times(source, "", t - t[0], series.rows[keep], place, time_column)
     steps = np.diff(t)
-    if np.any(steps <= 0):
-        k = int(np.flatnonzero(steps <= 0)[0]) + 1
-        raise LogError(
-            f"{source}: sample {int(series.rows[keep][k])}: its time {t[k]!r} s does not "
-            "increase and its values differ from the sample before"
-        )
     median = float(np.median(steps))
     gaps = steps > GAP_FACTOR * median
     if gaps.any():

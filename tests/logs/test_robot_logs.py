@@ -270,6 +270,10 @@ def test_a_joint_named_twice_in_a_joint_state_bag_is_refused(trot, tmp_path):
     )
     with pytest.raises(LogError, match="named twice"):
         analyze_robot_log(bag, "go1", mapping="joint_state")
+    from scalf_opt.api import analyze_log
+
+    with pytest.raises(LogError, match="message 0: joint 'FR_hip_joint' is named twice"):
+        analyze_log(bag, "go1")  # the sagittal reader too
 
 
 def test_mapping_tables_check_their_fields():
@@ -448,3 +452,34 @@ def test_a_log_without_the_abduction_is_read_and_says_so(trot, tmp_path):
     )
     with pytest.raises(LogError, match="leg LH's joint 'RL_calf_joint' is not in the log"):
         analyze_robot_log(bag, "go1", mapping="joint_state")
+
+
+@pytest.mark.parametrize(
+    ("change", "message"),
+    [
+        (lambda t: t.__setitem__(50, t[49] + 2e-6), r"row 52, column time_ms: .* closer than the"),
+        (lambda t: t.__setitem__(50, t[49]), r"row 52, column time_ms: .* does not increase"),
+        (lambda t: t.__setitem__(slice(60, None), t[60:] + 68 * 3.156e7), r"beyond the 1e\+07 s"),
+    ],
+)
+def test_times_too_close_or_too_far_are_refused_in_every_reader(trot, tmp_path, change, message):
+    """The 10 us step and the 116-day span of the cylinder CSV hold for a robot's CSV, its bags
+    and the sagittal reader of a JointState bag."""
+    from scalf_opt.api import analyze_log
+    from scalf_opt.io.ros_bag import JointStateSeries, write_bag
+
+    _, (t, q, dq, tau, force) = trot
+    t = t.copy()
+    change(t)
+    table = write_sdk_csv(tmp_path / "sdk.csv", t, q, dq, tau, force)
+    with pytest.raises(LogError, match=message):
+        analyze_robot_log(table, "go1", mapping=MAPPINGS / "unitree_sdk_csv.toml")
+    bag_message = message.replace("row 52, column time_ms", "message 50")
+    bag = write_bag(
+        tmp_path / "js.mcap",
+        [JointStateSeries("/joint_states", tuple(UNITREE_ORDER), t + 1.0, q, dq, tau)],
+    )
+    with pytest.raises(LogError, match=bag_message):
+        analyze_robot_log(bag, "go1", mapping="joint_state")
+    with pytest.raises(LogError, match=bag_message):
+        analyze_log(bag, "go1")
