@@ -321,6 +321,32 @@ def check_output_file(path: Path | None, option: str = "--out") -> None:
     check_output_dir(path.parent if str(path.parent) else Path("."), option)
 
 
+SAVED_RESULT_FILES = ("summary.json", "samples.csv", "timings.json")
+"""The files of a saved result (``optimize --out DIR``): none may be written over by a command
+that reads it."""
+
+
+def check_not_the_source(path: Path | None, source: Path | None, option: str) -> None:
+    """Refuse an output file that is one of the saved result's files the command reads.
+
+    ``source`` is ``--from``: a folder, or its ``summary.json``.
+
+    Raises:
+        ConfigError: ``path`` is (or is a link to) ``summary.json``, ``samples.csv`` or
+            ``timings.json`` of the saved result.
+    """
+    if path is None or source is None:
+        return
+    folder = source if source.is_dir() else source.parent
+    target = path.resolve()
+    for name in SAVED_RESULT_FILES:
+        if (folder / name).resolve() == target:
+            raise ConfigError(
+                f"{option} {path}: is the {name} of the result it reads (--from {source}): "
+                "write elsewhere"
+            )
+
+
 @dataclass(frozen=True)
 class Outputs:
     """What a command writes: folders and files by the option that names them.

@@ -10,6 +10,7 @@ from scalf_opt.cli.options import (
     Outputs,
     add_robot,
     bounded,
+    check_not_the_source,
     check_output_file,
     load_robot,
 )
@@ -87,6 +88,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
             f"(give {', '.join(FORMATS)})"
         )
     check_output_file(args.out, "--out")
+    check_not_the_source(args.out, args.source, "--out")
     robot = load_robot(args, args.source)
     result = export_plan(
         args.source, robot, rate_hz=args.rate, cycles=args.cycles, command=args.argv

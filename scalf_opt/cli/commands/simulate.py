@@ -11,6 +11,7 @@ from scalf_opt.cli.options import (
     add_loads,
     add_robot,
     bounded,
+    check_not_the_source,
     check_output_dir,
     check_output_file,
     gait_origin,
@@ -96,6 +97,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
 
     check_output_dir(args.out)
     check_output_file(args.log, "--log")
+    check_not_the_source(args.log, args.source, "--log")
     if args.log is not None and args.log.suffix not in (".csv", ".mcap"):
         raise ConfigError(f"--log {args.log}: give a .csv or an .mcap file")
     if args.source is not None and (args.gait is not None or gait_overrides(args)):
