@@ -3,25 +3,30 @@ PYTHON ?= python3
 VENV   ?= .venv
 BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
-CORE   := $(VENV)/.installed-core
+EXTRAS := $(VENV)/.installed-extras
 
-.PHONY: run test docs lint format bench lock clean
+.PHONY: install run test docs lint format bench lock clean
 
 # Every package is installed at the version pinned in constraints.txt (refresh it with `make lock`).
-# `make test` installs every extra; `make run` only what the paper reproduction needs (the core:
-# a third of the time), unless everything is there already.
+# `make install` installs scalf-opt with every extra (the 3-D view, MuJoCo, Dask, ROS 2 bags, the
+# documentation tools): every command of the README's tour works afterwards; `make run` installs
+# the same and reproduces the paper; `make test` adds the test tools and runs the suite.
 $(STAMP): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip -c constraints.txt
 	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[all,test]'
-	touch $(STAMP) $(CORE)
+	touch $(STAMP) $(EXTRAS)
 
-$(CORE): pyproject.toml constraints.txt
+$(EXTRAS): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
-	$(BIN)/python -m pip install --quiet -c constraints.txt -e .
-	touch $(CORE)
+	$(BIN)/python -m pip install --quiet --upgrade pip -c constraints.txt
+	$(BIN)/python -m pip install --quiet -c constraints.txt -e '.[all]'
+	touch $(EXTRAS)
 
-run: $(CORE)
+install: $(EXTRAS)
+	@echo "installed in $(VENV): run $(BIN)/scalf-opt, or 'source $(BIN)/activate' first"
+
+run: $(EXTRAS)
 	$(BIN)/scalf-opt paper
 
 test: $(STAMP)

@@ -214,7 +214,8 @@ def _run(args: argparse.Namespace, argv: list[str], console: Console) -> int:
         package, extra = missing
         console.error(
             f"{package} is not installed: scalf-opt {args.command} needs the optional "
-            f"'{extra}' part (pip install 'scalf-opt[{extra}]')"
+            f"'{extra}' part (make install in a clone of scalf-opt, which installs every part at "
+            f"the pinned versions; else pip install 'scalf-opt[{extra}]')"
         )
         return 2
     except OSError as exc:

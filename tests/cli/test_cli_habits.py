@@ -230,6 +230,7 @@ def test_a_missing_optional_part_is_named_with_its_extra(
     assert code == 2, err
     assert err.strip().splitlines() == [
         f"scalf-opt: error: {module} is not installed: scalf-opt {argv[0]} needs the optional "
-        f"'{extra}' part (pip install 'scalf-opt[{extra}]')"
+        f"'{extra}' part (make install in a clone of scalf-opt, which installs every part at "
+        f"the pinned versions; else pip install 'scalf-opt[{extra}]')"
     ]
     assert not (tmp_path / "out").exists()
