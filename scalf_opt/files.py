@@ -182,6 +182,8 @@ def read_toml(path: Path, kind: str) -> dict[str, Any]:
         return tomllib.loads(text)
     except tomllib.TOMLDecodeError as exc:
         raise ConfigError(f"{path}: not valid TOML ({exc})") from exc
+    except ValueError:  # an integer of more digits than Python converts (4300)
+        raise ConfigError(f"{path}: a number in the TOML has too many digits") from None
     except RecursionError:
         raise ConfigError(f"{path}: not valid TOML (nested too deeply)") from None
 

@@ -26,6 +26,20 @@ def terminal_safe(text: str) -> str:
     return _UNSAFE.sub(lambda m: m.group().encode("unicode_escape").decode("ascii"), text)
 
 
+MAX_ERROR_CHARS = 1000
+"""The longest error line printed: the start says what is wrong and where; a value or a list
+that an input makes megabytes long is cut in the middle, not echoed whole."""
+
+
+def shortened(text: str, limit: int) -> str:
+    """``text``, or its start and end around ``" ... (N characters left out) ... "``."""
+    if len(text) <= limit:
+        return text
+    keep = limit - 60
+    head, tail = text[: keep * 3 // 4], text[-(keep // 4) :]
+    return f"{head} ... ({len(text) - len(head) - len(tail)} characters left out) ... {tail}"
+
+
 class Console:
     """The command's output channels.
 
@@ -69,9 +83,9 @@ class Console:
             self._write(sys.stderr, f"scalf-opt: {text}")
 
     def error(self, text: str) -> None:
-        """One line on stderr, always."""
+        """One line on stderr, always, of at most :data:`MAX_ERROR_CHARS` characters."""
         line = " ".join(part for part in text.splitlines() if part.strip())
-        self._write(sys.stderr, "scalf-opt: error: " + line)
+        self._write(sys.stderr, "scalf-opt: error: " + shortened(line, MAX_ERROR_CHARS))
 
 
 def progress_enabled() -> bool:

@@ -295,6 +295,8 @@ def read_json(path: Path, kind: str) -> Any:
         data = json.loads(text)
     except json.JSONDecodeError as exc:
         raise ConfigError(f"{path}: not valid JSON ({exc.msg}, line {exc.lineno})") from exc
+    except ValueError:  # an integer of more digits than Python converts (4300)
+        raise ConfigError(f"{path}: a number in the JSON has too many digits") from None
     except RecursionError:
         data = None
     if (data is None and text.lstrip().startswith(("[", "{"))) or _depth_of(data) > MAX_JSON_DEPTH:

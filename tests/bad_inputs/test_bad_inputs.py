@@ -57,6 +57,12 @@ def generated(kind: str) -> bytes:
         return ("<robot name='r'>" + "<a>" * n + "</a>" * n + "</robot>").encode()
     if what == "nested-json":
         return ("[" * n + "]" * n).encode()
+    if what == "toml-digits":  # an integer of n digits in a gait file
+        return f"[gait]\nperiod_s = {'1' * n}\n".encode()
+    if what == "toml-long-string":  # a gait field of n characters
+        return f'[gait]\nperiod_s = "{"x" * n}"\n'.encode()
+    if what == "json-digits":  # an integer of n digits in a summary
+        return f'{{"gait": {{"period_s": {"1" * n}}}}}'.encode()
     if what == "log-rate":  # RF alone, sampled at n Hz
         rows = "".join(f"{k / n!r},RF,0.3,0.3,100,100\n" for k in range(200))
         return ("t_s,leg,hip_length_m,knee_length_m,hip_force_n,knee_force_n\n" + rows).encode()
