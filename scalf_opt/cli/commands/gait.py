@@ -63,11 +63,19 @@ def parse_speeds(text: str) -> list[float]:
     try:
         if ":" in text:
             start, stop, step = (float(p) for p in text.split(":"))
-            if not (math.isfinite(step) and step > 0 and stop >= start):
+            if not all(math.isfinite(v) for v in (start, stop, step)):
+                raise ConfigError(f"--speed {text}: START, STOP and STEP must be finite numbers")
+            if not (step > 0 and stop >= start):
                 raise ConfigError(
                     f"--speed {text}: START:STOP:STEP needs a step > 0 and STOP >= START"
                 )
-            count = math.floor((stop - start) / step + 1e-9) + 1
+            spans = (stop - start) / step  # finite numbers may still divide to infinity
+            if not spans < MAX_SPEEDS:
+                raise ConfigError(
+                    f"--speed {text}: more than {MAX_SPEEDS} speeds from {start:g} to {stop:g} "
+                    f"in steps of {step:g}"
+                )
+            count = math.floor(spans + 1e-9) + 1
             if count > MAX_SPEEDS:
                 raise ConfigError(f"--speed {text}: {count} speeds, more than {MAX_SPEEDS}")
             return [round(start + i * step, 12) for i in range(count)]
