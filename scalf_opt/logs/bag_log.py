@@ -201,7 +201,7 @@ def _through_cylinders(
 
 def is_export_csv(text: str) -> bool:
     """Whether CSV text is ``scalf-opt export``'s (its header names the joint angles)."""
-    header = next(csv.reader(io.StringIO(text[:4096])), [])
+    header = next(csv.reader(io.StringIO(text[:4096]), quoting=csv.QUOTE_NONE), [])
     return EXPORT_MARKER in [cell.strip() for cell in header]
 
 
@@ -213,7 +213,7 @@ def export_csv_log(text: str, source: str) -> CylinderLog | JointLog:
     Raises:
         LogError: The cylinder log parser's row-and-column errors (the joints': the same kind).
     """
-    rows = list(csv.reader(io.StringIO(text)))
+    rows = list(csv.reader(io.StringIO(text), quoting=csv.QUOTE_NONE))
     header = [cell.strip() for cell in rows[0]]
     if not all(c in header for c in (*ALL_COLUMNS, *SPEED_COLUMNS)):
         return _export_joint_log(rows, header, source)
@@ -322,7 +322,7 @@ def read_any_log(
     text = read_untrusted_text(path, "log", MAX_LOG_BYTES, LogError)
     if is_export_csv(text[:4096]):
         return export_csv_log(text, str(path))
-    header = next(csv.reader(io.StringIO(text[:4096])), [])
+    header = next(csv.reader(io.StringIO(text[:4096]), quoting=csv.QUOTE_NONE), [])
     if "leg" not in [cell.strip() for cell in header]:
         raise LogError(
             f"{path}: row 1: neither a cylinder log (t_s, leg, ...) nor the CSV of export: a "
