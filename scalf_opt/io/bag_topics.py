@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from scalf_opt.errors import LogError
-from scalf_opt.io.ros_bag import _bag_error, opened_bag
+from scalf_opt.io.ros_bag import _bag_error, check_topic_names, opened_bag
 
 MAX_VALUES = 100_000_000
 """Most numbers one topic may hold (800 MB as doubles): 12 motors' angle, rate and torque and 4
@@ -146,10 +146,9 @@ def read_topics(path: str | Path, requests: Sequence[TopicRequest]) -> dict[str,
 
 def _read(path: Path, reader: Any, requests: Sequence[TopicRequest]) -> dict[str, TopicRows]:
     """:func:`read_topics` of the opened bag ``reader``; messages name ``path``."""
+    check_topic_names(path, reader)
     types: dict[str, set[str]] = {}
     for c in reader.connections:
-        if not isinstance(c.topic, str) or not c.topic:
-            raise LogError(f"{path}: a connection of the bag has no topic name")
         types.setdefault(c.topic, set()).add(c.msgtype)
     chosen = {r.key: _choose(path, r, types) for r in requests}
     by_topic = {chosen[r.key]: r for r in requests}
@@ -212,6 +211,7 @@ def topic_types(path: str | Path) -> dict[str, set[str]]:
         LogError: The bag cannot be read.
     """
     with opened_bag(Path(path)) as reader:
+        check_topic_names(Path(path), reader)
         types: dict[str, set[str]] = {}
         for c in reader.connections:
             types.setdefault(str(c.topic), set()).add(c.msgtype)

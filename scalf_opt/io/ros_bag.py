@@ -248,8 +248,20 @@ def _bounded_copy(path: Path, folder: Path) -> Path:
     return copy
 
 
+def check_topic_names(path: Path, reader: Any) -> None:
+    """Refuse a bag whose index names a topic by nothing (a NULL or empty name, or not text).
+
+    Raises:
+        LogError: Such a connection, with its message type.
+    """
+    for c in reader.connections:
+        if not isinstance(c.topic, str) or not c.topic:
+            raise LogError(f"{path}: a topic of {c.msgtype!s:.100} messages has no name")
+
+
 def _read_joint_states(path: Path, reader: Any, topic: str | None) -> JointStateSeries:
     """:func:`read_joint_states` of the opened bag ``reader``; messages name ``path``."""
+    check_topic_names(path, reader)
     states = sorted({c.topic for c in reader.connections if c.msgtype == JOINT_STATE})
     have = ", ".join(states) if states else "none"
     if topic is None:

@@ -483,3 +483,35 @@ def test_times_too_close_or_too_far_are_refused_in_every_reader(trot, tmp_path, 
         analyze_robot_log(bag, "go1", mapping="joint_state")
     with pytest.raises(LogError, match=bag_message):
         analyze_log(bag, "go1")
+
+
+def test_a_bag_whose_topic_has_no_name_is_refused(trot, tmp_path):
+    """A bag folder whose metadata names a topic null: one line from every reader."""
+    from rosbags.rosbag2 import StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    from scalf_opt.api import analyze_log
+
+    _, (_, q, dq, tau, _) = trot
+    q, dq, tau = (np.ascontiguousarray(a.T) for a in (q, dq, tau))  # a row per instant
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    state = store.types["sensor_msgs/msg/JointState"]
+    header, stamp = store.types["std_msgs/msg/Header"], store.types["builtin_interfaces/msg/Time"]
+    folder = tmp_path / "nameless"
+    with Writer(folder, version=9, storage_plugin=StoragePlugin.SQLITE3) as writer:
+        conn = writer.add_connection("/joint_states", state.__msgtype__, typestore=store)
+        for k in range(5):
+            msg = state(header(stamp(1 + k, 0), "b"), list(UNITREE_ORDER), q[k], dq[k], tau[k])
+            writer.write(conn, (1 + k) * 10**9, store.serialize_cdr(msg, state.__msgtype__))
+    metadata = folder / "metadata.yaml"
+    text = metadata.read_text()
+    assert "name: /joint_states" in text
+    metadata.write_text(text.replace("name: /joint_states", "name: null"))
+    for call in (
+        lambda: analyze_log(folder, "go1"),
+        lambda: analyze_robot_log(folder, "go1", mapping="joint_state"),
+    ):
+        with pytest.raises(
+            LogError, match="a topic of sensor_msgs/msg/JointState messages has no name"
+        ):
+            call()
