@@ -14,6 +14,13 @@ import pinocchio as pin
 SYMMETRY_TOLERANCE = 1e-12
 """Largest asymmetry |I - I^T| accepted, relative to the largest moment."""
 
+MAX_MASS_KG = 1e5
+"""Heaviest body accepted [kg] (100 t: far above any legged robot's link; 1e30 kg is a typo that
+would overflow the dynamics and the simulation)."""
+
+MAX_MOMENT_KG_M2 = 1e6
+"""Largest principal moment accepted [kg m^2] (a 100 t body 10 m across)."""
+
 TRIANGLE_TOLERANCE = 1e-12
 """Slack on the triangle inequality relative to the largest moment (round-off of a flat body)."""
 
@@ -26,6 +33,13 @@ def inertia_problem(mass_kg: float, inertia_kg_m2: np.ndarray) -> str | None:
         return None
     if not mass_kg > 0.0:
         return f"mass {mass_kg} kg is not positive"
+    if not mass_kg <= MAX_MASS_KG:
+        return f"mass {mass_kg:.4g} kg is above the {MAX_MASS_KG:g} kg a robot's body may weigh"
+    if not np.all(np.isfinite(tensor)) or scale > MAX_MOMENT_KG_M2:
+        return (
+            f"inertia of {scale:.4g} kg m^2 is above the {MAX_MOMENT_KG_M2:g} kg m^2 a robot's "
+            "body may have"
+        )
     if np.max(np.abs(tensor - tensor.T)) > SYMMETRY_TOLERANCE * scale:
         return "inertia tensor is not symmetric"
     a, b, c = np.linalg.eigvalsh(tensor)
