@@ -30,6 +30,11 @@ import numpy as np
 
 from scalf_opt.errors import ConfigError, LogError
 from scalf_opt.files import SCRATCH_PREFIX, copy_untrusted, scratch_folder, write_with
+from scalf_opt.io.bag_bounds import (
+    MAX_BAG_BYTES,
+    bounded_decompression,
+    inflate_compressed_files,
+)
 
 BAG_SUFFIXES = (".mcap", ".db3")
 """Suffixes of the bag files read (a directory holding ``metadata.yaml`` is a bag too)."""
@@ -209,22 +214,22 @@ def opened_bag(path: Path) -> Iterator[Any]:
     _rosbags()
     from rosbags.highlevel import AnyReader
 
-    with scratch_folder("bag") as folder:
+    with scratch_folder("bag") as folder, bounded_decompression(path):
         local = _bounded_copy(path, folder)
+        if local.is_dir() and (local / "metadata.yaml").exists():
+            copied = sum(f.stat().st_size for f in local.iterdir())
+            inflate_compressed_files(local, path, MAX_BAG_BYTES - copied)
         try:
             reader = AnyReader([local])
             reader.open()
+        except LogError:
+            raise
         except Exception as exc:  # rosbags raises many kinds on a broken file
             raise _bag_error(path, exc) from exc
         try:
             yield reader
         finally:
             reader.close()
-
-
-MAX_BAG_BYTES = 512 * 1024 * 1024
-"""Largest ROS 2 bag read (the files of a bag folder together) [bytes]: about 3.5 hours of a
-robot's 1 kHz joint states."""
 
 
 def _bounded_copy(path: Path, folder: Path) -> Path:

@@ -1,0 +1,100 @@
+"""Compressed bags read within bounds: file-, message- and chunk-compressed bags are read as
+plain ones are, and a bag that inflates beyond its bound is refused with one line, leaving
+nothing in the system's temporary folder."""
+
+import numpy as np
+import pytest
+
+import scalf_opt.io.bag_bounds as bounds
+import scalf_opt.io.ros_bag as ros_bag
+from scalf_opt.errors import LogError
+from scalf_opt.io.ros_bag import read_joint_states
+
+NAMES = ("a", "b")
+
+
+def write(folder, mode=None, storage="sqlite3", messages=400):
+    """A JointState bag of ``messages`` messages, compressed by ``mode`` (file, message,
+    storage: MCAP chunks), as ``rosbags``' writer (a recorder's library) writes it."""
+    from rosbags.rosbag2 import CompressionFormat, CompressionMode, StoragePlugin, Writer
+    from rosbags.typesys import Stores, get_typestore
+
+    store = get_typestore(Stores.ROS2_HUMBLE)
+    state = store.types["sensor_msgs/msg/JointState"]
+    header, stamp = store.types["std_msgs/msg/Header"], store.types["builtin_interfaces/msg/Time"]
+    plugin = StoragePlugin.MCAP if storage == "mcap" else StoragePlugin.SQLITE3
+    writer = Writer(folder, version=9, storage_plugin=plugin)
+    if mode is not None:
+        writer.set_compression(getattr(CompressionMode, mode.upper()), CompressionFormat.ZSTD)
+    with writer:
+        conn = writer.add_connection("/joint_states", state.__msgtype__, typestore=store)
+        for k in range(messages):
+            t = 1.0 + 0.001 * k
+            values = np.array([np.sin(t), np.cos(t)])
+            msg = state(header(stamp(1, k * 1_000_000), "b"), list(NAMES), values, values, values)
+            writer.write(conn, round(t * 1e9), store.serialize_cdr(msg, state.__msgtype__))
+    return folder
+
+
+@pytest.mark.parametrize(
+    ("mode", "storage"),
+    [
+        (None, "sqlite3"),
+        ("file", "sqlite3"),
+        ("message", "sqlite3"),
+        ("storage", "mcap"),
+        ("file", "mcap"),
+    ],
+)
+def test_compressed_bags_read_as_plain_ones(tmp_path, mode, storage, monkeypatch):
+    monkeypatch.setenv("TMPDIR", str(tmp_path / "tmp"))
+    (tmp_path / "tmp").mkdir()
+    import tempfile
+
+    monkeypatch.setattr(tempfile, "tempdir", None)
+    plain = read_joint_states(write(tmp_path / "plain", storage=storage))
+    packed = read_joint_states(write(tmp_path / "packed", mode, storage))
+    np.testing.assert_array_equal(packed.position, plain.position)
+    np.testing.assert_array_equal(packed.t_s, plain.t_s)
+    assert list((tmp_path / "tmp").iterdir()) == []  # nothing inflated outside the scratch
+
+
+def test_a_file_compressed_bag_that_inflates_too_far_is_refused(tmp_path, monkeypatch):
+    bag = write(tmp_path / "bomb", "file", messages=2000)
+    packed = sum(f.stat().st_size for f in bag.iterdir())
+    # the compressed bag fits, the files it holds do not
+    monkeypatch.setattr(ros_bag, "MAX_BAG_BYTES", 2 * packed)
+    with pytest.raises(LogError, match=r"bomb: its compressed files inflate beyond"):
+        read_joint_states(bag)
+
+
+@pytest.mark.parametrize(
+    ("mode", "storage", "what"),
+    [("storage", "mcap", "an MCAP chunk"), ("message", "sqlite3", "a compressed message")],
+)
+def test_a_chunk_or_message_that_inflates_too_far_is_refused(
+    tmp_path, monkeypatch, mode, storage, what
+):
+    bag = write(tmp_path / "bomb", mode, storage)
+    monkeypatch.setattr(bounds, "MAX_CHUNK_BYTES", 100)  # a message is ~130 bytes, a chunk more
+    with pytest.raises(LogError, match=f"bomb: {what} inflates beyond 100 bytes"):
+        read_joint_states(bag)
+    import rosbags.rosbag2.reader as reader
+    import rosbags.rosbag2.storage_mcap as mcap
+
+    # restored once the bag is closed
+    assert reader.zstd.__name__.endswith("zstd")
+    assert mcap.DECOMPRESSORS["zstd"].__module__ == "rosbags.rosbag2.storage_mcap"
+
+
+def test_metadata_that_lists_a_file_twice_or_is_huge_is_refused(tmp_path, monkeypatch):
+    bag = write(tmp_path / "twice")
+    metadata = bag / "metadata.yaml"
+    text = metadata.read_text()
+    listed = text.split("relative_file_paths:\n")[1].splitlines()[0]
+    metadata.write_text(text.replace(listed, listed + "\n" + listed, 1))
+    with pytest.raises(LogError, match=r"twice/metadata\.yaml: lists the file .* twice"):
+        read_joint_states(bag)
+    metadata.write_text(text + "#" * (bounds.MAX_METADATA_BYTES + 1))
+    with pytest.raises(LogError, match=r"metadata\.yaml: larger than the 1,048,576 bytes"):
+        read_joint_states(bag)
