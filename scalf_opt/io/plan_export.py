@@ -71,6 +71,11 @@ TOPICS = {
 MAX_CYCLES = 1000
 """Most cycles one export holds."""
 
+MAX_INSTANTS = 150_000
+"""Most instants one export holds (cycles times samples per cycle): 150 s at 1 kHz. A CSV of
+SCalf's at this size is 190 MB and its bag 180 MB, inside what ``analyze-log`` reads (200 MiB and
+512 MiB), and the export's own memory stays under a gigabyte."""
+
 JOINT_FIELDS = (
     ("q", "angle_rad"),
     ("qd", "velocity_rad_s"),
@@ -360,6 +365,14 @@ def export_plan(robot: Robot, saved: SavedSwings, rate_hz: float, cycles: int = 
     gait = saved.gait
     requested_hz = float(rate_hz)
     rate_hz, n_cycle = fitted_rate(gait, requested_hz)
+    if cycles * n_cycle > MAX_INSTANTS:
+        raise ConfigError(
+            f"{cycles} cycles at {rate_hz:.6g} Hz are {cycles * n_cycle:,} instants, more than "
+            f"the {MAX_INSTANTS:,} an export holds (what analyze-log reads back): fewer cycles "
+            f"(at most {max(MAX_INSTANTS // n_cycle, 1)} at this rate) or a lower rate; the plan "
+            "is periodic, one cycle repeats seamlessly",
+            field="cycles",
+        )
     per_phase = [round(n_cycle * gait.duty_cycle), n_cycle - round(n_cycle * gait.duty_cycle)]
     # the pipeline's phase grids have an even number of intervals: evaluate at twice the rate
     # when a phase has an odd number of samples, and keep every other one

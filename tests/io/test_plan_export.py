@@ -100,6 +100,10 @@ def test_every_rate_is_an_evaluation_not_an_interpolation(optimum, scalf, export
         export_plan(optimum, scalf, rate_hz=10)
     with pytest.raises(ConfigError, match="cycles"):
         export_plan(optimum, scalf, rate_hz=1000, cycles=0)
+    # inside the 1000 cycles, but 500,000 instants: more than analyze-log reads back
+    with pytest.raises(ConfigError, match=r"are 500,000 instants, more than the 150,000") as info:
+        export_plan(optimum, scalf, rate_hz=1000, cycles=1000)
+    assert info.value.field == "cycles" and "at most 300 at this rate" in str(info.value)
 
 
 def test_a_rate_that_fits_is_kept_to_the_last_bit():
