@@ -136,14 +136,29 @@ def choose_runner(workers: int | None = None, scheduler: str | None = None) -> R
     """The backend: Dask with a scheduler address, else a pool of ``workers`` processes.
 
     Raises:
-        ConfigError: ``workers`` is below 1, or Dask is missing.
+        ConfigError: ``workers`` is below 1 or above :func:`usable_cores`, or Dask is missing.
     """
     if scheduler is not None:
         return _dask(scheduler)
-    n = (os.cpu_count() or 1) if workers is None else workers
+    cores = usable_cores()
+    n = cores if workers is None else workers
     if n < 1:
         raise ConfigError(f"--workers must be at least 1, got {workers}")
+    if n > cores:
+        raise ConfigError(
+            f"--workers {n}: more than the {cores} cores this process may use (each worker "
+            "solves on a core of its own: more would only share them, at a few hundred MB of "
+            "memory each)"
+        )
     return _serial if n == 1 else _pool(n)
+
+
+def usable_cores() -> int:
+    """The cores this process may run on (its CPU affinity, else the machine's count)."""
+    try:
+        return max(1, len(os.sched_getaffinity(0)))
+    except AttributeError:  # not on Linux
+        return os.cpu_count() or 1
 
 
 def _cached(path: Path, case: Case) -> dict[str, Any] | None:

@@ -11,8 +11,8 @@ MAX_WORKERS = 256
 """Most local worker processes."""
 
 WORKERS_HELP = (
-    f"local worker processes, 1..{MAX_WORKERS} (default: one per CPU; 1 runs the cases in this "
-    "process)"
+    "local worker processes, at most one per core this process may use (the default; 1 runs "
+    "the cases in this process)"
 )
 """``--workers``' help, the same wherever a command takes it."""
 
