@@ -26,7 +26,7 @@ HELP = (
 EXAMPLES = (
     ("scalf-opt analyze-log results/log.csv", "the energy in a cylinder log (paper Table 7)"),
     (
-        "scalf-opt analyze-log run.mcap --topic /joint_states --plan results/optimize",
+        "scalf-opt analyze-log run.mcap --topic /joint_states --plan results/optimum",
         "a ROS 2 bag against the plan the robot ran",
     ),
     ("scalf-opt analyze-log log.csv --period 0.5 --json", "a log without contacts, as JSON"),

@@ -23,11 +23,11 @@ HELP = (
 )
 EXAMPLES = (
     (
-        "scalf-opt export --from results/optimize --rate 1000 --out plan.csv",
+        "scalf-opt export --from results/optimum --rate 1000 --out plan.csv",
         "the saved optimum at 1 kHz, one row per instant and leg",
     ),
     (
-        "scalf-opt export --from results/optimize --rate 500 --cycles 10 --out plan.mcap",
+        "scalf-opt export --from results/optimum --rate 500 --cycles 10 --out plan.mcap",
         "ten cycles as a ROS 2 bag",
     ),
     (
