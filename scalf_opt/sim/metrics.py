@@ -66,7 +66,17 @@ def height_goal_m(stance_height_m: float) -> float:
 
 
 ENERGY_GOAL = 0.10
-"""Simulated joint energy within this relative difference of the model's, per leg."""
+"""Simulated joint energy within this relative difference of the model's, per leg (every robot
+but those of :data:`ENERGY_GOALS`)."""
+
+ENERGY_GOALS = {"scalf": 0.05}
+"""Robots held to a tighter per-leg energy goal: SCalf, the paper's robot, whose model is the
+most complete (its cylinders' friction measured), within 5 %."""
+
+
+def energy_goal(robot_name: str) -> float:
+    """The per-leg joint-energy goal of a robot (a variant's is its parent's; pass that name)."""
+    return ENERGY_GOALS.get(robot_name, ENERGY_GOAL)
 
 SAVING_GOAL = 1.0 / 3.0
 """The simulated saving of an optimum may differ from the model's by this fraction of it."""
@@ -215,6 +225,10 @@ def summarize(
 ) -> dict[str, Any]:
     """The simulation's figures (module docstring) as plain data for ``simulation.json``."""
     gait = model_cycle.gait
+    robot = pipeline.robot
+    while robot.parent is not None:
+        robot = robot.parent
+    goal = energy_goal(robot.name)
     steps, cycles = averaged_steps(record, gait.period_s)
     dt = record.timestep_s
     x, z, pitch = record.trunk
@@ -284,8 +298,8 @@ def summarize(
         "goals": {
             "trunk_height_fluctuation_at_most_m": height_goal,
             "trunk_height_met": height_ptp <= height_goal,
-            "joint_energy_relative_difference_at_most": ENERGY_GOAL,
-            "joint_energy_met": largest_gap <= ENERGY_GOAL,
+            "joint_energy_relative_difference_at_most": goal,
+            "joint_energy_met": largest_gap <= goal,
         },
     }
 
