@@ -45,10 +45,17 @@ def test_the_notebook_runs(tmp_path):
     client.execute()
     outputs = [o for cell in notebook.cells if cell.cell_type == "code" for o in cell.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
+    # no warning (the BLAS one, when matplotlib came first), nothing on stderr
+    assert not [o for o in outputs if o.output_type == "stream" and o.name == "stderr"]
     kinds = {key for o in outputs for key in o.get("data", {})}
     assert "image/png" in kinds  # the plot
     html = [o["data"]["text/html"] for o in outputs if "text/html" in o.get("data", {})]
-    assert html and "<iframe srcdoc=" in html[0] and "three" in html[0].lower()  # the view
+    assert html and 'src="notebook-view/scene.html"' in html[0]  # the view, in a frame
+    page = tmp_path / "notebook-view" / "scene.html"
+    assert "three" in page.read_text().lower()
+    executed = tmp_path / "executed.ipynb"
+    nbformat.write(notebook, executed)
+    assert executed.stat().st_size < 1_000_000  # the page stays a file, not the notebook's
 
 
 def test_the_legs_and_actuator_files_are_the_ones_used(capsys):
