@@ -78,6 +78,7 @@ def energy_goal(robot_name: str) -> float:
     """The per-leg joint-energy goal of a robot (a variant's is its parent's; pass that name)."""
     return ENERGY_GOALS.get(robot_name, ENERGY_GOAL)
 
+
 SAVING_GOAL = 1.0 / 3.0
 """The simulated saving of an optimum may differ from the model's by this fraction of it."""
 
