@@ -21,7 +21,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from scalf_opt.errors import LogError, did_you_mean
+from scalf_opt.errors import LogError
 from scalf_opt.logs.log_file import check_times
 from scalf_opt.logs.robot_sources import JointSeries
 from scalf_opt.model.robot import Robot
@@ -92,8 +92,8 @@ def _known_joints(robot: Robot, series: JointSeries, named: bool) -> list[int]:
         elif not named:
             raise LogError(
                 f"{series.source}: joint {joint!r} of the mapping is not a joint of "
-                f"{robot.name}{did_you_mean(joint, known)} (is the log of another robot? "
-                "--robot)"[:400]
+                f"{robot.name} (is the log of another robot? --robot; its joints: "
+                f"{', '.join(sorted(known)[:6])}, ...)"[:400]
             )
     return rows
 
