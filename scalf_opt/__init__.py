@@ -19,13 +19,13 @@ import sys
 from typing import TYPE_CHECKING, Any
 
 from scalf_opt.blas_kernels import pin_blas_kernels, single_blas_thread, warn_if_kernels_differ
+from scalf_opt.version import __version__
 
 _pinned = pin_blas_kernels()  # before numpy loads: the same numbers on every x86-64 machine
 single_blas_thread()  # MUMPS's BLAS: no spinning threads taking the other solve's core
 if "numpy" in sys.modules or "scipy" in sys.modules:  # too late for the pin to reach them
     warn_if_kernels_differ(_pinned)
 
-__version__ = "0.1.0"
 
 __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "__version__",

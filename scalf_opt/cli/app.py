@@ -21,13 +21,13 @@ import warnings
 from collections.abc import Sequence
 from typing import Any, NoReturn
 
-from scalf_opt import __version__
 from scalf_opt.cli.commands import COMMANDS
 from scalf_opt.cli.console import Console, terminal_safe
 from scalf_opt.cli.options import default_outputs
 from scalf_opt.errors import ScalfError, close_matches, did_you_mean, suggestion
 from scalf_opt.files import output_set, remove_stale_scratch
 from scalf_opt.interrupts import raise_if_stopped, stop_code, stop_on_signals
+from scalf_opt.version import __version__
 
 
 class _StoreOnce(argparse._StoreAction):

@@ -48,7 +48,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar
+from typing import TYPE_CHECKING, ClassVar, Protocol
 
 import numpy as np
 
@@ -66,12 +66,46 @@ from scalf_opt.locomotion.trot import (
 from scalf_opt.types import LEG_NAMES, Space
 
 if TYPE_CHECKING:
-    from scalf_opt.energy.pipeline import EnergyPipeline
+    from scalf_opt.energy.physics import LegPhysics
+    from scalf_opt.locomotion.gait import Gait
     from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
+    from scalf_opt.model.kinematics import LegKinematics
     from scalf_opt.model.robot import Robot
 
 Swings = Mapping[str, tuple["SwingFamily", np.ndarray]]
 """The swing of every leg: its family and parameters (family units)."""
+
+
+class StanceContext(Protocol):
+    """What the load models read of a gait's evaluation.
+
+    The robot and gait, the stance grid, each leg's physics and kinematics, the trunk-only
+    loads and the stance distribution.
+    :class:`~scalf_opt.energy.pipeline.EnergyPipeline` is one; the load models name this
+    protocol, not the pipeline, so that the pipeline's module and theirs do not import each
+    other.
+    """
+
+    @property
+    def robot(self) -> Robot: ...  # noqa: D102
+
+    @property
+    def gait(self) -> Gait: ...  # noqa: D102
+
+    @property
+    def stance_times_s(self) -> np.ndarray: ...  # noqa: D102
+
+    @property
+    def trunk_stance_forces(self) -> dict[str, np.ndarray]: ...  # noqa: D102
+
+    @property
+    def load_model(self) -> StanceLoads: ...  # noqa: D102
+
+    def physics(self, leg: str) -> LegPhysics: ...  # noqa: D102
+
+    def kinematics(self, leg: str) -> LegKinematics: ...  # noqa: D102
+
+    def stance_distribution(self, leg: str) -> StanceDistribution: ...  # noqa: D102
 
 
 @dataclass(frozen=True)
@@ -104,7 +138,7 @@ class StanceLoads(ABC):
     """What the moment the feet do not supply is, for the reports (empty: always zero)."""
 
     @abstractmethod
-    def stance_forces(self, pipeline: EnergyPipeline, leg: str, swings: Swings) -> StanceForces:
+    def stance_forces(self, pipeline: StanceContext, leg: str, swings: Swings) -> StanceForces:
         """Forces on ``leg``'s foot over the pipeline's stance grid, for the given swings."""
 
     @abstractmethod
@@ -123,7 +157,7 @@ class TrunkLoads(StanceLoads):
         return robot.trunk_mass_kg
 
     def stance_forces(  # noqa: D102
-        self, pipeline: EnergyPipeline, leg: str, swings: Swings
+        self, pipeline: StanceContext, leg: str, swings: Swings
     ) -> StanceForces:
         sagittal = pipeline.trunk_stance_forces[leg]
         n = sagittal.shape[1]
@@ -148,7 +182,7 @@ class WholeBodyLoads(StanceLoads):
         return robot.total_mass_kg
 
     def stance_forces(  # noqa: D102
-        self, pipeline: EnergyPipeline, leg: str, swings: Swings
+        self, pipeline: StanceContext, leg: str, swings: Swings
     ) -> StanceForces:
         t = pipeline.stance_times_s
         cycle_times = stance_start_s(pipeline.gait, leg) + t
@@ -183,7 +217,7 @@ class StanceDistribution:
     unbalanced: np.ndarray
 
 
-def stance_distribution(pipeline: EnergyPipeline, leg: str) -> StanceDistribution:
+def stance_distribution(pipeline: StanceContext, leg: str) -> StanceDistribution:
     """The distribution maps of ``leg``'s stance samples (see :class:`StanceDistribution`)."""
     cycle_times = stance_start_s(pipeline.gait, leg) + pipeline.stance_times_s
     n = cycle_times.size
@@ -282,7 +316,7 @@ def static_wrench(robot: Robot) -> np.ndarray:
     return np.concatenate([force, np.cross(np.array(total.lever), force)])
 
 
-def foot_position_m(pipeline: EnergyPipeline, leg: str, cycle_times_s: np.ndarray) -> np.ndarray:
+def foot_position_m(pipeline: StanceContext, leg: str, cycle_times_s: np.ndarray) -> np.ndarray:
     """Position of ``leg``'s stance foot in the trunk frame at cycle times, (3, n) [m]."""
     model_leg = pipeline.robot.leg(leg)
     times = np.asarray(cycle_times_s, dtype=float)
@@ -293,7 +327,7 @@ def foot_position_m(pipeline: EnergyPipeline, leg: str, cycle_times_s: np.ndarra
 
 
 def leg_motion(
-    pipeline: EnergyPipeline,
+    pipeline: StanceContext,
     leg: str,
     cycle_times_s: np.ndarray,
     swings: Swings,
@@ -311,7 +345,7 @@ def leg_motion(
 
 
 def affine_leg_motion(
-    pipeline: EnergyPipeline,
+    pipeline: StanceContext,
     leg: str,
     cycle_times_s: np.ndarray,
     family: SwingFamily,

@@ -19,7 +19,7 @@ from typing import TYPE_CHECKING
 from scalf_opt.errors import ConfigError
 
 if TYPE_CHECKING:
-    from scalf_opt.energy.limits import Bound
+    from scalf_opt.energy.box_bound import Bound
 
 DEFAULT_STOP_MARGIN_RAD = math.radians(2.0)
 """Default margin of a planned joint angle to either end of the joint range [rad]: 2 degrees.

@@ -7,11 +7,11 @@ import shlex
 from collections.abc import Sequence
 from typing import Any
 
-from scalf_opt import __version__
 from scalf_opt.errors import ModelError
 from scalf_opt.files import read_untrusted
 from scalf_opt.model.robot import Robot
 from scalf_opt.model.urdf_file import MAX_URDF_BYTES
+from scalf_opt.version import __version__
 
 
 def sha256_of(path: Any) -> str:

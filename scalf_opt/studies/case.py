@@ -24,7 +24,6 @@ from dataclasses import asdict, replace
 from pathlib import Path
 from typing import Any
 
-from scalf_opt import __version__
 from scalf_opt.actuators.sidecar import robot_sidecar_path
 from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.energy.pipeline import EnergyPipeline
@@ -44,6 +43,7 @@ from scalf_opt.robots.variants import VariantScales, derive_variant
 from scalf_opt.studies.gait_case import gait_details, gait_row
 from scalf_opt.studies.study_file import Case
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
+from scalf_opt.version import __version__
 from scalf_opt.workers import worker_progress
 
 STATUS_OK = "ok"
