@@ -144,59 +144,86 @@ def read_topics(path: str | Path, requests: Sequence[TopicRequest]) -> dict[str,
         return _read(path, reader, requests)
 
 
+class _Collector:
+    """One request's messages as they come: their times and numbers, checked one by one."""
+
+    def __init__(self, path: Path, request: TopicRequest, topic: str, origin_ns: int) -> None:
+        self.path, self.request, self.topic, self.origin_ns = path, request, topic, origin_ns
+        self.stamp_of = field_getter(request.stamp) if request.stamp else None
+        self.times: list[float] = []
+        self.rows: list[np.ndarray] = []
+
+    def where(self) -> str:
+        """The next message, for messages."""
+        return f"{self.path}: topic {self.topic}, message {len(self.rows)}"
+
+    def add(self, message: Any, recorded_ns: int) -> None:
+        """Take one message (its stamp, else its recording time).
+
+        Raises:
+            LogError: A value or time that is not finite, time that goes back, or more numbers
+                than :data:`MAX_VALUES`.
+        """
+        stamp = self.stamp_of
+        stamped = (
+            stamp_s(stamp(message), self.request.time_unit_s, self.origin_ns) if stamp else None
+        )
+        t = stamped if stamped is not None else (recorded_ns - self.origin_ns) * 1e-9
+        values = np.asarray(self.request.row(message), dtype=float)
+        if not np.all(np.isfinite(values)) or not np.isfinite(t):
+            raise LogError(f"{self.where()}: a value is not a finite number")
+        if self.times and t < self.times[-1]:
+            raise LogError(
+                f"{self.where()}: time {t!r} s goes back (the previous message has "
+                f"{self.times[-1]!r} s)"
+            )
+        if (len(self.times) + 1) * values.size > MAX_VALUES:
+            raise LogError(
+                f"{self.path}: topic {self.topic} holds more than {MAX_VALUES:,} numbers: "
+                "cut the bag to the part to analyse"
+            )
+        self.times.append(t)
+        self.rows.append(values)
+
+    def rows_of(self, message_types: set[str]) -> TopicRows:
+        """What was collected.
+
+        Raises:
+            LogError: The topic had no message.
+        """
+        if not self.rows:
+            raise LogError(f"{self.path}: topic {self.topic!r} has no messages")
+        message = ", ".join(sorted(message_types))
+        return TopicRows(self.topic, message, np.array(self.times), np.vstack(self.rows))
+
+
 def _read(path: Path, reader: Any, requests: Sequence[TopicRequest]) -> dict[str, TopicRows]:
     """:func:`read_topics` of the opened bag ``reader``; messages name ``path``."""
     check_topic_names(path, reader)
     types: dict[str, set[str]] = {}
     for c in reader.connections:
         types.setdefault(c.topic, set()).add(c.msgtype)
-    chosen = {r.key: _choose(path, r, types) for r in requests}
-    by_topic = {chosen[r.key]: r for r in requests}
+    origin_ns = int(reader.start_time)
+    by_topic = {}
+    for r in requests:
+        topic = _choose(path, r, types)
+        by_topic[topic] = _Collector(path, r, topic, origin_ns)
     if len(by_topic) != len(requests):
         raise LogError(f"{path}: two requests name one topic")  # pragma: no cover
-    rows: dict[str, list[np.ndarray]] = {r.key: [] for r in requests}
-    times: dict[str, list[float]] = {r.key: [] for r in requests}
-    stamps = {r.key: field_getter(r.stamp) if r.stamp else None for r in requests}
     connections = [c for c in reader.connections if c.topic in by_topic]
     where = f"{path}"
-    origin_ns = int(reader.start_time)
     try:
         for conn, ns, raw in reader.messages(connections=connections):
-            request = by_topic[conn.topic]
-            where = f"{path}: topic {conn.topic}, message {len(rows[request.key])}"
-            msg: Any = reader.deserialize(raw, conn.msgtype)
-            stamp_of = stamps[request.key]
-            stamped = stamp_s(stamp_of(msg), request.time_unit_s, origin_ns) if stamp_of else None
-            t = stamped if stamped is not None else (ns - origin_ns) * 1e-9
-            values = np.asarray(request.row(msg), dtype=float)
-            if not np.all(np.isfinite(values)) or not np.isfinite(t):
-                raise LogError(f"{where}: a value is not a finite number")
-            previous = times[request.key]
-            if previous and t < previous[-1]:
-                raise LogError(
-                    f"{where}: time {t!r} s goes back (the previous message has {previous[-1]!r} s)"
-                )
-            if (len(previous) + 1) * values.size > MAX_VALUES:
-                raise LogError(
-                    f"{path}: topic {conn.topic} holds more than {MAX_VALUES:,} numbers: "
-                    "cut the bag to the part to analyse"
-                )
-            previous.append(t)
-            rows[request.key].append(values)
+            collector = by_topic[conn.topic]
+            where = collector.where()
+            collector.add(reader.deserialize(raw, conn.msgtype), ns)
     except LogError:
         raise
     except (AttributeError, IndexError, TypeError, ValueError) as exc:
         raise LogError(f"{where}: {_short(exc)} (the mapping names a field it lacks?)") from exc
     except Exception as exc:
         raise _bag_error(path, exc) from exc
-    answer = {}
-    for r in requests:
-        topic = chosen[r.key]
-        if not rows[r.key]:
-            raise LogError(f"{path}: topic {topic!r} has no messages")
-        message = ", ".join(sorted(types[topic]))
-        answer[r.key] = TopicRows(topic, message, np.array(times[r.key]), np.vstack(rows[r.key]))
-    return answer
+    return {c.request.key: c.rows_of(types[topic]) for topic, c in by_topic.items()}
 
 
 def _short(exc: Exception) -> str:

@@ -210,6 +210,31 @@ def mapping_from_dict(data: Mapping[str, Any], name: str) -> LogMapping:
             does not name its index.
     """
     where = f"mapping {name}"
+    _check_fields(data, where)
+    mapping = LogMapping(
+        name=name,
+        source=str(_text(data, "source", where, "bag")),
+        joints=_names(data, "joints", where),
+        position=str(_text(data, "position", where)),
+        effort=str(_text(data, "effort", where)),
+        velocity=_text(data, "velocity", where),
+        foot_force=_text(data, "foot_force", where),
+        feet=_feet(data, where),
+        topic=_text(data, "topic", where),
+        message=_text(data, "message", where),
+        time=str(_text(data, "time", where, "")),
+        time_unit_s=_time_unit_s(data, where),
+        names=_text(data, "names", where),
+        rename=_rename(data, where),
+    )
+    _check_together(mapping, where)
+    for quantity in QUANTITIES:
+        _template(mapping, quantity, where)
+    return mapping
+
+
+def _check_fields(data: Mapping[str, Any], where: str) -> None:
+    """Every field known, the source one of :data:`SOURCES`, ``position`` and ``effort`` given."""
     for key in data:
         if key not in _FIELDS:
             raise ConfigError(
@@ -223,6 +248,9 @@ def mapping_from_dict(data: Mapping[str, Any], name: str) -> LogMapping:
     for required in ("position", "effort"):
         if required not in data:
             raise ConfigError(f"{where}: field {required} is missing", field=required)
+
+
+def _time_unit_s(data: Mapping[str, Any], where: str) -> float:
     unit = data.get("time_unit_s", 1.0)
     if isinstance(unit, bool) or not isinstance(unit, int | float) or not 1e-12 <= unit <= 1e6:
         raise ConfigError(
@@ -231,11 +259,19 @@ def mapping_from_dict(data: Mapping[str, Any], name: str) -> LogMapping:
             ],
             field="time_unit_s",
         )
+    return float(unit)
+
+
+def _rename(data: Mapping[str, Any], where: str) -> dict[str, str]:
     rename = data.get("rename", {})
     if not isinstance(rename, dict) or not all(
         isinstance(k, str) and isinstance(v, str) for k, v in rename.items()
     ):
         raise ConfigError(f"{where}: field rename must map message names to URDF joints")
+    return dict(rename)
+
+
+def _feet(data: Mapping[str, Any], where: str) -> tuple[str, ...]:
     feet = _names(data, "feet", where)
     for leg in feet:
         if leg not in LEG_NAMES:
@@ -243,22 +279,11 @@ def mapping_from_dict(data: Mapping[str, Any], name: str) -> LogMapping:
                 f"{where}: field feet: {leg!r} is not a leg (the legs: {', '.join(LEG_NAMES)})",
                 field="feet",
             )
-    mapping = LogMapping(
-        name=name,
-        source=str(source),
-        joints=_names(data, "joints", where),
-        position=str(_text(data, "position", where)),
-        effort=str(_text(data, "effort", where)),
-        velocity=_text(data, "velocity", where),
-        foot_force=_text(data, "foot_force", where),
-        feet=feet,
-        topic=_text(data, "topic", where),
-        message=_text(data, "message", where),
-        time=str(_text(data, "time", where, "")),
-        time_unit_s=float(unit),
-        names=_text(data, "names", where),
-        rename=dict(rename),
-    )
+    return feet
+
+
+def _check_together(mapping: LogMapping, where: str) -> None:
+    """The fields that only make sense together, or for one source."""
     if mapping.names is not None and mapping.source != "bag":
         raise ConfigError(f"{where}: field names is for a bag's messages, not a CSV")
     if mapping.names is None and not mapping.joints:
@@ -269,9 +294,6 @@ def mapping_from_dict(data: Mapping[str, Any], name: str) -> LogMapping:
         raise ConfigError(f"{where}: field time is missing (the CSV's time column)")
     if mapping.source == "bag" and mapping.topic is None and mapping.message is None:
         raise ConfigError(f"{where}: give the bag's topic or message type (fields topic, message)")
-    for quantity in QUANTITIES:
-        _template(mapping, quantity, where)
-    return mapping
 
 
 def read_mapping(text: str) -> LogMapping:

@@ -136,27 +136,8 @@ def robot_log(
     source = series.source
     rows = _known_joints(robot, series, named)
     present = {series.joints[r]: r for r in rows}
-    legs = {}
-    absent = []
-    for leg in LEG_NAMES:
-        chain = leg_joints(robot, leg)
-        sagittal = robot.leg(leg).joint_names
-        missing = [j for j in sagittal if j not in present]
-        if missing:
-            held = ", ".join(series.joints[:6]) + (", ..." if len(series.joints) > 6 else "")
-            raise LogError(
-                f"{source}: leg {leg}'s joint {missing[0]!r} is not in the log (it holds {held}; "
-                f"give the robot with --robot, or map the joints with --mapping)"[:400]
-            )
-        legs[leg] = tuple(j for j in chain if j in present)
-        absent += [j for j in chain if j not in present]
+    legs, notes = _leg_chains(robot, series, present)
     used = [present[j] for joints in legs.values() for j in joints]
-    notes = []
-    if absent:
-        notes.append(
-            f"warning: {len(absent)} leg joint(s) of {robot.name} are not in the log and their "
-            f"work is not counted: {', '.join(absent[:8])}{', ...' if len(absent) > 8 else ''}"
-        )
     set_aside = len(series.joints) - len(used)
     if set_aside:
         notes.append(f"{set_aside} joint(s) of the log are no leg's and are set aside")
@@ -171,27 +152,8 @@ def robot_log(
     if t.size < 3:
         raise LogError(f"{source}: {t.size} samples: too few to analyse")
     check_times(source, "", t - t[0], series.rows[keep], place, time_column)
-    steps = np.diff(t)
-    median = float(np.median(steps))
-    gaps = steps > GAP_FACTOR * median
-    if gaps.any():
-        notes.append(
-            f"{int(gaps.sum())} gap(s) in the time stamps (steps over {GAP_FACTOR:g} times the "
-            f"median {median * 1e3:.3g} ms; the longest {steps.max() * 1e3:.4g} ms at "
-            f"t = {t[int(np.argmax(steps))] - t[0]:.4g} s): power is interpolated across them"
-        )
-    model = robot.model
-    for joint in (j for joints in legs.values() for j in joints):
-        q = series.q_rad[present[joint], keep]
-        jid = model.getJointId(joint)
-        lo = float(model.lowerPositionLimit[model.idx_qs[jid]])
-        hi = float(model.upperPositionLimit[model.idx_qs[jid]])
-        beyond = max(lo - float(q.min()), float(q.max()) - hi)
-        if np.isfinite(lo) and np.isfinite(hi) and hi > lo and beyond > RANGE_TOLERANCE_RAD:
-            notes.append(
-                f"warning: {joint} reaches {np.degrees(beyond):.1f} deg beyond its URDF range "
-                f"[{np.degrees(lo):.1f}, {np.degrees(hi):.1f}] deg (a log of another robot?)"
-            )
+    notes += _gap_notes(t)
+    notes += _range_notes(robot, {j: series.q_rad[present[j], keep] for j in present})
     t0 = float(t[0])
     odometry = None
     if series.odometry is not None:
@@ -214,6 +176,67 @@ def robot_log(
         notes=tuple(notes),
         leg_model_joints={leg: tuple(robot.leg(leg).joint_names) for leg in LEG_NAMES},
     )
+
+
+def _leg_chains(
+    robot: Robot, series: JointSeries, present: dict[str, int]
+) -> tuple[dict[str, tuple[str, ...]], list[str]]:
+    """Per leg, its joints the log holds (trunk first), and a warning for those it lacks.
+
+    Raises:
+        LogError: A leg's hip pitch or knee is not in the log.
+    """
+    legs = {}
+    absent = []
+    for leg in LEG_NAMES:
+        chain = leg_joints(robot, leg)
+        missing = [j for j in robot.leg(leg).joint_names if j not in present]
+        if missing:
+            held = ", ".join(series.joints[:6]) + (", ..." if len(series.joints) > 6 else "")
+            raise LogError(
+                f"{series.source}: leg {leg}'s joint {missing[0]!r} is not in the log (it holds "
+                f"{held}; give the robot with --robot, or map the joints with --mapping)"[:400]
+            )
+        legs[leg] = tuple(j for j in chain if j in present)
+        absent += [j for j in chain if j not in present]
+    notes = []
+    if absent:
+        notes.append(
+            f"warning: {len(absent)} leg joint(s) of {robot.name} are not in the log and their "
+            f"work is not counted: {', '.join(absent[:8])}{', ...' if len(absent) > 8 else ''}"
+        )
+    return legs, notes
+
+
+def _gap_notes(t_s: np.ndarray) -> list[str]:
+    """A note on the gaps in the stamps (steps over :data:`GAP_FACTOR` times the median)."""
+    steps = np.diff(t_s)
+    median = float(np.median(steps))
+    gaps = steps > GAP_FACTOR * median
+    if not gaps.any():
+        return []
+    return [
+        f"{int(gaps.sum())} gap(s) in the time stamps (steps over {GAP_FACTOR:g} times the "
+        f"median {median * 1e3:.3g} ms; the longest {steps.max() * 1e3:.4g} ms at "
+        f"t = {t_s[int(np.argmax(steps))] - t_s[0]:.4g} s): power is interpolated across them"
+    ]
+
+
+def _range_notes(robot: Robot, q_rad: dict[str, np.ndarray]) -> list[str]:
+    """A warning per joint whose angles go beyond its URDF range by more than the tolerance."""
+    model = robot.model
+    notes = []
+    for joint, q in q_rad.items():
+        jid = model.getJointId(joint)
+        lo = float(model.lowerPositionLimit[model.idx_qs[jid]])
+        hi = float(model.upperPositionLimit[model.idx_qs[jid]])
+        beyond = max(lo - float(q.min()), float(q.max()) - hi)
+        if np.isfinite(lo) and np.isfinite(hi) and hi > lo and beyond > RANGE_TOLERANCE_RAD:
+            notes.append(
+                f"warning: {joint} reaches {np.degrees(beyond):.1f} deg beyond its URDF range "
+                f"[{np.degrees(lo):.1f}, {np.degrees(hi):.1f}] deg (a log of another robot?)"
+            )
+    return notes
 
 
 def neutral_configuration(robot: Robot) -> np.ndarray:

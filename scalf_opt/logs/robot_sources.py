@@ -11,13 +11,13 @@ import csv
 import io
 import math
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from scalf_opt.errors import LogError
+from scalf_opt.errors import LogError, did_you_mean
 from scalf_opt.files import read_untrusted_text
 from scalf_opt.io.bag_topics import TopicRequest, field_getter, read_topics
 from scalf_opt.logs.log_file import MAX_LOG_BYTES
@@ -54,16 +54,21 @@ class JointSeries:
     odometry: tuple[np.ndarray, np.ndarray] | None = None
 
 
-def _split(mapping: LogMapping, values: np.ndarray, joints: int) -> dict[str, np.ndarray | None]:
-    """Rows of ``[q..., qd..., tau..., force...]`` into the quantities, each (k, n)."""
-    out: dict[str, np.ndarray | None] = {}
-    at = 0
-    for quantity, count in (
+def _counts(mapping: LogMapping, joints: int) -> list[tuple[str, int]]:
+    """Each quantity and how many values of it a sample holds: the order of a row's numbers."""
+    return [
         ("position", joints),
         ("velocity", joints if mapping.velocity else 0),
         ("effort", joints),
         ("foot_force", len(mapping.feet) if mapping.foot_force else 0),
-    ):
+    ]
+
+
+def _split(mapping: LogMapping, values: np.ndarray, joints: int) -> dict[str, np.ndarray | None]:
+    """Rows of ``[q..., qd..., tau..., force...]`` into the quantities, each (k, n)."""
+    out: dict[str, np.ndarray | None] = {}
+    at = 0
+    for quantity, count in _counts(mapping, joints):
         out[quantity] = values[:, at : at + count].T if count else None
         at += count
     return out
@@ -137,12 +142,7 @@ def _indexed_row(mapping: LogMapping) -> Callable[[Any], np.ndarray]:
     """A message -> ``[q..., qd..., tau..., force...]`` by the mapping's field paths."""
     getters = [
         field_getter(mapping.path(quantity, i))
-        for quantity, count in (
-            ("position", len(mapping.joints)),
-            ("velocity", len(mapping.joints) if mapping.velocity else 0),
-            ("effort", len(mapping.joints)),
-            ("foot_force", len(mapping.feet) if mapping.foot_force else 0),
-        )
+        for quantity, count in _counts(mapping, len(mapping.joints))
         for i in range(count)
     ]
     return lambda message: np.array([float(get(message)) for get in getters])
@@ -210,48 +210,21 @@ def csv_series(path: str | Path, mapping: LogMapping) -> JointSeries:
         raise LogError(f"{source}: the file is empty") from None
     except csv.Error as exc:
         raise LogError(f"{source}: row 1: not CSV ({exc})") from None
-    columns = [mapping.time]
-    for quantity, count in (
-        ("position", len(mapping.joints)),
-        ("velocity", len(mapping.joints) if mapping.velocity else 0),
-        ("effort", len(mapping.joints)),
-        ("foot_force", len(mapping.feet) if mapping.foot_force else 0),
-    ):
-        columns += [mapping.path(quantity, i) for i in range(count)]
-    at = {cell: k for k, cell in enumerate(header)}
-    for column in columns:
-        if column not in at:
-            from scalf_opt.errors import did_you_mean
-
-            raise LogError(
-                f"{source}: row 1, column {column}: missing from the header (mapping "
-                f"{mapping.name}){did_you_mean(column, header)}"[:400]
-            )
-    index = [at[c] for c in columns]
+    columns = [mapping.time] + [
+        mapping.path(quantity, i)
+        for quantity, count in _counts(mapping, len(mapping.joints))
+        for i in range(count)
+    ]
+    index = _column_index(header, columns, source, mapping.name)
     data: list[list[float]] = []
     numbers: list[int] = []
     try:
         for number, cells in enumerate(reader, start=2):
-            if not any(cell.strip() for cell in cells):
-                continue
-            if len(cells) != len(header):
-                raise LogError(
-                    f"{source}: row {number}: {len(cells)} cells, the header has {len(header)}"
+            if any(cell.strip() for cell in cells):
+                data.append(
+                    _row_numbers(cells, len(header), columns, index, f"{source}: row {number}")
                 )
-            row = []
-            for column, k in zip(columns, index, strict=True):
-                try:
-                    value = float(cells[k])
-                except ValueError:
-                    value = math.nan
-                if not math.isfinite(value):
-                    raise LogError(
-                        f"{source}: row {number}, column {column}: {cells[k][:40]!r} is not a "
-                        "finite number"
-                    )
-                row.append(value)
-            data.append(row)
-            numbers.append(number)
+                numbers.append(number)
     except csv.Error as exc:
         raise LogError(f"{source}: row {reader.line_num}: not CSV ({exc})") from None
     if not data:
@@ -264,13 +237,42 @@ def csv_series(path: str | Path, mapping: LogMapping) -> JointSeries:
             f"{source}: row {numbers[back[0] + 1]}, column {mapping.time}: the time goes back"
         )
     series = _series(mapping, source, mapping.joints, t_s, table[:, 1:])
-    return JointSeries(
-        series.source,
-        series.joints,
-        series.t_s,
-        series.q_rad,
-        series.qd_rad_s,
-        series.tau_nm,
-        series.foot_force,
-        np.array(numbers),
-    )
+    return replace(series, rows=np.array(numbers))
+
+
+def _column_index(header: list[str], columns: list[str], source: str, mapping: str) -> list[int]:
+    """Where each mapped column is in the header.
+
+    Raises:
+        LogError: A column is missing (named, with the closest header cell).
+    """
+    at = {cell: k for k, cell in enumerate(header)}
+    for column in columns:
+        if column not in at:
+            raise LogError(
+                f"{source}: row 1, column {column}: missing from the header (mapping "
+                f"{mapping}){did_you_mean(column, header)}"[:400]
+            )
+    return [at[c] for c in columns]
+
+
+def _row_numbers(
+    cells: list[str], width: int, columns: list[str], index: list[int], where: str
+) -> list[float]:
+    """The mapped cells of one CSV row as finite numbers.
+
+    Raises:
+        LogError: Another number of cells than the header's, or a cell that is no finite number.
+    """
+    if len(cells) != width:
+        raise LogError(f"{where}: {len(cells)} cells, the header has {width}")
+    row = []
+    for column, k in zip(columns, index, strict=True):
+        try:
+            value = float(cells[k])
+        except ValueError:
+            value = math.nan
+        if not math.isfinite(value):
+            raise LogError(f"{where}, column {column}: {cells[k][:40]!r} is not a finite number")
+        row.append(value)
+    return row
