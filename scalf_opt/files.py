@@ -139,19 +139,53 @@ def copy_untrusted(
     try:
         if not stat.S_ISREG(os.fstat(fd).st_mode):
             raise error(f"{source}: {kind} file is not a regular file")
-        with open(destination, "wb") as out:
+        with _scratch_file(destination, kind, error) as out:
             while chunk := os.read(fd, min(_READ_BLOCK, max_bytes + 1 - total)):
                 total += len(chunk)
                 if total > max_bytes:
                     raise error(
                         f"{source}: {kind} file is larger than the {max_bytes} bytes allowed"
                     )
-                out.write(chunk)
+                _write_scratch(out, chunk, kind, error)
     except OSError as exc:
         raise error(f"{source}: cannot read {kind} file ({exc.strerror})") from None
     finally:
         os.close(fd)
     return total
+
+
+@contextlib.contextmanager
+def _scratch_file(path: Path, kind: str, error: type[ScalfError]) -> Iterator[IO[bytes]]:
+    """``path`` opened for writing a private copy.
+
+    Failing to open, write or close it is the temporary folder's fault (a full disk), not the
+    input's, and the message says so.
+    """
+    try:
+        handle = open(path, "wb")  # noqa: SIM115  (closed below)
+    except OSError as exc:
+        raise error(_scratch_message(kind, exc)) from None
+    try:
+        yield handle
+    finally:
+        try:
+            handle.close()  # flushes: a full disk may say so only here
+        except OSError as exc:
+            raise error(_scratch_message(kind, exc)) from None
+
+
+def _write_scratch(out: IO[bytes], chunk: bytes, kind: str, error: type[ScalfError]) -> None:
+    try:
+        out.write(chunk)
+    except OSError as exc:
+        raise error(_scratch_message(kind, exc)) from None
+
+
+def _scratch_message(kind: str, exc: OSError) -> str:
+    return (
+        f"cannot copy the {kind} into the temporary folder {tempfile.gettempdir()} "
+        f"({exc.strerror}): free space there, or set TMPDIR to a folder with room"
+    )
 
 
 def read_untrusted_text(

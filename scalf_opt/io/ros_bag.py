@@ -245,10 +245,18 @@ def _bounded_copy(path: Path, folder: Path) -> Path:
         return copy
     copy = folder / (path.name or "bag")
     copy.mkdir()
-    left = MAX_BAG_BYTES
-    for entry in sorted(path.iterdir()):
+    entries = sorted(path.iterdir())
+    for entry in entries:
         if entry.is_symlink() or entry.is_dir():
             raise LogError(f"{entry}: a bag folder holds its files only, not links or folders")
+    total = sum(entry.stat().st_size for entry in entries)
+    if total > MAX_BAG_BYTES:
+        raise LogError(
+            f"{path}: its files hold {total:,} bytes together, more than the {MAX_BAG_BYTES:,} "
+            "a bag may hold"
+        )
+    left = MAX_BAG_BYTES  # and bounded while copying: a file may grow meanwhile
+    for entry in entries:
         left -= copy_untrusted(entry, copy / entry.name, "bag", left, LogError)
     return copy
 

@@ -98,3 +98,32 @@ def test_metadata_that_lists_a_file_twice_or_is_huge_is_refused(tmp_path, monkey
     metadata.write_text(text + "#" * (bounds.MAX_METADATA_BYTES + 1))
     with pytest.raises(LogError, match=r"metadata\.yaml: larger than the 1,048,576 bytes"):
         read_joint_states(bag)
+
+
+def test_a_bag_folder_too_large_in_all_is_named_with_its_total(tmp_path, monkeypatch):
+    bag = write(tmp_path / "big", messages=50)
+    total = sum(f.stat().st_size for f in bag.iterdir())
+    monkeypatch.setattr(ros_bag, "MAX_BAG_BYTES", total - 1)
+    with pytest.raises(LogError, match=rf"big: its files hold {total:,} bytes together, more than"):
+        read_joint_states(bag)
+
+
+def test_a_full_temporary_folder_is_not_blamed_on_the_bag(tmp_path, monkeypatch):
+    import errno
+    import io
+
+    import scalf_opt.files as files
+
+    class Full(io.BytesIO):
+        def write(self, data):
+            raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(files, "open", lambda path, mode: Full(), raising=False)
+    bag = write(tmp_path / "bag", storage="mcap", messages=20)
+    mcap = next(bag.glob("*.mcap"))
+    with pytest.raises(
+        LogError,
+        match=r"cannot copy the bag into the temporary folder .* \(No "
+        r"space left on device\): free space there, or set TMPDIR",
+    ):
+        read_joint_states(mcap)
