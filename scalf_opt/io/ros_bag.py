@@ -18,6 +18,7 @@ from __future__ import annotations
 
 import math
 import os
+import re
 import shutil
 import tempfile
 from collections.abc import Iterator
@@ -176,9 +177,19 @@ def write_bag(
     return path
 
 
+_SCRATCH_FOLDER = re.compile(rf"[^\s'\"]*{re.escape(SCRATCH_PREFIX)}bag-\d+-[^\s'\"/]*/")
+"""The private copy's folder at the start of a path a reader's error quotes."""
+
+
 def _bag_error(path: Path, exc: Exception) -> LogError:
+    """The reader's error as one line about the bag the user named.
+
+    A path in the private copy (which is gone once the command ends) is shown as ``path``.
+    """
     text = str(exc).strip()
     reason = text.splitlines()[0].rstrip(".") if text else type(exc).__name__
+    where = "" if str(path.parent) == "." else f"{path.parent}/"
+    reason = _SCRATCH_FOLDER.sub(lambda _: where, reason)
     return LogError(f"{path}: not a readable ROS 2 bag ({reason}; truncated or not a bag?)")
 
 

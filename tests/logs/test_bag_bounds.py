@@ -127,3 +127,17 @@ def test_a_full_temporary_folder_is_not_blamed_on_the_bag(tmp_path, monkeypatch)
         r"space left on device\): free space there, or set TMPDIR",
     ):
         read_joint_states(mcap)
+
+
+@pytest.mark.parametrize("damage", ["metadata", "file"])
+def test_errors_name_the_users_bag_not_the_private_copy(tmp_path, damage):
+    bag = write(tmp_path / "mine", messages=20)
+    if damage == "metadata":
+        (bag / "metadata.yaml").write_text("rosbag2_bagfile_information: [unclosed\n")
+    else:
+        database = next(bag.glob("*.db3"))
+        database.write_bytes(database.read_bytes()[:100])
+    with pytest.raises(LogError) as info:
+        read_joint_states(bag)
+    message = str(info.value)
+    assert message.startswith(f"{bag}: ") and "scalf-opt-bag-" not in message, message
