@@ -40,6 +40,14 @@ MAX_METADATA_BYTES = 1024 * 1024
 MAX_BAG_FILES = 1000
 """Most files a bag folder's metadata may list (a recorder splits a day into a few hundred)."""
 
+MAX_VALUES = 100_000_000
+"""Most numbers one topic may hold (800 MB as doubles): 12 motors' angle, rate and torque and 4
+foot forces at 1 kHz for 42 minutes; a flood of messages is refused, not read into memory."""
+
+MAX_JOINTS = 256
+"""Most joints one message may name (far above any legged robot, far below what would cost
+memory: a message of millions of names is refused before its names are compared)."""
+
 _FILE_MODE = re.compile(r"^(\s*compression_mode:\s*)['\"]?file['\"]?\s*$", re.MULTILINE | re.I)
 
 

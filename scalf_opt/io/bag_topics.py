@@ -22,11 +22,8 @@ from typing import Any
 import numpy as np
 
 from scalf_opt.errors import LogError
+from scalf_opt.io.bag_bounds import MAX_VALUES
 from scalf_opt.io.ros_bag import _bag_error, check_topic_names, opened_bag
-
-MAX_VALUES = 100_000_000
-"""Most numbers one topic may hold (800 MB as doubles): 12 motors' angle, rate and torque and 4
-foot forces at 1 kHz for 42 minutes; a flood of messages is refused, not read into memory."""
 
 _STEP = re.compile(r"([A-Za-z_][A-Za-z0-9_]*)(?:\[([0-9]+)\])?")
 

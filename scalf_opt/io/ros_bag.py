@@ -33,6 +33,8 @@ from scalf_opt.errors import ConfigError, LogError
 from scalf_opt.files import SCRATCH_PREFIX, copy_untrusted, scratch_folder, write_with
 from scalf_opt.io.bag_bounds import (
     MAX_BAG_BYTES,
+    MAX_JOINTS,
+    MAX_VALUES,
     bounded_decompression,
     inflate_compressed_files,
 )
@@ -272,6 +274,20 @@ def _bounded_copy(path: Path, folder: Path) -> Path:
     return copy
 
 
+def checked_names(names: tuple[str, ...], where: str) -> tuple[str, ...]:
+    """A message's joint names, each once (in linear time: a message may be hostile).
+
+    Raises:
+        LogError: A joint named twice (the message names it).
+    """
+    seen: set[str] = set()
+    for name in names:
+        if name in seen:
+            raise LogError(f"{where}: joint {name!r} is named twice in one message")
+        seen.add(name)
+    return names
+
+
 def check_topic_names(path: Path, reader: Any) -> None:
     """Refuse a bag whose index names a topic by nothing (a NULL or empty name, or not text).
 
@@ -314,15 +330,22 @@ def _read_joint_states(path: Path, reader: Any, topic: str | None) -> JointState
             msg: Any = reader.deserialize(raw, conn.msgtype)
             stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
             t = stamp if stamp > 0 else ns * 1e-9
-            here = tuple(msg.name)
             where = f"{path}: topic {topic}, message {index}"
+            if len(msg.name) > MAX_JOINTS:
+                raise LogError(
+                    f"{where}: {len(msg.name):,} joints, more than the {MAX_JOINTS} a message "
+                    "may name"
+                )
+            here = tuple(msg.name)
             if names is None:
-                twice = sorted({n for n in here if here.count(n) > 1})
-                if twice:
-                    raise LogError(f"{where}: joint {twice[0]!r} is named twice in one message")
-                names = here
+                names = checked_names(here, where)
             elif here != names:
                 raise LogError(f"{where}: joint names {list(here)} differ from the first's")
+            if (index + 1) * 3 * len(names) > MAX_VALUES:
+                raise LogError(
+                    f"{path}: topic {topic} holds more than {MAX_VALUES:,} numbers: cut the bag "
+                    "to the part to analyse"
+                )
             if times and not t > times[-1]:
                 raise LogError(
                     f"{where}: time stamp {t!r} s does not increase (the previous message "

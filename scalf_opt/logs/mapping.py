@@ -35,6 +35,7 @@ from typing import Any
 
 from scalf_opt.errors import ConfigError, did_you_mean
 from scalf_opt.files import read_toml
+from scalf_opt.io.bag_bounds import MAX_JOINTS
 from scalf_opt.types import LEG_NAMES
 
 SOURCES = ("bag", "csv")
@@ -150,9 +151,6 @@ message types is read through it without ``--mapping``."""
 
 MAPPING_OF_MESSAGE = {m.message: m for m in BUILT_IN.values() if m.message}
 """Message type -> its built-in mapping."""
-
-MAX_JOINTS = 256
-"""Most joints a mapping lists: far above any legged robot, far below what would cost memory."""
 
 
 def _text(data: Mapping[str, Any], key: str, where: str, default: str | None = None) -> str | None:

@@ -19,7 +19,9 @@ import numpy as np
 
 from scalf_opt.errors import LogError, did_you_mean
 from scalf_opt.files import read_untrusted_text
+from scalf_opt.io.bag_bounds import MAX_JOINTS
 from scalf_opt.io.bag_topics import TopicRequest, field_getter, read_topics
+from scalf_opt.io.ros_bag import checked_names
 from scalf_opt.logs.log_file import MAX_LOG_BYTES
 from scalf_opt.logs.mapping import LogMapping
 
@@ -115,12 +117,12 @@ class _NamedRow:
         ]
 
     def __call__(self, message: Any) -> np.ndarray:
-        names = tuple(str(n) for n in self.get_names(message))
+        raw = self.get_names(message)
+        if len(raw) > MAX_JOINTS:
+            raise LogError(f"{len(raw):,} joints, more than the {MAX_JOINTS} a message may name")
+        names = tuple(str(n) for n in raw)
         if self.names is None:
-            twice = sorted({n for n in names if names.count(n) > 1})
-            if twice:
-                raise LogError(f"joint {twice[0]!r} is named twice in one message")
-            self.names = names
+            self.names = checked_names(names, "this message")
         elif names != self.names:
             raise LogError(f"joint names {list(names)[:8]} differ from the first message's")
         self.count += 1

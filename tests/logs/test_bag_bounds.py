@@ -141,3 +141,18 @@ def test_errors_name_the_users_bag_not_the_private_copy(tmp_path, damage):
         read_joint_states(bag)
     message = str(info.value)
     assert message.startswith(f"{bag}: ") and "scalf-opt-bag-" not in message, message
+
+
+def test_a_message_of_too_many_joints_or_a_flood_is_refused(tmp_path, monkeypatch):
+    """Checked before the names are compared (a quadratic check took minutes on 5 M names)."""
+    from scalf_opt.io.ros_bag import JointStateSeries, write_bag
+
+    many = tuple(f"j{k}" for k in range(300))
+    values = np.zeros((300, 3))
+    bag = write_bag(tmp_path / "wide.mcap", [JointStateSeries("/js", many, np.arange(3.0), values)])
+    with pytest.raises(LogError, match=r"message 0: 300 joints, more than the 256 a message"):
+        read_joint_states(bag)
+    monkeypatch.setattr(ros_bag, "MAX_VALUES", 1000)
+    bag = write(tmp_path / "flood", messages=400)  # 400 messages x 3 x 2 joints = 2,400 numbers
+    with pytest.raises(LogError, match=r"holds more than 1,000 numbers"):
+        read_joint_states(bag)
