@@ -150,9 +150,15 @@ class SavedSwings:
 
         Raises:
             ConfigError: The name, the URDF's hash or the mass is another robot's (the message
-                names the field).
+                names the field), or the file records none of them.
         """
         again = "give the same --robot or --urdf"
+        if self.robot is None and self.urdf_sha256 is None and self.total_mass_kg is None:
+            raise ConfigError(
+                f"{self.source}: names no robot (no provenance.robot, provenance.urdf_sha256 nor "
+                f"total_mass_kg): its swings cannot be checked against {robot.name}'s; use the "
+                "summary.json a command wrote, whole"
+            )
         if self.robot is not None and self.robot != robot.name:
             raise ConfigError(
                 f"{self.source}: field provenance.robot is {self.robot!r}, not {robot.name!r}: "
