@@ -174,19 +174,26 @@ def _cached(path: Path, case: Case) -> dict[str, Any] | None:
     return row
 
 
+MAX_SETUP_TRIES = 50
+"""Cases set up before a study none of whose cases runs is refused: a fixed field no case can
+walk fails them all, and 10,000 of them would take minutes to try."""
+
+
 def check_some_case_runs(study: Study) -> None:
     """Refuse, before any case runs, a study none of whose cases can be set up.
 
     The cases are set up in turn (:func:`~scalf_opt.studies.case.check_setup`) until one
-    passes: a fixed gait field the robot cannot walk, say, fails every case, which is the study
-    file's fault and is said once, with nothing written, rather than as a table of failures.
+    passes, at most :data:`MAX_SETUP_TRIES` of them: a fixed gait field the robot cannot walk,
+    say, fails every case, which is the study file's fault and is said once, with nothing
+    written, rather than as a table of failures.
 
     Raises:
         ScalfError: Every case fails its setup; the first case's error, naming the study file.
     """
     first: ScalfError | None = None
+    tried = study.cases[:MAX_SETUP_TRIES]
     with scratch_folder("check") as folder:
-        for case in study.cases:
+        for case in tried:
             raise_if_stopped()
             try:
                 check_setup(case, folder)
@@ -194,9 +201,14 @@ def check_some_case_runs(study: Study) -> None:
             except ScalfError as exc:
                 first = first or exc
     if first is not None:
+        which = (
+            f"{len(tried)} tried"
+            if len(tried) == len(study.cases)
+            else f"the first {len(tried)} of {len(study.cases)} tried; put a case that can run "
+            "first if there is one"
+        )
         raise type(first)(
-            f"{study.path}: no case can run ({len(study.cases)} tried); case 1: {first}",
-            field=first.field,
+            f"{study.path}: no case can run ({which}); case 1: {first}", field=first.field
         )
 
 

@@ -61,6 +61,13 @@ def generated(kind: str) -> bytes:
         return f"[gait]\nperiod_s = {'1' * n}\n".encode()
     if what == "toml-long-string":  # a gait field of n characters
         return f'[gait]\nperiod_s = "{"x" * n}"\n'.encode()
+    if what == "study-cases":  # n x n cases, every one failing the same fixed gait field
+        periods = ", ".join(f"{0.4 + 0.001 * k:.3f}" for k in range(n))
+        steps = ", ".join(f"{0.2 + 0.0005 * k:.4f}" for k in range(n))
+        return (
+            '[study]\nrobot = "scalf"\n[gait]\nclearance_m = 0.7\n[sweep]\n'
+            f'"gait.period_s" = [{periods}]\n"gait.step_length_m" = [{steps}]\n'
+        ).encode()
     if what == "json-digits":  # an integer of n digits in a summary
         return f'{{"gait": {{"period_s": {"1" * n}}}}}'.encode()
     if what == "log-rate":  # RF alone, sampled at n Hz
