@@ -73,7 +73,7 @@ def _mapping_for(path: Path, mapping: Any, topic: str | None) -> Any:
     """The mapping asked for, or the one the bag's message type has."""
     from scalf_opt.io.bag_topics import topic_types
     from scalf_opt.io.ros_bag import is_bag
-    from scalf_opt.logs.mapping import MAPPING_OF_MESSAGE, LogMapping, read_mapping
+    from scalf_opt.logs.mapping import LogMapping, read_mapping
 
     if isinstance(mapping, LogMapping):
         return mapping.with_topic(topic)
@@ -84,7 +84,17 @@ def _mapping_for(path: Path, mapping: Any, topic: str | None) -> Any:
             f"{path}: a wide CSV is read through a mapping: give --mapping FILE.toml "
             "(examples/mappings/unitree_sdk_csv.toml is Unitree's SDK log)"
         )
-    types = topic_types(path)
+    return _mapping_of_types(path, topic_types(path), topic)
+
+
+def _mapping_of_types(path: Path, types: dict[str, set[str]], topic: str | None) -> Any:
+    """The built-in mapping of the bag's topic (``topic``, else its one topic of a known type).
+
+    Raises:
+        LogError: No such topic, or not exactly one topic of a type with a built-in mapping.
+    """
+    from scalf_opt.logs.mapping import MAPPING_OF_MESSAGE
+
     known = {t: held & set(MAPPING_OF_MESSAGE) for t, held in types.items()}
     if topic is not None:
         if topic not in types:
@@ -107,38 +117,47 @@ def _mapping_for(path: Path, mapping: Any, topic: str | None) -> Any:
     return MAPPING_OF_MESSAGE[message].with_topic(candidates[0])
 
 
-def is_robot_log(
+def robot_log_mapping(
     path: str | Path,
     topic: str | None = None,
     mapping: Any = None,
     odometry_topic: str | None = None,
     speed_m_s: float | None = None,
     compare: bool = False,
-) -> bool:
-    """Whether ``analyze-log`` reads ``path`` as a robot's own log (every joint).
+) -> Any:
+    """The mapping ``analyze-log`` reads ``path`` through as a robot's own log, or ``None``.
 
-    Yes with a mapping, an odometry topic, a speed or a comparison with the model; and for a bag
-    whose topic (``topic``, else its one topic of a known message type) is of a message type
-    with a built-in mapping other than ``JointState`` (a Unitree ``LowState``). A bag that
-    cannot be listed is left to the reader that reports it.
+    A robot's own log (every joint) with a mapping, an odometry topic, a speed or a comparison
+    with the model; and a bag whose topic (``topic``, else its one topic of a known message type)
+    is of a message type with a built-in mapping other than ``JointState`` (a Unitree
+    ``LowState``). ``None``: the sagittal reader's log (a cylinder log, an export's CSV, a
+    JointState bag, or a bag that cannot be listed, which that reader reports). The bag is
+    listed once: the mapping found is the one to read it with.
+
+    Raises:
+        ConfigError, LogError: A robot's own log whose mapping cannot be found
+            (:func:`analyze_robot_log`'s ``mapping``).
     """
     from scalf_opt.io.bag_topics import topic_types
     from scalf_opt.io.ros_bag import JOINT_STATE, is_bag
     from scalf_opt.logs.mapping import MAPPING_OF_MESSAGE
 
+    path = Path(path)
     if mapping is not None or odometry_topic is not None or speed_m_s is not None or compare:
-        return True
+        return _mapping_for(path, mapping, topic)
     if not is_bag(path):
-        return False
+        return None
     try:
         types = topic_types(path)
     except LogError:
-        return False
+        return None
     robot_types = set(MAPPING_OF_MESSAGE) - {JOINT_STATE}
     if topic is not None:
-        return bool(types.get(topic, set()) & robot_types)
-    has_joint_state = any(JOINT_STATE in held for held in types.values())
-    return not has_joint_state and any(held & robot_types for held in types.values())
+        robot = bool(types.get(topic, set()) & robot_types)
+    else:
+        has_joint_state = any(JOINT_STATE in held for held in types.values())
+        robot = not has_joint_state and any(held & robot_types for held in types.values())
+    return _mapping_of_types(path, types, topic) if robot else None
 
 
 def analyze_robot_log(
@@ -174,7 +193,7 @@ def analyze_robot_log(
     """
     from scalf_opt.logs.contacts import foot_heights_m, log_contacts, weight_note
     from scalf_opt.logs.robot_energy import analyze_robot_log as analyze
-    from scalf_opt.logs.robot_energy import joint_rates
+    from scalf_opt.logs.robot_energy import joint_powers
     from scalf_opt.logs.robot_log import robot_log
     from scalf_opt.logs.robot_sources import bag_series, csv_series
 
@@ -195,13 +214,12 @@ def analyze_robot_log(
     weight = weight_note(log, robot, contacts.stance)
     if weight is not None:
         log = replace(log, notes=(*log.notes, weight))
-    analysis = analyze(log, contacts, robot.total_mass_kg, speed_m_s)
+    power, velocity_source = joint_powers(log)
+    analysis = analyze(log, contacts, robot.total_mass_kg, power, velocity_source, speed_m_s)
     comparison = None
     if compare:
         from scalf_opt.logs.log_plan import compare_with_plan
 
-        rates, _ = joint_rates(log)
-        power = {j: np.abs(log.tau_nm[j] * rates[j]) for j in log.tau_nm}
         comparison = compare_with_plan(
             analysis, robot, log.t_s, power, foot_heights_m(log, robot), contacts.stance, loads
         )

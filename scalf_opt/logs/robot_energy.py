@@ -179,6 +179,14 @@ class RobotLogAnalysis:
         }
 
 
+def joint_powers(
+    log: RobotLog, half_window_s: float = DEFAULT_HALF_WINDOW_S, degree: int = DEFAULT_DEGREE
+) -> tuple[dict[str, np.ndarray], str]:
+    """Every joint's mechanical power ``|tau qd|`` at the samples [W], and the rates' source."""
+    rates, source = joint_rates(log, half_window_s, degree)
+    return {j: np.abs(log.tau_nm[j] * rates[j]) for j in log.tau_nm}, source
+
+
 def joint_rates(
     log: RobotLog, half_window_s: float = DEFAULT_HALF_WINDOW_S, degree: int = DEFAULT_DEGREE
 ) -> tuple[dict[str, np.ndarray], str]:
@@ -227,9 +235,9 @@ def analyze_robot_log(
     log: RobotLog,
     contacts: Contacts,
     mass_kg: float,
+    power_w: dict[str, np.ndarray],
+    velocity_source: str,
     speed_m_s: float | None = None,
-    half_window_s: float = DEFAULT_HALF_WINDOW_S,
-    degree: int = DEFAULT_DEGREE,
 ) -> RobotLogAnalysis:
     """Every joint's energy per cycle of its leg (module docstring).
 
@@ -237,14 +245,13 @@ def analyze_robot_log(
         log: The checked log.
         contacts: Each leg's stance samples.
         mass_kg: The robot's mass [kg].
+        power_w: Per joint, its mechanical power at the samples (:func:`joint_powers`) [W].
+        velocity_source: Where the rates came from: ``measured`` or ``filter``.
         speed_m_s: The forward speed [m/s]; ``None``: the odometry's, if the log has one.
-        half_window_s: The velocity filter's half window [s], where the log has no rates.
-        degree: The velocity filter's polynomial degree.
 
     Raises:
         LogError: A leg with fewer than two touch-downs (no complete cycle).
     """
-    rates, velocity_source = joint_rates(log, half_window_s, degree)
     t = log.t_s
     notes = list(log.notes)
     joints: list[JointEnergy] = []
@@ -265,7 +272,7 @@ def analyze_robot_log(
         per_joint = []
         per_cycle = np.zeros(downs.size - 1)
         for joint in leg_joints:
-            power = np.abs(log.tau_nm[joint] * rates[joint])
+            power = power_w[joint]
             parts = [_integrals(t, power, stance, a, b) for a, b in pairwise(downs)]
             per_cycle += np.array([s + w for s, w in parts])
             per_joint.append(

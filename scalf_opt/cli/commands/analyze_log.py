@@ -130,13 +130,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.api import analyze_log
-    from scalf_opt.api.robot_logs import is_robot_log
+    from scalf_opt.api.robot_logs import robot_log_mapping
     from scalf_opt.logs.report import log_report
 
-    if is_robot_log(
+    mapping = robot_log_mapping(
         args.log, args.topic, args.mapping, args.odometry, args.speed_m_s, args.compare
-    ):
-        return run_robot_log(args)
+    )
+    if mapping is not None:
+        return run_robot_log(args, mapping)
     if args.figure is not None and args.plan is None:
         raise ConfigError("--figure: draws the log against the plan: give --plan DIR too")
     if args.figure is not None and args.figure.suffix != ".png":
@@ -177,8 +178,8 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     return 0
 
 
-def run_robot_log(args: argparse.Namespace) -> int:
-    """A robot's own log, every joint (``--mapping``, a LowState bag, ``--compare``)."""
+def run_robot_log(args: argparse.Namespace, mapping: Any) -> int:
+    """A robot's own log, every joint, read through ``mapping`` (its topic chosen)."""
     from scalf_opt.api import analyze_robot_log
     from scalf_opt.logs.robot_report import robot_log_report
 
@@ -204,8 +205,7 @@ def run_robot_log(args: argparse.Namespace) -> int:
     result = analyze_robot_log(
         args.log,
         robot,
-        mapping=args.mapping,
-        topic=args.topic,
+        mapping=mapping,
         odometry_topic=args.odometry,
         speed_m_s=args.speed_m_s,
         compare=args.compare,
