@@ -20,6 +20,7 @@ A bag that breaks a bound is refused with one line naming the bag (not the priva
 from __future__ import annotations
 
 import re
+from collections import Counter
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
 from pathlib import Path
@@ -106,7 +107,7 @@ def check_metadata(folder: Path, shown: Path) -> str:
         raise LogError(
             f"{shown}/metadata.yaml: lists {len(names)} files, more than {MAX_BAG_FILES}"
         )
-    twice = sorted({n for n in names if names.count(n) > 1})
+    twice = sorted(name for name, count in Counter(names).items() if count > 1)
     if twice:
         raise LogError(f"{shown}/metadata.yaml: lists the file {twice[0][:100]!r} twice")
     return text

@@ -70,7 +70,6 @@ class TopicRequest:
         row: A message -> its numbers, shape (k,); may raise :class:`LogError` naming the field.
         stamp: A stamp field path, or ``""`` for the recording time.
         time_unit_s: Seconds per unit of a numeric stamp field.
-        what: What the topic holds, for messages (``joint states``, ``odometry``).
     """
 
     key: str
@@ -79,7 +78,6 @@ class TopicRequest:
     row: Callable[[Any], np.ndarray]
     stamp: str = ""
     time_unit_s: float = 1.0
-    what: str = "messages"
 
 
 @dataclass(frozen=True)

@@ -199,10 +199,10 @@ def _through_cylinders(
     return length, tau_nm / arm, speed
 
 
-def is_export_csv(text: str) -> bool:
-    """Whether CSV text is ``scalf-opt export``'s (its header names the joint angles)."""
+def header_cells(text: str) -> list[str]:
+    """The first row of CSV text, read without quoting (a log's cells are never quoted)."""
     header = next(csv.reader(io.StringIO(text[:4096]), quoting=csv.QUOTE_NONE), [])
-    return EXPORT_MARKER in [cell.strip() for cell in header]
+    return [cell.strip() for cell in header]
 
 
 def export_csv_log(text: str, source: str) -> CylinderLog | JointLog:
@@ -320,10 +320,10 @@ def read_any_log(
     if topic is not None or names:
         raise LogError(f"{path}: --topic and --joint are for a ROS 2 bag (.mcap, .db3)")
     text = read_untrusted_text(path, "log", MAX_LOG_BYTES, LogError)
-    if is_export_csv(text[:4096]):
+    header = header_cells(text)
+    if EXPORT_MARKER in header:
         return export_csv_log(text, str(path))
-    header = next(csv.reader(io.StringIO(text[:4096]), quoting=csv.QUOTE_NONE), [])
-    if "leg" not in [cell.strip() for cell in header]:
+    if "leg" not in header:
         raise LogError(
             f"{path}: row 1: neither a cylinder log (t_s, leg, ...) nor the CSV of export: a "
             "robot's own CSV (a column per joint) is read through a mapping: --mapping "

@@ -166,7 +166,6 @@ def bag_series(path: str | Path, mapping: LogMapping, odometry_topic: str | None
             named if named is not None else _indexed_row(mapping),
             mapping.time,
             mapping.time_unit_s,
-            "joint states",
         )
     ]
     if odometry_topic is not None:
@@ -177,7 +176,6 @@ def bag_series(path: str | Path, mapping: LogMapping, odometry_topic: str | None
                 ODOMETRY,
                 lambda m: np.array([m.pose.pose.position.x, m.pose.pose.position.y]),
                 "header.stamp",
-                what="odometry",
             )
         )
     try:
