@@ -36,6 +36,18 @@ PERIOD_S = 0.3
 START_PHASE = 0.37  # the recording starts 37 % into RF's cycle: no touch-down at its first sample
 
 
+def joint_state_bag(path, names, t, q, dq, tau, keep=None):
+    """The joints as a ``sensor_msgs/JointState`` bag (``keep``: the rows written), stamped
+    from 1 s on."""
+    from scalf_opt.io.ros_bag import JointStateSeries, write_bag
+
+    rows = list(range(len(names))) if keep is None else keep
+    series = JointStateSeries(
+        "/joint_states", tuple(names[k] for k in rows), t + 1.0, q[rows], dq[rows], tau[rows]
+    )
+    return write_bag(path, [series])
+
+
 @pytest.fixture(scope="module")
 def trot(tmp_path_factory):
     """Go1's reference trot at T 0.3 s, 500 Hz, 6 cycles: the export and the Unitree arrays."""
@@ -259,15 +271,11 @@ def test_bad_mapping_files_are_one_line(logs, tmp_path, capsys):
 
 
 def test_a_joint_named_twice_in_a_joint_state_bag_is_refused(trot, tmp_path):
-    from scalf_opt.io.ros_bag import JointStateSeries, write_bag
 
     _, (t, q, dq, tau, _) = trot
     names = list(UNITREE_ORDER)
     names[3] = names[0]
-    bag = write_bag(
-        tmp_path / "twice.mcap",
-        [JointStateSeries("/joint_states", tuple(names), t + 1.0, q, dq, tau)],
-    )
+    bag = joint_state_bag(tmp_path / "twice.mcap", names, t, q, dq, tau)
     with pytest.raises(LogError, match="named twice"):
         analyze_robot_log(bag, "go1", mapping="joint_state")
     from scalf_opt.api import analyze_log
@@ -277,43 +285,26 @@ def test_a_joint_named_twice_in_a_joint_state_bag_is_refused(trot, tmp_path):
 
 
 def test_mapping_tables_check_their_fields():
+    table = {
+        "source": "csv",
+        "time": "t",
+        "joints": ["a"],
+        "position": "q",
+        "effort": "e",
+        "foot_force": "f_{i}",
+    }
     with pytest.raises(ConfigError, match="fields foot_force and feet go together"):
-        mapping_from_dict(
-            {
-                "source": "csv",
-                "time": "t",
-                "joints": ["a"],
-                "position": "q",
-                "effort": "e",
-                "foot_force": "f_{i}",
-            },
-            "m",
-        )
+        mapping_from_dict(table, "m")
     with pytest.raises(ConfigError, match="'XX' is not a leg"):
-        mapping_from_dict(
-            {
-                "source": "csv",
-                "time": "t",
-                "joints": ["a"],
-                "position": "q",
-                "effort": "e",
-                "foot_force": "f_{i}",
-                "feet": ["XX"],
-            },
-            "m",
-        )
+        mapping_from_dict({**table, "feet": ["XX"]}, "m")
 
 
 def test_a_joint_state_bag_counts_every_joint_with_its_mapping(trot, tmp_path, capsys):
     """The same joints as JointState: the sagittal route says what it leaves out, the mapping
     ``joint_state`` counts every joint, and the two agree on the hip pitch and knee."""
-    from scalf_opt.io.ros_bag import JointStateSeries, write_bag
 
     _, (t, q, dq, tau, _) = trot
-    bag = write_bag(
-        tmp_path / "js.mcap",
-        [JointStateSeries("/joint_states", tuple(UNITREE_ORDER), t + 1.0, q, dq, tau)],
-    )
+    bag = joint_state_bag(tmp_path / "js.mcap", UNITREE_ORDER, t, q, dq, tau)
     assert main(["analyze-log", str(bag), "--robot", "go1"]) == 0
     out = capsys.readouterr().out
     assert "the joint angles' self-similarity" in out
@@ -421,15 +412,10 @@ def test_the_torques_hold_up_the_robots_weight(trot, logs, tmp_path):
 def test_a_log_without_the_abduction_is_read_and_says_so(trot, tmp_path):
     """A plan's export holds the hip pitch and knee only: read, the missing joints named; a log
     without a knee is refused."""
-    from scalf_opt.io.ros_bag import JointStateSeries, write_bag
 
     _, (t, q, dq, tau, _) = trot
     keep = [k for k, j in enumerate(UNITREE_ORDER) if not j.endswith("_hip_joint")]
-    names = tuple(UNITREE_ORDER[k] for k in keep)
-    bag = write_bag(
-        tmp_path / "sagittal.mcap",
-        [JointStateSeries("/joint_states", names, t + 1.0, q[keep], dq[keep], tau[keep])],
-    )
+    bag = joint_state_bag(tmp_path / "sagittal.mcap", UNITREE_ORDER, t, q, dq, tau, keep)
     analysis = analyze_robot_log(bag, "go1", mapping="joint_state").analysis
     assert len(analysis.joints) == 8 and analysis.left_out_share == 0.0
     assert any(
@@ -437,19 +423,7 @@ def test_a_log_without_the_abduction_is_read_and_says_so(trot, tmp_path):
         for n in analysis.notes
     )
     keep = [k for k, j in enumerate(UNITREE_ORDER) if j != "RL_calf_joint"]
-    bag = write_bag(
-        tmp_path / "kneeless.mcap",
-        [
-            JointStateSeries(
-                "/joint_states",
-                tuple(UNITREE_ORDER[k] for k in keep),
-                t + 1.0,
-                q[keep],
-                dq[keep],
-                tau[keep],
-            )
-        ],
-    )
+    bag = joint_state_bag(tmp_path / "kneeless.mcap", UNITREE_ORDER, t, q, dq, tau, keep)
     with pytest.raises(LogError, match="leg LH's joint 'RL_calf_joint' is not in the log"):
         analyze_robot_log(bag, "go1", mapping="joint_state")
 
@@ -466,7 +440,6 @@ def test_times_too_close_or_too_far_are_refused_in_every_reader(trot, tmp_path, 
     """The 10 us step and the 116-day span of the cylinder CSV hold for a robot's CSV, its bags
     and the sagittal reader of a JointState bag."""
     from scalf_opt.api import analyze_log
-    from scalf_opt.io.ros_bag import JointStateSeries, write_bag
 
     _, (t, q, dq, tau, force) = trot
     t = t.copy()
@@ -475,10 +448,7 @@ def test_times_too_close_or_too_far_are_refused_in_every_reader(trot, tmp_path, 
     with pytest.raises(LogError, match=message):
         analyze_robot_log(table, "go1", mapping=MAPPINGS / "unitree_sdk_csv.toml")
     bag_message = message.replace("row 52, column time_ms", "message 50")
-    bag = write_bag(
-        tmp_path / "js.mcap",
-        [JointStateSeries("/joint_states", tuple(UNITREE_ORDER), t + 1.0, q, dq, tau)],
-    )
+    bag = joint_state_bag(tmp_path / "js.mcap", UNITREE_ORDER, t, q, dq, tau)
     with pytest.raises(LogError, match=bag_message):
         analyze_robot_log(bag, "go1", mapping="joint_state")
     with pytest.raises(LogError, match=bag_message):
