@@ -42,6 +42,7 @@ from scalf_opt.logs.log_file import (
     CylinderLog,
     LegLog,
     check_times,
+    finite_number,
     parse_log,
 )
 from scalf_opt.types import JOINT_ROLES, LEG_NAMES
@@ -269,18 +270,10 @@ def _export_joint_log(rows: list[list[str]], header: list[str], source: str) -> 
         leg = cells[at["leg"]].strip()
         if leg not in samples:
             raise LogError(f"{source}: row {number}, column leg: {leg!r} is not a leg")
-        values = []
-        for column in ("t_s", "contact", *JOINT_COLUMNS):
-            try:
-                value = float(cells[at[column]])
-            except ValueError:
-                value = float("nan")
-            if not np.isfinite(value):
-                raise LogError(
-                    f"{source}: row {number}, column {column}: {cells[at[column]]!r} is not a "
-                    "finite number"
-                )
-            values.append(value)
+        values = [
+            finite_number(source, number, column, cells[at[column]])
+            for column in ("t_s", "contact", *JOINT_COLUMNS)
+        ]
         if samples[leg] and values[0] <= samples[leg][-1][0]:
             raise LogError(f"{source}: row {number}, column t_s: the time does not increase")
         samples[leg].append(values)

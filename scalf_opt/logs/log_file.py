@@ -91,7 +91,12 @@ class CylinderLog:
         return any(leg.contact is not None for leg in self.legs.values())
 
 
-def _number(source: str, row: int, column: str, cell: str) -> float:
+def finite_number(source: str, row: int, column: str, cell: str) -> float:
+    """A CSV cell as a finite number.
+
+    Raises:
+        LogError: Not a number, or NaN or infinite (the message names the row and column).
+    """
     try:
         value = float(cell)
     except ValueError:
@@ -283,7 +288,7 @@ def parse_log(text: str, source: str) -> CylinderLog:
                     f"{source}: row {row}, column {LEG}: {leg!r} is not a leg "
                     f"({', '.join(LEG_NAMES)})"
                 )
-            values = [_number(source, row, c, cells[position[c]].strip()) for c in numeric]
+            values = [finite_number(source, row, c, cells[position[c]].strip()) for c in numeric]
             if with_contact:
                 cell = cells[position[CONTACT]].strip()
                 if cell not in ("0", "1"):

@@ -9,7 +9,6 @@ from __future__ import annotations
 
 import csv
 import io
-import math
 from collections.abc import Callable
 from dataclasses import dataclass, replace
 from pathlib import Path
@@ -22,7 +21,7 @@ from scalf_opt.files import read_untrusted_text
 from scalf_opt.io.bag_bounds import MAX_JOINTS
 from scalf_opt.io.bag_topics import TopicRequest, field_getter, read_topics
 from scalf_opt.io.ros_bag import checked_names
-from scalf_opt.logs.log_file import MAX_LOG_BYTES
+from scalf_opt.logs.log_file import MAX_LOG_BYTES, finite_number
 from scalf_opt.logs.mapping import LogMapping
 
 ODOMETRY = "nav_msgs/msg/Odometry"
@@ -221,9 +220,7 @@ def csv_series(path: str | Path, mapping: LogMapping) -> JointSeries:
     try:
         for number, cells in enumerate(reader, start=2):
             if any(cell.strip() for cell in cells):
-                data.append(
-                    _row_numbers(cells, len(header), columns, index, f"{source}: row {number}")
-                )
+                data.append(_row_numbers(cells, len(header), columns, index, source, number))
                 numbers.append(number)
     except csv.Error as exc:
         raise LogError(f"{source}: row {reader.line_num}: not CSV ({exc})") from None
@@ -257,7 +254,7 @@ def _column_index(header: list[str], columns: list[str], source: str, mapping: s
 
 
 def _row_numbers(
-    cells: list[str], width: int, columns: list[str], index: list[int], where: str
+    cells: list[str], width: int, columns: list[str], index: list[int], source: str, row: int
 ) -> list[float]:
     """The mapped cells of one CSV row as finite numbers.
 
@@ -265,14 +262,8 @@ def _row_numbers(
         LogError: Another number of cells than the header's, or a cell that is no finite number.
     """
     if len(cells) != width:
-        raise LogError(f"{where}: {len(cells)} cells, the header has {width}")
-    row = []
-    for column, k in zip(columns, index, strict=True):
-        try:
-            value = float(cells[k])
-        except ValueError:
-            value = math.nan
-        if not math.isfinite(value):
-            raise LogError(f"{where}, column {column}: {cells[k][:40]!r} is not a finite number")
-        row.append(value)
-    return row
+        raise LogError(f"{source}: row {row}: {len(cells)} cells, the header has {width}")
+    return [
+        finite_number(source, row, column, cells[k].strip())
+        for column, k in zip(columns, index, strict=True)
+    ]
