@@ -109,7 +109,7 @@ def _fold(t: np.ndarray, values: np.ndarray, starts: np.ndarray, phase: np.ndarr
 def compare_with_plan(
     analysis: RobotLogAnalysis,
     robot: Robot,
-    folded_t: np.ndarray,
+    t_s: np.ndarray,
     power_w: dict[str, np.ndarray],
     foot_height_m: dict[str, np.ndarray],
     stance: dict[str, np.ndarray],
@@ -120,7 +120,7 @@ def compare_with_plan(
     Args:
         analysis: The log's analysis (its legs' periods, duty factors, speed).
         robot: The robot.
-        folded_t: The log's sample times [s].
+        t_s: The log's sample times [s].
         power_w: Per joint, its measured mechanical power ``|tau qd|`` at the samples [W].
         foot_height_m: Per leg, the foot's height in the leg plane at the samples [m].
         stance: Per leg, its stance samples.
@@ -171,7 +171,6 @@ def compare_with_plan(
     pipeline = EnergyPipeline(robot, gait, "paper", loads=loads or DEFAULT_LOADS)
     cycle = pipeline.robot_cycle(make_family("reference"))
     phase = np.linspace(0.0, 1.0, PHASE_POINTS)
-    t = folded_t
     joints = []
     for leg, cycles in analysis.legs.items():
         leg_cycle = cycle.legs[leg]
@@ -181,7 +180,7 @@ def compare_with_plan(
             [stance_phase.t_phase_s, stance_phase.t_phase_s[-1] + swing_phase.t_phase_s]
         )
         for energy in (j for j in analysis.joints if j.leg == leg):
-            measured_w = _fold(t, power_w[energy.joint], cycles.touchdowns_s, phase)
+            measured_w = _fold(t_s, power_w[energy.joint], cycles.touchdowns_s, phase)
             planned_j = 0.0
             planned_w = np.zeros(PHASE_POINTS)
             if energy.joint in modelled:
