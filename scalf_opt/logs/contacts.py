@@ -76,6 +76,18 @@ def force_stance(force: np.ndarray) -> np.ndarray | None:
     return _schmitt(force, lo + OFF_SHARE * span, lo + ON_SHARE * span)
 
 
+def configurations(log: RobotLog, robot: Robot, samples: np.ndarray) -> np.ndarray:
+    """The robot's configuration at the given samples, shape (nq, k).
+
+    The logged joints at their angles, the others at the reference posture.
+    """
+    model = robot.model
+    q = np.tile(neutral_configuration(robot)[:, None], (1, samples.size))
+    for joint, values in log.q_rad.items():
+        q[model.idx_qs[model.getJointId(joint)]] = values[samples]
+    return q
+
+
 def _roll_joint_ids(robot: Robot, leg: str) -> list[int]:
     """The joints of a leg's chain before its hip pitch (the abduction), trunk first."""
     model = robot.model
@@ -94,9 +106,7 @@ def foot_heights_m(log: RobotLog, robot: Robot) -> dict[str, np.ndarray]:
     model = robot.model
     data = model.createData()
     q0 = neutral_configuration(robot)
-    q = np.tile(q0[:, None], (1, log.t_s.size))
-    for joint, values in log.q_rad.items():
-        q[model.idx_qs[model.getJointId(joint)]] = values
+    q = configurations(log, robot, np.arange(log.t_s.size))
     frames = {leg: model.getFrameId(robot.leg(leg).foot_frame) for leg in log.legs}
     rolls = {leg: _roll_joint_ids(robot, leg) for leg in log.legs}
     zero = q0.copy()
@@ -132,9 +142,7 @@ def torque_forces_n(
     model = robot.model
     data = model.createData()
     index = np.arange(log.t_s.size) if samples is None else samples
-    q = np.tile(neutral_configuration(robot)[:, None], (1, index.size))
-    for joint, values in log.q_rad.items():
-        q[model.idx_qs[model.getJointId(joint)]] = values[index]
+    q = configurations(log, robot, index)
     zero = np.zeros(model.nv)
     frames = {leg: model.getFrameId(robot.leg(leg).foot_frame) for leg in log.legs}
     columns = {
