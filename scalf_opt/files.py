@@ -238,9 +238,15 @@ def _alive(pid: int) -> bool:
     return True
 
 
-def remove_stale_scratch(folder: str | Path | None = None) -> list[Path]:
-    """Remove the scratch folders (:func:`scratch_folder`) of processes that no longer run."""
+def remove_stale_scratch(
+    folder: str | Path | None = None, pids: Iterable[int] | None = None
+) -> list[Path]:
+    """Remove the scratch folders (:func:`scratch_folder`) of processes that no longer run.
+
+    ``pids``: only those of these processes (a command's own worker processes, once ended).
+    """
     folder = Path(tempfile.gettempdir() if folder is None else folder)
+    only = None if pids is None else set(pids)
     removed: list[Path] = []
     try:
         entries = list(folder.iterdir())
@@ -248,7 +254,10 @@ def remove_stale_scratch(folder: str | Path | None = None) -> list[Path]:
         return removed
     for path in entries:
         match = _SCRATCH.match(path.name)
-        if match and int(match.group(1)) != os.getpid() and not _alive(int(match.group(1))):
+        pid = int(match.group(1)) if match else None
+        if pid is None or (only is not None and pid not in only):
+            continue
+        if pid != os.getpid() and not _alive(pid):
             shutil.rmtree(path, ignore_errors=True)
             removed.append(path)
     return removed

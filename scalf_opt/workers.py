@@ -36,6 +36,7 @@ from concurrent.futures import Future, ThreadPoolExecutor
 from typing import IO, Any, TypeVar
 
 from scalf_opt.errors import ScalfError
+from scalf_opt.files import remove_stale_scratch
 from scalf_opt.interrupts import results_in_order
 
 T = TypeVar("T")
@@ -136,8 +137,7 @@ class WorkerProcesses:
                 if worker.poll() is None:
                     worker.kill()
         self._pool.shutdown(wait=True, cancel_futures=True)
-        for worker in self._running:
-            worker.wait()
+        _end(self._running)
 
     def submit(self, fn: Callable[[T], R], item: T, background: bool = False) -> Future[R]:
         """``fn(item)`` in a worker process, started as soon as fewer than ``concurrent`` run."""
@@ -218,8 +218,14 @@ def imap_in_processes(
                     worker.kill()
         for thread in drivers:
             thread.join()
-        for worker in running:
-            worker.wait()
+        _end(running)
+
+
+def _end(workers: list[subprocess.Popen[bytes]]) -> None:
+    """Wait for ``workers`` to end, then remove the scratch folders a killed one left."""
+    for worker in workers:
+        worker.wait()
+    remove_stale_scratch(pids=[worker.pid for worker in workers])
 
 
 THREADS_VARIABLE = "SCALF_OPT_THREADS"

@@ -154,3 +154,21 @@ def test_ctrl_c_in_source_text_exits_130_under_python_m(tmp_path):
     )
     assert done.returncode == 130, done.stderr
     assert done.stderr.strip() == "scalf-opt: error: interrupted"
+
+
+def test_a_gait_stopped_with_its_workers_leaves_no_temporary_file(tmp_path):
+    """SIGTERM to ``gait --workers 2``: its workers are killed, their scratch folders removed."""
+    if len(os.sched_getaffinity(0)) < 2:
+        pytest.skip("two workers need two usable cores")
+    argv = ["gait", "--robot", "scalf", "--speed", "0.8:1.0:0.2", "--workers", "2", "--out", "g"]
+    proc = _start(tmp_path, *argv)
+    deadline = time.monotonic() + 300
+    while len(list((tmp_path / "tmp").glob("scalf-opt-case-*"))) < 2:  # both workers at work
+        assert proc.poll() is None, "finished before its workers made their scratch folders"
+        assert time.monotonic() < deadline
+        time.sleep(0.05)
+    proc.send_signal(signal.SIGTERM)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 143, err
+    assert "Traceback" not in err
+    assert _leftovers(tmp_path) == [] and not (tmp_path / "g").exists()

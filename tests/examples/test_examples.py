@@ -33,7 +33,8 @@ def test_the_walkthrough_script_runs_end_to_end(tmp_path):
     assert (tmp_path / "long.urdf").is_file()
 
 
-def test_the_notebook_runs(tmp_path):
+def test_the_notebook_runs(tmp_path, monkeypatch):
+    monkeypatch.setenv("TMPDIR", str(tmp_path))  # the notebook's own folder is left with the test's
     nbformat = pytest.importorskip("nbformat")
     nbclient = pytest.importorskip("nbclient")
     pytest.importorskip("meshcat")
