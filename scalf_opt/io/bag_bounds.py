@@ -12,7 +12,11 @@ MCAP chunk that declares (or hides) gigabytes. Here
   :func:`bounded_zstd` while the bag is read (:func:`bounded_decompression`): at most
   :data:`MAX_CHUNK_BYTES`, and for an MCAP chunk no more than it declares;
 * ``metadata.yaml`` is at most :data:`MAX_METADATA_BYTES` and lists each file once, at most
-  :data:`MAX_BAG_FILES` files.
+  :data:`MAX_BAG_FILES` files;
+* a sqlite3 file holds what a recorder writes, tables and indexes with stored columns
+  (:func:`check_sqlite_files`): a view (a recursive one never ends, in C code that no signal
+  stops), a trigger, a virtual table or a generated column (a ``zeroblob`` of gigabytes in a
+  file of kilobytes) is refused before ``rosbags`` queries the file.
 
 A bag that breaks a bound is refused with one line naming the bag (not the private copy).
 """
@@ -20,6 +24,7 @@ A bag that breaks a bound is refused with one line naming the bag (not the priva
 from __future__ import annotations
 
 import re
+import sqlite3
 from collections import Counter
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager
@@ -48,6 +53,9 @@ foot forces at 1 kHz for 42 minutes; a flood of messages is refused, not read in
 MAX_JOINTS = 256
 """Most joints one message may name (far above any legged robot, far below what would cost
 memory: a message of millions of names is refused before its names are compared)."""
+
+_SQLITE_STEPS = 10_000_000
+"""Most virtual-machine steps sqlite may take to answer the schema checks (a few thousand)."""
 
 _FILE_MODE = re.compile(r"^(\s*compression_mode:\s*)['\"]?file['\"]?\s*$", re.MULTILINE | re.I)
 
@@ -152,6 +160,61 @@ def inflate_compressed_files(folder: Path, shown: Path, budget: int) -> None:
     plain_text = _FILE_MODE.sub(lambda m: f"{m.group(1)}''", text)
     plain_text = re.sub(r"\.zstd(['\"]?)\s*$", r"\1", plain_text, flags=re.MULTILINE)
     (folder / "metadata.yaml").write_text(plain_text, encoding="utf-8")
+
+
+def check_sqlite_files(local: Path, shown: Path) -> None:
+    """Refuse a sqlite3 bag (``local``: its private copy) holding more than a recorder writes.
+
+    ``shown``: the bag the user named. A file that is not a sqlite3 database is left to
+    ``rosbags``, which says so.
+
+    Raises:
+        LogError: A ``.db3`` file holds a view, a trigger, a virtual table or a generated column
+            (module docstring); the message names the file and the object.
+    """
+    files = sorted(local.glob("*.db3")) if local.is_dir() else [local]
+    for database in files:
+        where = shown / database.name if local.is_dir() else shown
+        try:
+            problem = _sqlite_problem(database)
+        except sqlite3.DatabaseError:
+            continue
+        if problem:
+            raise LogError(f"{where}: {problem}; a ROS 2 recorder writes tables of stored columns")
+
+
+def _sqlite_problem(database: Path) -> str | None:
+    """What in ``database`` a recorder does not write, or ``None``."""
+    steps = iter(range(_SQLITE_STEPS // 100))
+    connection = sqlite3.connect(f"{database.resolve().as_uri()}?mode=ro", uri=True)
+    try:
+        # called every 100 steps: a true answer interrupts the query
+        connection.set_progress_handler(lambda: next(steps, None) is None, 100)
+        objects = connection.execute("SELECT type, name, sql FROM sqlite_master").fetchall()
+        for kind, name, sql in objects:
+            shown = repr(str(name)[:100])
+            if kind not in ("table", "index"):
+                return f"the database holds a {kind} ({shown})"
+            if kind == "table" and str(sql or "").lstrip().upper().startswith("CREATE VIRTUAL"):
+                return f"the database holds a virtual table ({shown})"
+        for kind, name, _ in objects:
+            if kind != "table":
+                continue
+            columns = connection.execute("SELECT * FROM pragma_table_xinfo(?)", (name,))
+            # the sixth field, "hidden": 2 and 3 mark a generated column
+            generated = [column[1] for column in columns if column[6] in (2, 3)]
+            if generated:
+                return (
+                    f"the table {str(name)[:100]!r} has a generated column "
+                    f"({str(generated[0])[:100]!r})"
+                )
+    except sqlite3.OperationalError as exc:
+        if "interrupted" in str(exc):
+            return "its schema takes too long to read"
+        raise sqlite3.DatabaseError(str(exc)) from None
+    finally:
+        connection.close()
+    return None
 
 
 @contextmanager

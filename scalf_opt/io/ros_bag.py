@@ -36,6 +36,7 @@ from scalf_opt.io.bag_bounds import (
     MAX_JOINTS,
     MAX_VALUES,
     bounded_decompression,
+    check_sqlite_files,
     inflate_compressed_files,
 )
 
@@ -232,6 +233,7 @@ def opened_bag(path: Path) -> Iterator[Any]:
         if local.is_dir() and (local / "metadata.yaml").exists():
             copied = sum(f.stat().st_size for f in local.iterdir())
             inflate_compressed_files(local, path, MAX_BAG_BYTES - copied)
+        check_sqlite_files(local, path)
         try:
             reader = AnyReader([local])
             reader.open()

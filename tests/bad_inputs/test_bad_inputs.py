@@ -73,7 +73,26 @@ def generated(kind: str) -> bytes:
     if what == "log-rate":  # RF alone, sampled at n Hz
         rows = "".join(f"{k / n!r},RF,0.3,0.3,100,100\n" for k in range(200))
         return ("t_s,leg,hip_length_m,knee_length_m,hip_force_n,knee_force_n\n" + rows).encode()
+    if what == "sqlite-view":  # a sqlite3 bag whose messages are a recursive view of n rows
+        return _sqlite_bytes(
+            "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT, type TEXT, "
+            "serialization_format TEXT, offered_qos_profiles TEXT);"
+            "CREATE TABLE m0(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER, data BLOB);"
+            "WITH RECURSIVE k(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM k LIMIT "
+            f"{n}) INSERT INTO m0 SELECT i, 1, i, x'00' FROM k;"
+            "CREATE VIEW messages AS WITH RECURSIVE r(id, topic_id, timestamp, data) AS "
+            "(SELECT * FROM m0 UNION ALL SELECT * FROM r) SELECT * FROM r ORDER BY timestamp;"
+        )
     raise AssertionError(f"unknown generated input {kind!r}")
+
+
+def _sqlite_bytes(script: str) -> bytes:
+    """The bytes of a sqlite3 database that ``script`` builds."""
+    import sqlite3
+
+    database = sqlite3.connect(":memory:")
+    database.executescript(script)
+    return database.serialize()
 
 
 def materialize(case, tmp_path):

@@ -156,3 +156,47 @@ def test_a_message_of_too_many_joints_or_a_flood_is_refused(tmp_path, monkeypatc
     bag = write(tmp_path / "flood", messages=400)  # 400 messages x 3 x 2 joints = 2,400 numbers
     with pytest.raises(LogError, match=r"holds more than 1,000 numbers"):
         read_joint_states(bag)
+
+
+# What a recorder never writes into its sqlite3 file, each as a hostile bag would hold it: a
+# recursive view spun forever in sqlite's C code (no signal stopped it), a generated column
+# conjured a gigabyte from a file of kilobytes.
+_SCHEMA_ATTACKS = {
+    "recursive view": (
+        "ALTER TABLE schema RENAME TO s0; CREATE VIEW schema AS WITH RECURSIVE r(v, d) AS "
+        "(SELECT schema_version, ros_distro FROM s0 UNION ALL SELECT v, d FROM r) "
+        "SELECT * FROM r ORDER BY 1",
+        r"bag/bag\.db3: the database holds a view \('schema'\)",
+    ),
+    "generated column": (
+        "ALTER TABLE messages RENAME TO m0; CREATE TABLE messages(id INTEGER PRIMARY KEY, "
+        "topic_id INTEGER, timestamp INTEGER, kept BLOB, data BLOB GENERATED ALWAYS AS "
+        "(zeroblob(1000000000)) VIRTUAL); INSERT INTO messages(id, topic_id, timestamp, kept) "
+        "SELECT id, topic_id, timestamp, data FROM m0; DROP TABLE m0",
+        r"the table 'messages' has a generated column \('data'\)",
+    ),
+    "trigger": (
+        "CREATE TRIGGER t AFTER INSERT ON topics BEGIN DELETE FROM messages; END",
+        r"the database holds a trigger \('t'\)",
+    ),
+}
+
+
+@pytest.mark.parametrize("attack", sorted(_SCHEMA_ATTACKS))
+def test_a_sqlite_bag_holding_more_than_tables_is_refused(tmp_path, attack):
+    import sqlite3
+
+    script, message = _SCHEMA_ATTACKS[attack]
+    bag = write(tmp_path / "bag", messages=20)
+    database = sqlite3.connect(bag / "bag.db3")
+    database.executescript(script)
+    database.close()
+    with pytest.raises(LogError, match=message):
+        read_joint_states(bag)
+
+
+def test_a_sqlite_bag_s_schema_checks_are_bounded(tmp_path, monkeypatch):
+    bag = write(tmp_path / "bag", messages=20)
+    monkeypatch.setattr(bounds, "_SQLITE_STEPS", 0)  # none: the first hundred steps stop it
+    with pytest.raises(LogError, match="bag/bag.db3: its schema takes too long to read"):
+        read_joint_states(bag)
