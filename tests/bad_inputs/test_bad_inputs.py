@@ -77,7 +77,8 @@ def generated(kind: str) -> bytes:
         return _sqlite_bytes(
             "CREATE TABLE topics(id INTEGER PRIMARY KEY, name TEXT, type TEXT, "
             "serialization_format TEXT, offered_qos_profiles TEXT);"
-            "CREATE TABLE m0(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER, data BLOB);"
+            "CREATE TABLE m0(id INTEGER PRIMARY KEY, topic_id INTEGER, timestamp INTEGER, "
+            "data BLOB);"
             "WITH RECURSIVE k(i) AS (SELECT 1 UNION ALL SELECT i + 1 FROM k LIMIT "
             f"{n}) INSERT INTO m0 SELECT i, 1, i, x'00' FROM k;"
             "CREATE VIEW messages AS WITH RECURSIVE r(id, topic_id, timestamp, data) AS "
