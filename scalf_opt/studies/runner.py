@@ -35,6 +35,7 @@ from scalf_opt.studies.case import (
 )
 from scalf_opt.studies.gait_case import GAIT_COLUMNS
 from scalf_opt.studies.progress import Progress
+from scalf_opt.studies.scheduler import check_scheduler, scheduler_endpoint
 from scalf_opt.studies.study_file import Case, Study
 from scalf_opt.viz.figures import save_atomic
 from scalf_opt.viz.study_figures import study_figure
@@ -103,6 +104,7 @@ def _pool(workers: int) -> Runner:
 
 
 def _dask(address: str) -> Runner:
+    scheduler_endpoint(address)  # a mistyped address is refused before anything runs
     try:
         from dask.distributed import Client
         from dask.distributed import as_completed as dask_completed
@@ -112,8 +114,9 @@ def _dask(address: str) -> Runner:
         ) from exc
 
     def run(cases: list[Case]) -> Iterator[tuple[Case, dict[str, Any]]]:
+        checked = check_scheduler(address)
         try:
-            client = Client(address, timeout="10s")
+            client = Client(checked, timeout="10s")
         except (OSError, TimeoutError, ValueError) as exc:
             raise ConfigError(
                 f"--scheduler {address}: cannot reach the Dask scheduler ({exc})"

@@ -106,7 +106,11 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
     add_loads(parser)
     parser.add_argument("--workers", type=bounded(int, MAX_WORKERS), metavar="N", help=WORKERS_HELP)
-    parser.add_argument("--scheduler", metavar="URL", help="a Dask scheduler, e.g. tcp://host:8786")
+    parser.add_argument(
+        "--scheduler",
+        metavar="URL",
+        help="a Dask scheduler, tcp://host:port (e.g. tcp://host:8786)",
+    )
     parser.add_argument(
         "--out",
         type=Path,
