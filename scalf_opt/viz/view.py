@@ -14,6 +14,7 @@ from scalf_opt.model.robot import Robot
 from scalf_opt.viz.html import scene_page
 from scalf_opt.viz.scene import SceneOptions, build_scene
 from scalf_opt.viz.trajectories import Trajectory
+from scalf_opt.viz.visuals import Visual
 
 
 def check_output_file(path: str | Path, suffix: str) -> Path:
@@ -35,12 +36,16 @@ def write_scene_html(
     robot: Robot,
     trajectories: Sequence[Trajectory],
     options: SceneOptions | None = None,
+    visuals: tuple[list[Visual], list[str]] | None = None,
 ) -> Path:
     """Write the offline HTML view of ``trajectories`` on ``robot`` to ``out`` (atomically).
+
+    ``visuals``: the robot's visuals, when loaded already (see
+    :func:`~scalf_opt.viz.scene.build_scene`).
 
     Raises:
         ConfigError: Bad output path or options; meshcat is not installed.
         ModelError: The robot's visual geometry cannot be loaded.
     """
     path = check_output_file(out, ".html")
-    return write_atomic(path, scene_page(build_scene(robot, trajectories, options)))
+    return write_atomic(path, scene_page(build_scene(robot, trajectories, options, visuals)))

@@ -195,3 +195,19 @@ def test_screenshot_without_chromium_fails_before_any_work(tmp_path, monkeypatch
     code = main(["view", "--out", str(out), "--screenshot", str(tmp_path / "shot.png")])
     err = capsys.readouterr().err
     assert code == 2 and "--screenshot needs Chromium" in err and not out.exists()
+
+
+def test_view_refuses_a_bad_mesh_before_it_optimizes(tmp_path, monkeypatch, capsys):
+    """The meshes are checked up front (as docs/limits.md says): no solve runs first."""
+    import scalf_opt.api.presentation as presentation
+
+    def solve(*args, **kwargs):
+        raise AssertionError("view optimized before it checked the meshes")
+
+    monkeypatch.setattr(presentation, "shown_trajectories", solve)
+    urdf = tmp_path / "robot.urdf"
+    text = (Path(__file__).parents[2] / "urdf" / "scalf.urdf").read_text()
+    urdf.write_text(text.replace('<box size="1.5 0.45 0.3"/>', '<mesh filename="gone.stl"/>'))
+    code = main(["view", "--urdf", str(urdf), "--out", str(tmp_path / "scene.html")])
+    assert code == 2
+    assert "gone.stl" in capsys.readouterr().err

@@ -82,6 +82,7 @@ def run(args: argparse.Namespace) -> int:
     from scalf_opt.errors import ConfigError
     from scalf_opt.viz.scene import SceneOptions
     from scalf_opt.viz.view import check_output_file, write_scene_html
+    from scalf_opt.viz.visuals import load_visuals
 
     out = check_output_file(args.out, ".html")
     if args.screenshot is not None:
@@ -99,6 +100,7 @@ def run(args: argparse.Namespace) -> int:
     refuse_gait_with_saved(args)
     robot = load_robot(args, next(iter(args.from_dirs), None))
     warn_without_effect(args, robot)
+    visuals = load_visuals(robot)  # a mesh too large or missing is refused before any solve
     try:
         with ProgressBar(None, "view", enabled=not args.quiet) as bar:
             _, shown = shown_trajectories(
@@ -112,7 +114,7 @@ def run(args: argparse.Namespace) -> int:
     except NotSolvedError as exc:
         args.console.error(f"{exc}; nothing written")
         return 3
-    write_scene_html(out, robot, shown, options)
+    write_scene_html(out, robot, shown, options, visuals)
     for trajectory in shown:
         cycle = trajectory.cycle
         args.console.text(
