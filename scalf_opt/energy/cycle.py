@@ -13,6 +13,16 @@ from scalf_opt.locomotion.trot import SYMMETRIC_TWIN
 from scalf_opt.types import FIRST_PAIR, Accounting
 
 
+def energy_basis(loads: str, accounting: str, sample_rate_hz: float) -> str:
+    """What a printed energy of the model is: its stance loads, accounting and sample rate.
+
+    The same motion's energy differs with each (SCalf's reference: 382.299 J whole-body at
+    200 Hz, 381.999 J at 300 Hz, 282.259 J under the trunk-only loads), so every command that
+    prints one says which.
+    """
+    return f"loads '{loads}', accounting '{accounting}', {sample_rate_hz:.4g} Hz"
+
+
 def change_percent(new: float, reference: float) -> float:
     """Signed change of ``new`` against ``reference`` [%]."""
     return 100.0 * (new - reference) / reference
@@ -92,6 +102,11 @@ class RobotCycle:
             for c in self.legs.values()
         ]
         return float(np.mean(norms))
+
+    @property
+    def basis(self) -> str:
+        """What this cycle's energies are (:func:`energy_basis`)."""
+        return energy_basis(self.loads, self.accounting, self.gait.sample_rate_hz)
 
     @property
     def energy_j(self) -> float:

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 from typing import Any
 
+from scalf_opt.energy.cycle import energy_basis
 from scalf_opt.types import LEG_NAMES
 
 
@@ -35,8 +36,10 @@ def _inverse_dynamics_rows(result: dict[str, Any]) -> list[str]:
 def simulation_report(result: dict[str, Any], title: str) -> str:
     """Trunk motion, foot forces and slip, joint energy against the model, checks and goals."""
     goals = result["goals"]
+    basis = energy_basis(result["loads"], result["accounting"], result["gait"]["sample_rate_hz"])
     lines = [
         title,
+        f"the model it is compared with: {basis}",
         "",
         f"trunk height fluctuation  {1e3 * result['trunk_height_fluctuation_m']:8.3f} mm   "
         f"goal <= {1e3 * goals['trunk_height_fluctuation_at_most_m']:.2g} mm: "

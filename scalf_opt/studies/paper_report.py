@@ -141,7 +141,7 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
     rows = table6_rows(rep)
     lines += [
         "",
-        "## Table 6: energy per cycle (simulation)",
+        f"## Table 6: energy per cycle (simulation), the paper's {rep.pipeline.loads} loads",
         "",
         "Each row is sampled at the rate its optimization converged at (every optimum's swing "
         "energy agrees with its energy at ten times the rate within 0.5 %); its changes are "
@@ -273,6 +273,65 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         "![RF swing foot paths and power](swing_paths.png)",
     ]
     return "\n".join(lines) + "\n"
+
+
+def paper_summary(rep: Reproduction, robot: Robot, report: Path) -> str:
+    """What ``scalf-opt paper`` prints: Table 6's totals, the checks, where the report is.
+
+    The whole report (Tables 5 and 6 per leg, the validation, the bound, the stance) is
+    ``report``; this is its short form, lines of at most 100 characters.
+    """
+    g = rep.gait
+    compare = is_paper_setup(robot, g)
+    head = "SCalf paper reproduction" if compare else f"The paper's comparison on {robot.name}"
+    lines = [
+        f"{head}: trot T = {g.period_s:g} s, duty {g.duty_cycle:g}, S = {g.step_length_m:g} m, "
+        f"H = {g.clearance_m:g} m, z0 = {g.stance_height_m:g} m",
+        f"Table 6, the model's energy per cycle (loads '{rep.pipeline.loads}', accounting "
+        f"'{rep.reference.accounting}');",
+        "each row at the rate its optimization converged at, its change against the reference "
+        "there:",
+        f"  {'trajectory':<48}{'rate':>7}{'total':>12}{'power':>11}{'change':>10}",
+    ]
+    for row in table6_rows(rep):
+        label = str(row["trajectory"])
+        label = label.split(" (")[0] if "free stance" in label else label
+        lines.append(
+            f"  {label:<48}{row['sample_rate_hz']:>4g} Hz{row['total_energy_j']:>10.3f} J"
+            f"{row['average_power_w']:>9.2f} W{_signed(float(row['total_change_pct'])):>10}"
+        )
+    if compare:
+        lines.append(
+            f"  the paper (Table 6): {paper_data.REFERENCE_AVERAGE_POWER_W} W -> "
+            f"{paper_data.OPTIMIZED_AVERAGE_POWER_W} W, "
+            f"{_signed(paper_data.TABLE6_CHANGE_PERCENT['total']['total'])}"
+        )
+    if rep.whole_body is not None:
+        whole = rep.whole_body
+        ref = whole.reference
+        answer = (
+            f"{whole.run.family.name} optimum {whole.run.cycle().energy_j:.3f} J "
+            f"({_signed(change_percent(whole.run.cycle().energy_j, ref.energy_j))})"
+            if whole.run.success
+            else f"the {whole.run.family.name} optimum did NOT converge"
+        )
+        lines += [
+            f"under whole-body loads (the other commands' default), {whole.run.rate_hz:g} Hz:",
+            f"  reference {ref.energy_j:.3f} J, {answer}",
+        ]
+    gaps = ", ".join(
+        f"{leg} {gap_percent(rep.optima['pattern_fine'][leg], rep.optima['ipopt'][leg]):+.5f} %"
+        for leg in PAIR
+    )
+    verdict = validation_verdict(rep).replace("**", "").split(":")[0].lower()
+    lines.append(f"pattern search (precision 1e-4) against Ipopt: {gaps}; {verdict}")
+    if rep.bounds:
+        bound = ", ".join(f"{leg} {b.check_energy_j:.3f} J" for leg, b in rep.bounds.items())
+        lines.append(f"free-trajectory bound of the swing energy: {bound}")
+    if not rep.all_solved:
+        lines.append("NOT every optimizer converged: the report's status columns say which")
+    lines.append(f"the whole report: {report} (Tables 5 and 6 per leg, checks, figures)")
+    return "\n".join(lines)
 
 
 def write_paper_outputs(

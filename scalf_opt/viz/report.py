@@ -93,7 +93,8 @@ def evaluate_report(
     lines += [
         "",
         f"total energy per cycle       {cycle.energy_j:10.3f} J "
-        f"(mean of {g.cycles} identical periodic cycles)",
+        f"(loads '{cycle.loads}', {g.sample_rate_hz:.4g} Hz; mean of {g.cycles} periodic "
+        "cycles)",
     ]
     power = f"average total power          {cycle.average_power_w:10.2f} W"
     if comparison is not None:

@@ -160,11 +160,11 @@ def build_scene(
     robot: Robot,
     trajectories: Sequence[Trajectory],
     options: SceneOptions | None = None,
-    visuals: tuple[list[Visual], list[str]] | None = None,
+    loaded: tuple[list[Visual], list[str]] | None = None,
 ) -> Scene:
     """The scene of ``trajectories`` walked by ``robot``.
 
-    ``visuals``: the robot's :func:`~scalf_opt.viz.visuals.load_visuals`, when loaded already
+    ``loaded``: the robot's :func:`~scalf_opt.viz.visuals.load_visuals`, when loaded already
     (``view`` loads them before it optimizes, so that a bad mesh is refused first).
 
     Raises:
@@ -174,7 +174,7 @@ def build_scene(
     opts = options or SceneOptions()
     if not trajectories:
         raise ConfigError("nothing to show: give at least one trajectory")
-    visuals, skipped = load_visuals(robot) if visuals is None else visuals
+    visuals, skipped = load_visuals(robot) if loaded is None else loaded
     gait = trajectories[0].cycle.gait
     spacing = lateral_spacing_m(robot)
     walks = [

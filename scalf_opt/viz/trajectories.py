@@ -32,10 +32,23 @@ class Trajectory:
 
     @property
     def energy_model(self) -> str:
-        """What its energies were evaluated with: ``whole-body loads, paper accounting``."""
-        return f"{self.cycle.loads} loads, {self.cycle.accounting} accounting"
+        """What its energies are: ``loads 'whole-body', accounting 'paper', 300 Hz``."""
+        return self.cycle.basis
 
 
 def energy_models(trajectories: Sequence[Trajectory]) -> str:
     """The energy models of ``trajectories``, each once, for a figure's title."""
     return "; ".join(dict.fromkeys(t.energy_model for t in trajectories))
+
+
+def energy_lines(trajectories: Sequence[Trajectory]) -> list[str]:
+    """A line per trajectory, its energy per cycle and average power, and what they are.
+
+    When the trajectories share their loads, accounting and rate, a first line says them once.
+    """
+    models = dict.fromkeys(t.energy_model for t in trajectories)
+    lines = [f"the model's energy per cycle ({next(iter(models))}):"] if len(models) == 1 else []
+    for t in trajectories:
+        own = "" if len(models) == 1 else f" ({t.energy_model})"
+        lines.append(f"  {t.label}: {t.cycle.energy_j:.3f} J, {t.cycle.average_power_w:.2f} W{own}")
+    return lines

@@ -20,7 +20,7 @@ from scalf_opt.cli import main
 
 pytestmark = pytest.mark.slow
 
-ENERGY_LINE = re.compile(r"^(?P<label>.+): (?P<energy>\d+\.\d{3}) J per cycle", re.MULTILINE)
+ENERGY_LINE = re.compile(r"^  (?P<label>.+): (?P<energy>\d+\.\d{3}) J, ", re.MULTILINE)
 
 
 def printed(value: float) -> str:
@@ -81,7 +81,10 @@ def test_view_figures_and_paper_print_the_optimize_numbers(tmp_path, capsys):
     # under whole-body loads: optimize's default numbers
     trunk_optimized, trunk_reference = optimize_numbers("joint-6", capsys, "--loads", "trunk")
     assert main(["paper", "--quick", "--out", str(tmp_path / "paper")]) == 0
-    capsys.readouterr()
+    summary = capsys.readouterr().out  # the short form; the whole report is report.md
+    lines = summary.replace(str(tmp_path), "DIR").splitlines()[:-1]  # the "wrote" line
+    assert max(map(len, lines)) <= 100 and len(lines) <= 20
+    assert f"{trunk_optimized} J" in summary and f"reference {reference} J" in summary
     table6 = json.loads((tmp_path / "paper" / "paper.json").read_text())["table6"]
     (row,) = [r for r in table6 if r["trajectory"] == "Ipopt, joint-6 family"]
     assert (printed(row["total_energy_j"]), printed(row["reference_total_energy_j"])) == (

@@ -75,6 +75,7 @@ def run(args: argparse.Namespace) -> int:
     from scalf_opt.errors import ConfigError
     from scalf_opt.studies.search import search_study
     from scalf_opt.viz.figure_set import write_figures
+    from scalf_opt.viz.trajectories import energy_lines
 
     check_output_dir(args.out)
     if args.grid < 3:
@@ -97,11 +98,7 @@ def run(args: argparse.Namespace) -> int:
         return 3
     formats = tuple(dict.fromkeys(args.formats or ("png", "svg")))
     written = write_figures(args.out, robot, shown, search, formats)
-    for trajectory in shown:
-        cycle = trajectory.cycle
-        args.console.text(
-            f"{trajectory.label}: {cycle.energy_j:.3f} J per cycle, {cycle.average_power_w:.2f} W"
-        )
+    args.console.text("\n".join(energy_lines(shown)))
     names = sorted({p.stem for p in written}, key=[p.stem for p in written].index)
     args.console.text(f"wrote {args.out}/: {', '.join(names)} ({', '.join(formats)})")
     return 0

@@ -22,6 +22,7 @@ EXAMPLES = (
     ("scalf-opt paper", "Tables 5 and 6 with the bound and the free stance (results/paper)"),
     ("scalf-opt paper --quick --out results/quick", "the paper's comparison only"),
     ("scalf-opt paper --json | head", "the same data as paper.json"),
+    ("scalf-opt paper --quick --markdown", "the whole report (report.md) on stdout"),
 )
 
 
@@ -41,6 +42,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         help="the paper's comparison only: leave out the free-trajectory bound (and the gaps to "
         "it) and the free stance, which take most of the time",
     )
+    parser.add_argument(
+        "--markdown",
+        action="store_true",
+        help="print the whole Markdown report (report.md: Tables 5 and 6 per leg, the "
+        "validation, the bound, the stance) instead of its summary",
+    )
     add_accept_unconverged(parser)
 
 
@@ -48,7 +55,11 @@ def run(args: argparse.Namespace) -> int:
     """Exit 0 when everything converged, 3 otherwise (unless accepted)."""
     from scalf_opt.api import paper
     from scalf_opt.cli.progress import ProgressBar
-    from scalf_opt.studies.paper_report import paper_markdown, write_paper_outputs
+    from scalf_opt.studies.paper_report import (
+        paper_markdown,
+        paper_summary,
+        write_paper_outputs,
+    )
 
     check_output_dir(args.out)
     robot = load_robot(args)
@@ -64,7 +75,10 @@ def run(args: argparse.Namespace) -> int:
         )
     rep = result.reproduction
     written = write_paper_outputs(rep, robot, args.out, args.argv)
-    args.console.text(paper_markdown(rep, robot))
+    if args.markdown:
+        args.console.text(paper_markdown(rep, robot))
+    else:
+        args.console.text(paper_summary(rep, robot, args.out / "report.md"))
     args.console.text(f"wrote {args.out}/" + ", ".join(p.name for p in written))
     args.console.json(result.to_dict())
     if not rep.all_solved:

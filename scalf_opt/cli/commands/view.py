@@ -81,6 +81,7 @@ def run(args: argparse.Namespace) -> int:
     from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.errors import ConfigError
     from scalf_opt.viz.scene import SceneOptions
+    from scalf_opt.viz.trajectories import energy_lines
     from scalf_opt.viz.view import check_output_file, write_scene_html
     from scalf_opt.viz.visuals import load_visuals
 
@@ -115,11 +116,7 @@ def run(args: argparse.Namespace) -> int:
         args.console.error(f"{exc}; nothing written")
         return 3
     write_scene_html(out, robot, shown, options, visuals)
-    for trajectory in shown:
-        cycle = trajectory.cycle
-        args.console.text(
-            f"{trajectory.label}: {cycle.energy_j:.3f} J per cycle, {cycle.average_power_w:.2f} W"
-        )
+    args.console.text("\n".join(energy_lines(shown)))
     args.console.text(f"wrote {out} (open it in a browser; it needs no network)")
     if args.screenshot is not None:
         from scalf_opt.viz.browser import render_page
