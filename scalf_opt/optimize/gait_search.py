@@ -108,6 +108,10 @@ GRID_PERIOD_FACTORS = (0.5, 0.7, 1.0, 1.4, 2.0)
 GRID_DUTIES = (0.5, 0.6, 0.7)
 """The coarse grid's duty cycles."""
 
+USUAL_GAITS_PER_SPEED = 145
+"""About how many gaits one speed's search tries (SCalf's and Go1's six speeds in
+``benchmarks/bench_gait.py``: 146 and 140 a speed); the progress line's "of about"."""
+
 MAX_SPEED_M_S = 10.0
 """The fastest target speed accepted [m/s] (no trotting robot's; the reach refuses far less)."""
 
@@ -382,6 +386,25 @@ def _default_evaluation(
     return evaluation, reference
 
 
+def search_progress(
+    gait: int, start: float, now: float | None = None, usual: int = USUAL_GAITS_PER_SPEED
+) -> str:
+    """How far a speed's search is: ``gait 40 of about 145, about 2 min left``.
+
+    ``gait``: the count of gaits tried, this one included; ``start``: when the search began
+    (:func:`time.perf_counter`); the time left is estimated from the pace so far.
+    """
+    now = time.perf_counter() if now is None else now
+    if gait > usual:
+        return f"gait {gait} (more than the usual {usual})"
+    text = f"gait {gait} of about {usual}"
+    if gait < 5:  # too few to tell a pace
+        return text
+    left_s = (now - start) / (gait - 1) * (usual - gait + 1)
+    left = f"{left_s:.0f} s" if left_s < 90 else f"{left_s / 60:.0f} min"
+    return f"{text}, about {left} left"
+
+
 def optimize_gait(
     pipeline: EnergyPipeline,
     speed_m_s: float,
@@ -400,7 +423,7 @@ def optimize_gait(
         settings: How the swings are optimized (default: ``scalf-opt optimize``'s).
         box: The search box (default :meth:`GaitBox.around` the base gait).
         progress: Called with a label as each new gait's swings start being optimized
-            (``0.5 m/s: gait 7, T = 0.550 s, duty 0.600``).
+            (``0.5 m/s: gait 7 of about 145, about 4 min left, T = 0.550 s, duty 0.600``).
 
     Raises:
         ConfigError: A speed out of range, a family without parameters.
@@ -428,8 +451,8 @@ def optimize_gait(
             return StanceEvaluation(gait, math.inf, why)
         if progress is not None and GaitTrials.key(gait) not in trials.seen:
             progress(
-                f"{speed_m_s:g} m/s: gait {len(trials.seen) + 1}, T = {gait.period_s:.3f} s, "
-                f"duty {gait.duty_cycle:.3f}"
+                f"{speed_m_s:g} m/s: {search_progress(len(trials.seen) + 1, start)}, "
+                f"T = {gait.period_s:.3f} s, duty {gait.duty_cycle:.3f}"
             )
         return trials.evaluate(gait)
 

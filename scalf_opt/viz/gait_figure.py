@@ -4,8 +4,9 @@ Top: the cost of transport of the cheapest trot (solid), of the robot's default 
 each speed with optimized swings (dashed) and with the reference swing (dotted); a speed whose
 search did not succeed is marked ``x`` on the axis. Below, one panel each: the cheapest gait's
 period, duty cycle, step length, stance height, stance x-offsets (front and hind) and average
-power against speed, with units; a gait pinned by a limit or a search-box edge is a hollow
-marker, on its cheapest cost of transport and in every panel.
+power against speed, with units. Every cheapest gait sits on some limit (``pinned_by`` names
+them); one held by an edge of the search box rather than by the robot is a hollow marker, on its
+cheapest cost of transport and in every panel: a wider box might find a cheaper gait there.
 """
 
 from __future__ import annotations
@@ -64,7 +65,7 @@ def gait_figure(rows: Sequence[dict[str, Any]], title: str) -> Figure:
     fig = plt.figure(figsize=(9.5, 11.5), layout="constrained")
     grid = fig.add_gridspec(4, 2, height_ratios=(1.6, 1, 1, 1))
     top = fig.add_subplot(grid[0, :])
-    pinned = [r for r in ok if r.get("pinned_by")]
+    pinned = [r for r in ok if "search box" in str(r.get("pinned_by") or "")]
     for key, label, style, marker in COT_LINES:
         source = ok if key == "cost_of_transport" else rows
         xs, ys = _line(source, key)
@@ -79,7 +80,7 @@ def gait_figure(rows: Sequence[dict[str, Any]], title: str) -> Figure:
             "o",
             mfc="white",
             color="gray",
-            label="hollow marker: pinned by a limit or the search box (column pinned_by)",
+            label="hollow marker: held by an edge of the search box (column pinned_by)",
         )
     if failed:
         top.plot(failed, [0.0] * len(failed), "x", color="tab:red", label="search not solved")

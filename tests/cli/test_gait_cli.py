@@ -114,3 +114,22 @@ def test_the_table_lines_up_each_columns_decimals():
     fields = ["0.25", "0.8625", "0.500", "0.1078", "0.8000", "0.040", "-0.040"]
     assert first[:9] == [*fields, "0.0890", "0.1200"]
     assert second[:4] == ["1", "0.5000", "0.575", "0.2875"]
+
+
+def test_what_pins_a_gait_reads_as_limits_and_steps():
+    """gaits.csv keeps ``field up|down: limit``; the table says each limit once, in words."""
+    from scalf_opt.cli.commands.gait import pinned_lines
+
+    pinned = (
+        "period_s up: RF cyl_len_knee: cylinder cyl_len limit (actuator file), less margin; "
+        "duty_cycle up: RF cyl_len_knee: cylinder cyl_len limit (actuator file), less margin; "
+        "duty_cycle down: duty_cycle below the search box's 0.5, a trot's floor; "
+        "stance_height_m up: LH q_knee: joint range (URDF), less margin; "
+        "stance_x_offset_hind_m down: swing not solved: LH (Maximum_Iterations_Exceeded)"
+    )
+    assert pinned_lines(pinned) == [
+        "RF knee cylinder's stroke (actuator file): a longer period, a higher duty",
+        "the search box's lowest duty, 0.5, a trot's floor: a lower duty",
+        "LH knee's range (URDF): a higher stance",
+        "LH's swing not solved (Maximum_Iterations_Exceeded): the hind feet further back",
+    ]

@@ -20,7 +20,7 @@ def row(speed, status="ok", **values):
         "cost_of_transport": 0.1 * speed,
         "default_cost_of_transport": 0.15 * speed,
         "reference_cost_of_transport": 0.2 * speed,
-        "pinned_by": "duty_cycle down: duty floor",
+        "pinned_by": "duty_cycle down: duty_cycle below the search box's 0.5, a trot's floor",
     }
     return {**base, **values}
 
@@ -48,8 +48,10 @@ def test_the_figure_has_the_three_lines_and_a_panel_per_field():
     plt.close(fig)
 
 
-def test_a_pinned_gait_is_hollow_on_the_cost_line_and_in_every_panel():
-    rows = [row(1.0), row(0.5, pinned_by="")]  # 1.0 m/s pinned by the duty floor
+def test_a_gait_held_by_the_search_box_is_hollow_on_the_cost_line_and_in_every_panel():
+    # 1.0 m/s held by the box's duty floor; 0.5 m/s by a joint's range, as every gait is by some
+    # limit: filled
+    rows = [row(1.0), row(0.5, pinned_by="stance_height_m up: RF q_knee: joint range (URDF)")]
     fig = gait_figure(rows, "test")
     for ax in fig.axes:
         hollow = [line for line in ax.get_lines() if line.get_markerfacecolor() == "white"]

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import math
+import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -144,10 +145,11 @@ COST_DECIMALS = 4
 def gait_table(robot: str, rows: list[dict[str, Any]]) -> str:
     """The cheapest gaits as a text table, and what pins each."""
     header = ["v [m/s]", "T [s]", "duty", "S [m]", "z0 [m]", "front [m]", "hind [m]", "CoT"]
-    header += ["default", "reference", "saved", "status"]
+    header += ["default", "reference", "vs ref.", "status"]
     lines = [
-        f"cheapest trot of {robot} per speed; cost of transport of the cheapest, of the default "
-        "trot at the speed with optimized swings, and with the reference swing"
+        f"cheapest trot of {robot} per speed; cost of transport (CoT) of the cheapest, of the "
+        "default trot at the speed with optimized swings (default), and with the reference swing "
+        "(reference); vs ref.: the cheapest's CoT against the reference's"
     ]
     lines.append("  ".join(f"{h:>9s}" for h in header))
     for r in rows:
@@ -157,12 +159,13 @@ def gait_table(robot: str, rows: list[dict[str, Any]]) -> str:
         costs = ("cost_of_transport", "default_cost_of_transport", "reference_cost_of_transport")
         cells += [_cell(r[k], COST_DECIMALS) for k in costs]
         saved = r["saving_vs_reference_pct"]
-        cells.append(f"{saved:.1f} %" if isinstance(saved, float) else "-")
+        cells.append(f"{-saved:+.1f} %" if isinstance(saved, float) else "-")
         cells.append(r["status"])
         lines.append("  ".join(f"{c:>9s}" for c in cells))
     for r in rows:
         if r["pinned_by"]:
-            lines.append(f"  {_cell(r['speed_m_s'])} m/s pinned by {grouped(r['pinned_by'])}")
+            lines.append(f"  {_cell(r['speed_m_s'])} m/s: a step further breaks a limit")
+            lines += [f"    {line}" for line in pinned_lines(r["pinned_by"])]
         if r["error"]:
             lines.append(f"  {_cell(r['speed_m_s'])} m/s: {r['error']}")
         cot, reference = r["cost_of_transport"], r["reference_cost_of_transport"]
@@ -180,17 +183,64 @@ def gait_table(robot: str, rows: list[dict[str, Any]]) -> str:
     return "\n".join(lines)
 
 
-def grouped(pinned_by: str) -> str:
-    """``pinned_by`` (``"<field> up|down: <limit>; ..."``) with each limit named once.
+_MOVES = {
+    "period_s": ("a longer period", "a shorter period"),
+    "duty_cycle": ("a higher duty", "a lower duty"),
+    "stance_height_m": ("a higher stance", "a lower stance"),
+    "stance_x_offset_front_m": ("the front feet further forward", "the front feet further back"),
+    "stance_x_offset_hind_m": ("the hind feet further forward", "the hind feet further back"),
+}
+"""A searched field's step up and down, in words."""
 
-    ``"period_s up: RF_knee range; duty_cycle up: RF_knee range"`` reads
-    ``"RF_knee range (period_s up, duty_cycle up)"``.
+_FIELD_WORDS = {
+    "period_s": "period",
+    "duty_cycle": "duty",
+    "stance_height_m": "stance height",
+    "stance_x_offset_front_m": "front feet's offset",
+    "stance_x_offset_hind_m": "hind feet's offset",
+}
+
+_LIMIT_WORDS: tuple[tuple[re.Pattern[str], str], ...] = (
+    (re.compile(r"^(\w+) q_(\w+): joint range \(URDF\)(, less margin)?$"), r"\1 \2's range (URDF)"),
+    (
+        re.compile(r"^(\w+) q_(\w+): joint range under the reference swing$"),
+        r"\1 \2's range, walked by the reference swing",
+    ),
+    (
+        re.compile(
+            r"^(\w+) cyl_len_(\w+): cylinder cyl_len limit \(actuator file\)(, less margin)?$"
+        ),
+        r"\1 \2 cylinder's stroke (actuator file)",
+    ),
+    (re.compile(r"^swing not solved: (\w+) \((.*)\)$"), r"\1's swing not solved (\2)"),
+    (re.compile(r"^(\w+) below the search box's (.*)$"), r"the search box's lowest {\1}, \2"),
+    (re.compile(r"^(\w+) above the search box's (.*)$"), r"the search box's highest {\1}, \2"),
+)
+"""A limit's name (:func:`~scalf_opt.optimize.gait_search.limit_name`) as the table says it."""
+
+
+def pinned_lines(pinned_by: str) -> list[str]:
+    """``pinned_by`` (``"<field> up|down: <limit>; ..."``, as ``gaits.csv`` keeps it) in words.
+
+    A line per limit, then the steps that break it: ``"period_s up: RF q_knee: joint range
+    (URDF); duty_cycle up: RF q_knee: joint range (URDF)"`` reads ``"RF knee's range (URDF): a
+    longer period, a higher duty"``.
     """
     limits: dict[str, list[str]] = {}
     for part in pinned_by.split("; "):
         where, _, limit = part.partition(": ")
-        limits.setdefault(limit, []).append(where)
-    return "; ".join(f"{limit} ({', '.join(where)})" for limit, where in limits.items())
+        field, _, direction = where.rpartition(" ")
+        up, down = _MOVES.get(field, (f"{field} up", f"{field} down"))
+        limits.setdefault(_limit_words(limit), []).append(up if direction == "up" else down)
+    return [f"{limit}: {', '.join(moves)}" for limit, moves in limits.items()]
+
+
+def _limit_words(limit: str) -> str:
+    for pattern, words in _LIMIT_WORDS:
+        if pattern.search(limit):
+            named = pattern.sub(words, limit)
+            return re.sub(r"\{(\w+)\}", lambda m: _FIELD_WORDS.get(m[1], m[1]), named)
+    return limit
 
 
 def _check_family(family: str) -> None:
@@ -243,7 +293,10 @@ def run(args: argparse.Namespace) -> int:
     full, cached = run_cases(study, out, runner, label=NAME, quiet=args.quiet)
     rows: list[dict[str, Any]] = [{c: full[i].get(c) for c in GAIT_COLUMNS} for i in sorted(full)]
     written = [write_atomic(out / "gaits.csv", rows_csv_text(rows))]
-    written.append(save_atomic(gait_figure(rows, study.name), out / "gaits.png"))
+    title = (
+        f"{study.name}: {args.family} swings, loads '{args.loads}', accounting '{args.accounting}'"
+    )
+    written.append(save_atomic(gait_figure(rows, title), out / "gaits.png"))
     for index, row in zip(sorted(full), rows, strict=True):
         details = full[index].get("details") or {}
         if row["status"] == "ok" and "parameters" in details:
