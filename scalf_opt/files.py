@@ -24,6 +24,7 @@ import contextlib
 import errno
 import fcntl
 import hashlib
+import math
 import os
 import re
 import shutil
@@ -277,6 +278,17 @@ def scratch_folder(kind: str) -> Iterator[Path]:
 # --- writing ------------------------------------------------------------------------------------
 
 
+def number_text(x: float) -> str:
+    """A number as the files scalf-opt writes show it (CSV cells, generated URDF values).
+
+    Fifteen significant digits, the most a double keeps through text, written as the shortest
+    text that reads back to them: ``0.45099`` for the sum that is ``0.45099000000000006`` in
+    full (the round-off of arithmetic, not a digit of the value); ``nan`` for NaN.
+    """
+    x = float(x)
+    return "nan" if math.isnan(x) else repr(float(f"{x:.15g}"))
+
+
 def _writing_error(path: Path, exc: OSError) -> ConfigError:
     reason = exc.strerror or type(exc).__name__
     if exc.errno in (errno.ENOSPC, errno.EDQUOT):
@@ -389,6 +401,8 @@ class _Target:
     stage: Path | None = None
     lock_fd: int | None = None
     lock_path: Path | None = None
+    given: Path | None = None
+    """The path as the user gave it, for messages (``path`` is absolute)."""
 
     def holds(self, path: Path) -> Path | None:
         """``path`` relative to the target when the set stages it, else ``None``."""
@@ -481,7 +495,8 @@ def _lock(target: _Target) -> None:
         except OSError:
             os.close(fd)
             raise ConfigError(
-                f"{target.path}: another scalf-opt run is writing it; wait until it ends"
+                f"{target.given or target.path}: another scalf-opt run is writing it; wait "
+                "until it ends"
             ) from None
         try:
             same = os.fstat(fd).st_ino == os.stat(lock).st_ino
@@ -637,8 +652,10 @@ def output_set(
             written (the message names it).
     """
     direct_paths = tuple(_absolute(p) for p in direct)
-    targets = [_Target(_absolute(p), True, direct_paths) for p in folders if p is not None]
-    targets += [_Target(_absolute(p), False) for p in files if p is not None]
+    targets = [
+        _Target(_absolute(p), True, direct_paths, given=Path(p)) for p in folders if p is not None
+    ]
+    targets += [_Target(_absolute(p), False, given=Path(p)) for p in files if p is not None]
     outputs = OutputSet(targets)
     try:
         for target in targets:

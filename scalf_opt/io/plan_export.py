@@ -39,7 +39,7 @@ import numpy as np
 
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.errors import ConfigError
-from scalf_opt.files import write_atomic
+from scalf_opt.files import number_text, write_atomic
 from scalf_opt.io.ros_bag import (
     JointStateSeries,
     TrajectoryMessage,
@@ -206,13 +206,13 @@ class PlanExport:
         for k, t in enumerate(self.t_s):
             for leg in LEG_NAMES:
                 v = self.values[leg]
-                row = [repr(float(t)), leg, str(int(v["contact"][k]))]
+                row = [number_text(t), leg, str(int(v["contact"][k]))]
                 for j in range(2):
-                    row += [repr(float(v[name][j, k])) for name, _ in JOINT_FIELDS]
-                row += [repr(float(v["foot"][0, k])), repr(float(v["foot"][1, k]))]
+                    row += [number_text(v[name][j, k]) for name, _ in JOINT_FIELDS]
+                row += [number_text(v["foot"][0, k]), number_text(v["foot"][1, k])]
                 if self.has_cylinders:
                     for j in range(2):
-                        row += [repr(float(v[name][j, k])) for name, _ in CYLINDER_FIELDS]
+                        row += [number_text(v[name][j, k]) for name, _ in CYLINDER_FIELDS]
                 writer.writerow(row)
         return buffer.getvalue()
 

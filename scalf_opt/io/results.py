@@ -18,7 +18,7 @@ import numpy as np
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.peaks import cycle_peaks, cycle_violations, peaks_summary
 from scalf_opt.energy.pipeline import EnergyPipeline
-from scalf_opt.files import write_atomic
+from scalf_opt.files import number_text, write_atomic
 from scalf_opt.optimize.driver import SwingOptimization
 from scalf_opt.types import JOINT_ROLES
 
@@ -76,8 +76,12 @@ def samples_csv_text(cycle: RobotCycle) -> str:
     return buffer.getvalue()
 
 
-def _fmt(x: float) -> str:
-    return "nan" if math.isnan(x) else repr(float(x))
+_fmt = number_text
+
+
+def _cell(value: Any) -> Any:
+    """A CSV cell: a float as :func:`~scalf_opt.files.number_text`, anything else as it is."""
+    return number_text(value) if isinstance(value, float) else value
 
 
 def cycle_summary(cycle: RobotCycle) -> dict[str, Any]:
@@ -220,5 +224,8 @@ def rows_csv_text(rows: list[dict[str, Any]]) -> str:
             columns += [k for k in row if k not in columns]
         writer = csv.DictWriter(buffer, fieldnames=columns, lineterminator="\n")
         writer.writeheader()
-        writer.writerows(rows)
+        for row in rows:
+            writer.writerow(
+                {k: number_text(v) if isinstance(v, float) else v for k, v in row.items()}
+            )
     return buffer.getvalue()

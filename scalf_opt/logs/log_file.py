@@ -29,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from scalf_opt.errors import LogError
-from scalf_opt.files import read_untrusted_text
+from scalf_opt.files import number_text, read_untrusted_text
 from scalf_opt.types import JOINT_ROLES, LEG_NAMES
 
 TIME, LEG, CONTACT = "t_s", "leg", "contact"
@@ -326,8 +326,8 @@ def log_csv_text(log: CylinderLog) -> str:
     entries = []
     for order, (leg, data) in enumerate(log.legs.items()):
         for k in range(data.t_s.size):
-            cells = [repr(float(data.t_s[k])), leg]
-            cells += [repr(float(v)) for v in (*data.length_m[:, k], *data.force_n[:, k])]
+            cells = [number_text(data.t_s[k]), leg]
+            cells += [number_text(v) for v in (*data.length_m[:, k], *data.force_n[:, k])]
             if data.contact is not None:
                 cells.append(str(int(data.contact[k])))
             entries.append((float(data.t_s[k]), order, cells))

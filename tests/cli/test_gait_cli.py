@@ -110,7 +110,7 @@ def test_the_table_lines_up_each_columns_decimals():
         }
 
     table = gait_table("scalf", [row(0.25, 0.8625, 0.5, 0.089), row(1.0, 0.5, 0.575, 0.1419)])
-    first, second = (line.split() for line in table.splitlines()[2:4])
+    first, second = (line.split() for line in table.splitlines()[3:5])
     fields = ["0.25", "0.8625", "0.500", "0.1078", "0.8000", "0.040", "-0.040"]
     assert first[:9] == [*fields, "0.0890", "0.1200"]
     assert second[:4] == ["1", "0.5000", "0.575", "0.2875"]
@@ -133,3 +133,17 @@ def test_what_pins_a_gait_reads_as_limits_and_steps():
         "LH knee's range (URDF): a higher stance",
         "LH's swing not solved (Maximum_Iterations_Exceeded): the hind feet further back",
     ]
+
+
+def test_a_bad_speed_is_told_before_another_runs_lock(tmp_path, capsys, monkeypatch):
+    """While another run writes the folder, a mistyped speed is still the error the user sees,
+    and a busy folder is named as the user gave it."""
+    from scalf_opt.files import output_set
+
+    out = tmp_path / "gait"
+    with output_set([out], []):  # another run, writing the folder
+        assert main(["gait", "--speed", "0", "--out", str(out)]) == 2
+        assert "--speed: the speed must be a number" in capsys.readouterr().err
+        monkeypatch.chdir(tmp_path)
+        assert main(["gait", "--speed", "0.5", "--out", "gait"]) == 2
+        assert capsys.readouterr().err.startswith("scalf-opt: error: gait: another scalf-opt run")

@@ -48,10 +48,12 @@ def all_speeds(texts: list[str]) -> list[float]:
         ConfigError: One of :func:`parse_speeds`' errors, or more than :data:`MAX_SPEEDS` speeds
             in all.
     """
+    from scalf_opt.optimize.gait_search import check_speed
+
     speeds = list(dict.fromkeys(v for text in texts for v in parse_speeds(text)))
     if len(speeds) > MAX_SPEEDS:
         raise ConfigError(f"--speed: {len(speeds)} speeds in all, more than {MAX_SPEEDS}")
-    return speeds
+    return [check_speed(speed) for speed in speeds]
 
 
 def parse_speeds(text: str) -> list[float]:
@@ -148,8 +150,9 @@ def gait_table(robot: str, rows: list[dict[str, Any]]) -> str:
     header += ["default", "reference", "vs ref.", "status"]
     lines = [
         f"cheapest trot of {robot} per speed; cost of transport (CoT) of the cheapest, of the "
-        "default trot at the speed with optimized swings (default), and with the reference swing "
-        "(reference); vs ref.: the cheapest's CoT against the reference's"
+        "default trot",
+        "at the speed with optimized swings (default) and with the reference swing (reference); "
+        "vs ref.: CoT against reference",
     ]
     lines.append("  ".join(f"{h:>9s}" for h in header))
     for r in rows:
@@ -330,4 +333,6 @@ def outputs(args: argparse.Namespace) -> Outputs:
     """
     from scalf_opt.studies.runner import CACHE_DIR
 
+    all_speeds(args.speed)  # a mistyped speed is told before another run's lock is
+    _check_family(args.family)
     return Outputs(folders={"--out": args.out}, direct=(args.out / CACHE_DIR,))

@@ -25,7 +25,7 @@ from pathlib import Path
 from scalf_opt.actuators.cylinder import HydraulicCylinder
 from scalf_opt.actuators.sidecar import load_sidecar
 from scalf_opt.errors import ModelError
-from scalf_opt.files import write_atomic
+from scalf_opt.files import number_text, write_atomic
 from scalf_opt.robots.files import shipped_file
 
 # --- Table 1 (sagittal links) --------------------------------------------------------------------
@@ -86,8 +86,7 @@ def _f(x: float) -> str:
     Paper numbers appear as written (``0.45099``); derived ones keep 15 digits without the
     float noise of the last bit (``4.875``, not ``4.875000000000001``).
     """
-    x = float(x)
-    return "0" if x == 0 else repr(float(f"{x:.15g}"))
+    return "0" if float(x) == 0 else number_text(x)
 
 
 def _vec(*xs: float) -> str:
