@@ -8,6 +8,7 @@ and writes the same rows and files as :meth:`GaitResult.write` does for one.
 
 from __future__ import annotations
 
+import json
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
@@ -39,9 +40,14 @@ GAIT_FILE = "gait.toml"
 """The cheapest gait as a gait file (``evaluate --gait``)."""
 
 
-def gait_toml(gait: Gait) -> str:
-    """A gait file (TOML ``[gait]`` table) holding every field of ``gait``, exactly."""
-    lines = ["[gait]"]
+def gait_toml(gait: Gait, robot: str | None = None) -> str:
+    """A gait file (TOML ``[gait]`` table) holding every field of ``gait``, exactly.
+
+    ``robot``: the robot it was found for (the file's ``robot`` key; a command that walks it on
+    another robot says so).
+    """
+    lines = [f"robot = {json.dumps(robot)}", ""] if robot is not None else []
+    lines.append("[gait]")
     for name, value in gait.to_dict().items():
         lines.append(f"{name} = {value!r}")
     return "\n".join(lines) + "\n"
@@ -141,7 +147,7 @@ class GaitResult:
             raise ConfigError(f"no feasible gait at {speed:g} m/s: nothing to write")
         out = Path(out_dir)
         return [
-            write_atomic(out / GAIT_FILE, gait_toml(self.cycle.gait)),
+            write_atomic(out / GAIT_FILE, gait_toml(self.cycle.gait, self.robot.name)),
             *write_results_json(out / "summary.json", self.to_dict()),
             write_atomic(out / "samples.csv", samples_csv_text(self.cycle)),
         ]

@@ -227,6 +227,8 @@ def load_gait(args: argparse.Namespace, robot: Robot, base: Gait | None = None) 
     from scalf_opt.api import read_gait
 
     overrides = gait_overrides(args)
+    if args.gait is not None:
+        _warn_other_robot(args, robot)
     try:
         return read_gait(args.gait, robot, base, **overrides)
     except GaitError as exc:
@@ -234,6 +236,18 @@ def load_gait(args: argparse.Namespace, robot: Robot, base: Gait | None = None) 
             option = GAIT_OPTIONS[exc.field][0]
             raise GaitError(f"{option} {overrides[exc.field]:g}: {exc}", field=exc.field) from exc
         raise
+
+
+def _warn_other_robot(args: argparse.Namespace, robot: Robot) -> None:
+    """A line on stderr when ``--gait``'s file says it was made for another robot."""
+    from scalf_opt.locomotion.gait_file import gait_file_robot
+
+    made_for = gait_file_robot(args.gait)
+    if made_for is not None and made_for != robot.name:
+        args.console.note(
+            f"warning: {args.gait} was made for {made_for}; walking it on {robot.name}, whose "
+            "legs may need another gait"
+        )
 
 
 def gait_origin(args: argparse.Namespace, robot: Robot, base: str | None = None) -> str:

@@ -286,6 +286,23 @@ class PlanExport:
         )
         return series, [trajectory]
 
+    def bag_topic_lines(self) -> list[str]:
+        """What each topic of the exported bag holds, a line each (for the command's output)."""
+        lines = [
+            f"{TOPICS['joints']}: sensor_msgs/JointState, a message per instant: angle, "
+            "velocity, feed-forward torque"
+        ]
+        if self.has_cylinders:
+            lines.append(
+                f"{TOPICS['cylinders']}: sensor_msgs/JointState of the cylinders "
+                "(<joint>_cylinder), a message per instant: length, speed, force"
+            )
+        lines.append(
+            f"{TOPICS['trajectory']}: trajectory_msgs/JointTrajectory, one message: every "
+            "instant's angle, velocity, acceleration and torque"
+        )
+        return lines
+
     def write(self, path: str | Path) -> Path:
         """Write the export, its format by the suffix (atomically).
 

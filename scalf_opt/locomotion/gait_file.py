@@ -1,6 +1,8 @@
 """Gait files: a TOML ``[gait]`` table of :class:`~scalf_opt.locomotion.gait.Gait` fields.
 
-A key left out keeps the value of the gait it is read over (the robot's default).
+A key left out keeps the value of the gait it is read over (the robot's default). Beside the
+table, ``robot = "NAME"`` may say which robot the gait was made for (``scalf-opt gait`` writes
+it); a command that walks the gait on another robot says so (:func:`gait_file_robot`).
 """
 
 from __future__ import annotations
@@ -24,7 +26,7 @@ def read_gait_fields(path: str | Path) -> dict[str, float | int]:
     table = data.get("gait", data)
     if not isinstance(table, dict):
         raise ConfigError(f"{path}: [gait] must be a table")
-    stray = sorted(set(data) - {"gait"}) if "gait" in data else []
+    stray = sorted(set(data) - {"gait", "robot"}) if "gait" in data else []
     if stray:
         raise ConfigError(
             f"{path}: unknown key or table {stray[0]!r} beside [gait] (a gait file holds one "
@@ -42,6 +44,19 @@ def read_gait_fields(path: str | Path) -> dict[str, float | int]:
             raise ConfigError(f"{path}: gait field {key} must be a number, got {value!r}")
         values[key] = value
     return values
+
+
+def gait_file_robot(path: str | Path) -> str | None:
+    """The robot a gait file says it was made for (its ``robot`` key beside ``[gait]``).
+
+    Raises:
+        ConfigError: The file cannot be read, or ``robot`` is not a short text.
+    """
+    data = read_toml(Path(path), "gait")
+    robot = data.get("robot") if "gait" in data else None
+    if robot is not None and not (isinstance(robot, str) and 0 < len(robot) <= 200):
+        raise ConfigError(f"{path}: robot must be a robot's name (a short text), got {robot!r}")
+    return robot
 
 
 def read_gait(path: str | Path, base: Gait | None = None) -> Gait:

@@ -172,6 +172,8 @@ def bag_log(
             f"{held}): give the robot (--robot, --urdf) or map the names with "
             "--joint NAME=URDF_JOINT"
         )
+    if chosen == "joints":  # said, or the report calls joint states a cylinder log unasked
+        source += " (joint states, converted to the cylinders' lengths, speeds and forces)"
     return CylinderLog(source, legs)
 
 

@@ -53,6 +53,11 @@ def test_the_table_the_figure_and_a_folder_per_speed(run, capsys):
     gait = read_gait(out / "speed_1" / "gait.toml")
     assert gait.speed_m_s == pytest.approx(1.0, rel=1e-12)
     assert gait.period_s == pytest.approx(float(row["period_s"]), rel=1e-12)
+    # the gait file says its robot: walked on another one, a command says so
+    assert 'robot = "scalf"' in (out / "speed_1" / "gait.toml").read_text()
+    other = ["evaluate", "--robot", "go1", "--gait", str(out / "speed_1" / "gait.toml")]
+    main(other)
+    assert "was made for scalf; walking it on go1" in capsys.readouterr().err
     # the swings are loadable: evaluate them on their gait, same cost of transport
     assert main(["evaluate", "--swing", str(out / "speed_1"), "--json"]) == 0
     evaluated = json.loads(capsys.readouterr().out)

@@ -113,6 +113,8 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
             f"that puts a sample on every touch-down and lift-off of the {period:g} s cycle "
             f"({round(export.rate_hz * period)} samples); the time stamps are exact"
         )
+    if path.suffix == ".mcap":
+        args.console.text("topics: " + "\n        ".join(export.bag_topic_lines()))
     args.console.text(f"wrote {path}")
     return 0
 

@@ -199,7 +199,8 @@ def run(args: argparse.Namespace) -> int:
         title = f"free stance ({args.family}, {args.method})"
     else:
         title = f"optimized ({args.family}, {args.method})"
-    console.text("\n" + evaluate_report(result.cycle, robot.name, title=title))
+    whole_cycle = ("the reference at this rate", result.reference.average_power_w)
+    console.text("\n" + evaluate_report(result.cycle, robot.name, title, whole_cycle))
     console.text("\n" + peaks_table(result.peaks, result.reference_peaks))
     for line in violation_lines(result.violations):
         console.text(line)
