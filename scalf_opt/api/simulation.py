@@ -63,6 +63,8 @@ class SimulationResult:
             float(self.data["model_stance_force_mean_n"]["RF"]),
             self.title,
             startup_s=float(self.data["gait"]["period_s"]),
+            phase_energy_j=self.data["joint_energy_per_phase_j"],
+            energy_goal=float(self.data["goals"]["joint_energy_relative_difference_at_most"]),
         )
 
     def write(self, out_dir: str | Path) -> list[Path]:

@@ -1,4 +1,8 @@
-"""The figure of a simulated trot: trunk height and pitch, vertical foot forces, over time."""
+"""The figure of a simulated trot.
+
+Trunk height and pitch and the vertical foot forces over time, and each leg's joint energy per
+cycle beside the model's.
+"""
 
 from __future__ import annotations
 
@@ -25,8 +29,13 @@ def simulation_figure(
     title: str,
     height_band_m: float = 0.004,
     startup_s: float | None = None,
+    phase_energy_j: Mapping[str, Mapping[str, Mapping[str, float]]] | None = None,
+    energy_goal: float | None = None,
 ) -> Figure:
-    """Three panels over time: trunk height, trunk pitch, vertical ground force per foot.
+    """Panels over time (trunk height, trunk pitch, vertical ground force per foot) and energy.
+
+    With ``phase_energy_j`` a fourth panel: each leg's joint energy per cycle, simulated beside
+    the model's, stance and swing stacked, its difference and the goal written above.
 
     Args:
         t_s: Time [s], shape (n,).
@@ -40,8 +49,19 @@ def simulation_figure(
             paper's 4 mm).
         startup_s: End of the start-up (the first gait cycle) [s], shaded: every number of
             the simulation's report is taken after it.
+        phase_energy_j: Per leg and phase (``stance``, ``swing``) the ``simulated`` and
+            ``model`` joint energy per cycle [J] (``simulation.json``'s
+            ``joint_energy_per_phase_j``).
+        energy_goal: The per-leg goal on the relative difference (0.05: 5 %).
     """
-    fig, (ax_z, ax_p, ax_f) = plt.subplots(3, 1, figsize=(10, 8), sharex=True)
+    rows = 3 if phase_energy_j is None else 4
+    fig = plt.figure(figsize=(10, 8 if rows == 3 else 10.5), layout="constrained")
+    grid = fig.add_gridspec(rows, 1, height_ratios=(1, 1, 1, 1.1)[:rows])
+    ax_z = fig.add_subplot(grid[0])
+    ax_p = fig.add_subplot(grid[1], sharex=ax_z)
+    ax_f = fig.add_subplot(grid[2], sharex=ax_z)
+    for ax in (ax_z, ax_p):
+        ax.tick_params(labelbottom=False)
     ax_z.plot(t_s, 1e3 * (trunk_height_m - planned_height_m), lw=1)
     ax_z.axhline(0.0, color="grey", ls="--", lw=1)
     for edge in (-height_band_m, height_band_m):
@@ -68,5 +88,64 @@ def simulation_figure(
     ax_f.legend(fontsize=8, ncol=7, loc="upper center", bbox_to_anchor=(0.5, -0.22))
     for ax in (ax_z, ax_p, ax_f):
         ax.grid(True, alpha=0.3)
-    fig.tight_layout()
+    if phase_energy_j is not None:
+        _energy_panel(fig.add_subplot(grid[3]), phase_energy_j, energy_goal)
     return fig
+
+
+def _energy_panel(
+    ax: plt.Axes,
+    phase_energy_j: Mapping[str, Mapping[str, Mapping[str, float]]],
+    goal: float | None,
+) -> None:
+    """Per leg two stacked bars (model, simulated: stance below, swing above).
+
+    The difference of their totals is written above them, in red beyond the goal.
+    """
+    legs = list(phase_energy_j)
+    x = np.arange(len(legs), dtype=float)
+    width = 0.38
+    tops = []
+    for offset, source, hatch in ((-width / 2, "model", ""), (width / 2, "simulated", "//")):
+        stance = np.array([phase_energy_j[leg]["stance"][source] for leg in legs])
+        swing = np.array([phase_energy_j[leg]["swing"][source] for leg in legs])
+        ax.bar(
+            x + offset,
+            stance,
+            width,
+            color="tab:blue",
+            hatch=hatch,
+            edgecolor="white",
+            label=f"stance, {source}",
+        )
+        ax.bar(
+            x + offset,
+            swing,
+            width,
+            bottom=stance,
+            color="tab:orange",
+            hatch=hatch,
+            edgecolor="white",
+            label=f"swing, {source}",
+        )
+        tops.append(stance + swing)
+    model, simulated = tops
+    for k in range(len(legs)):
+        change = 100.0 * (simulated[k] - model[k]) / model[k]
+        missed = goal is not None and abs(change) > 100.0 * goal
+        ax.annotate(
+            f"{change:+.1f} %",
+            (x[k], max(model[k], simulated[k])),
+            xytext=(0, 3),
+            textcoords="offset points",
+            ha="center",
+            fontsize=9,
+            color="tab:red" if missed else "black",
+        )
+    goal_text = "" if goal is None else f" (goal: within {100 * goal:g} % on every leg)"
+    ax.set_title(f"joint energy per cycle, simulated against the model{goal_text}", fontsize=10)
+    ax.set_xticks(x, legs)
+    ax.set_ylabel("joint energy per cycle [J]")
+    ax.set_ylim(0.0, 1.15 * float(max(model.max(), simulated.max())))
+    ax.grid(True, axis="y", alpha=0.3)
+    ax.legend(fontsize=8, ncol=4, loc="upper center", bbox_to_anchor=(0.5, -0.12))

@@ -117,6 +117,10 @@ def test_the_simulation_figure_shows_everything_it_draws(name):
         problems = [p for ax in fig.axes for p in outside(ax)] + titles_outside(fig)
         labels = [label for ax in fig.axes for label in ax.get_legend_handles_labels()[1]]
         assert any("start-up" in label for label in labels)  # the cycle left out is marked
+        # the headline's per-leg energy comparison is drawn: each leg's difference above its bars
+        energy = fig.axes[-1]
+        assert energy.get_ylabel() == "joint energy per cycle [J]"
+        assert [t.get_text().endswith(" %") for t in energy.texts] == [True] * 4
     finally:
         close(fig)
     assert not problems, "\n".join(problems)
