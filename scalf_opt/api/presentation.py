@@ -14,6 +14,7 @@ at, with the reference on that gait first. :mod:`scalf_opt.viz` then only draws.
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
+from dataclasses import replace
 from pathlib import Path
 from typing import TYPE_CHECKING
 
@@ -67,6 +68,54 @@ def saved_trajectory(pipeline: EnergyPipeline, saved: SavedSwings) -> Trajectory
         loads=pipeline.loads,
     )
     return Trajectory(saved.label, cycle)
+
+
+def parent_of(robot: Robot) -> Robot:
+    """The robot a variant was derived from.
+
+    Raises:
+        ConfigError: ``robot`` is not a variant.
+    """
+    if robot.parent is None:
+        raise ConfigError(
+            f"--beside-parent: {robot.urdf_path} is not a variant (scalf-opt variant writes one, "
+            "with its record beside it)"
+        )
+    return robot.parent
+
+
+def beside_parent(
+    robot: Robot, shown: Sequence[Trajectory], progress: Progress | None = None
+) -> list[Trajectory]:
+    """A variant's trajectories, then its parent's reference and default optimum beside them.
+
+    The parent walks the gait the variant's trajectories walk, under their accounting and loads,
+    so that the two differ by the variant's geometry alone; every label names its robot.
+
+    Raises:
+        ConfigError: ``robot`` is not a variant (``scalf-opt variant`` writes one, its record
+            beside it).
+        NotSolvedError: The parent's default optimum did not converge.
+    """
+    parent = parent_of(robot)
+    cycle = shown[0].cycle
+    result = optimize_swing(
+        parent,
+        cycle.gait,
+        family=DEFAULT_FAMILY,
+        accounting=cycle.accounting,
+        progress=progress,
+        loads=cycle.loads,
+    )
+    if result.cycle is None:
+        raise NotSolvedError(f"{parent.name}'s default optimum was not solved: {result.failure()}")
+    optimum = f"optimum ({DEFAULT_FAMILY}, {result.settings.method})"
+    own = [replace(t, label=f"{robot.name}: {t.label}") for t in shown]
+    return [
+        *own,
+        Trajectory(f"{parent.name}: {REFERENCE_LABEL}", result.reference, robot=parent),
+        Trajectory(f"{parent.name}: {optimum}", result.cycle, robot=parent),
+    ]
 
 
 def shown_trajectories(

@@ -174,12 +174,20 @@ def build_scene(
     opts = options or SceneOptions()
     if not trajectories:
         raise ConfigError("nothing to show: give at least one trajectory")
-    visuals, skipped = load_visuals(robot) if loaded is None else loaded
+    walkers = [t.robot or robot for t in trajectories]
+    looks: dict[int, tuple[list[Visual], list[str]]] = {
+        id(robot): load_visuals(robot) if loaded is None else loaded
+    }
+    for walker in walkers:
+        if id(walker) not in looks:
+            looks[id(walker)] = load_visuals(walker)
+    skipped = list(dict.fromkeys(name for _, names in looks.values() for name in names))
+    visuals = [looks[id(walker)][0] for walker in walkers]
     gait = trajectories[0].cycle.gait
-    spacing = lateral_spacing_m(robot)
+    spacing = max(lateral_spacing_m(walker) for walker in walkers)
     walks = [
-        Walk(robot, t.cycle, opts.n_cycles, lateral_offset_m=i * spacing)
-        for i, t in enumerate(trajectories)
+        Walk(walker, t.cycle, opts.n_cycles, lateral_offset_m=i * spacing)
+        for i, (walker, t) in enumerate(zip(walkers, trajectories, strict=True))
     ]
     paths = [w.foot_paths() for w in walks]
     # the scale spans the swings' power: a stance foot rests in one place, only swings draw arcs
@@ -191,12 +199,12 @@ def build_scene(
     out.send(SetProperty("visible", False, viewer_path("Grid")))
     out.send(SetProperty("top_color", [0.97, 0.97, 0.98], viewer_path("Background")))
     out.send(SetProperty("bottom_color", [0.74, 0.78, 0.85], viewer_path("Background")))
-    _send_ground(out, walks, robot)
+    _send_ground(out, walks, spacing)
     legend = []
     for index, (trajectory, walk, feet) in enumerate(zip(trajectories, walks, paths, strict=True)):
         color = trajectory_color(index)
         prefix = ("trajectories", f"{index}")
-        _send_robot(out, prefix, visuals)
+        _send_robot(out, prefix, visuals[index])
         _send_lane(out, prefix, walk, color, spacing)
         radius = tube_radius_m(gait.stance_height_m)
         for leg, foot in feet.items():
@@ -221,12 +229,13 @@ def build_scene(
             )
         )
     _send_animation(out, walks, visuals, opts)
-    _send_camera(out, walks, robot)
+    _send_camera(out, walks, spacing)
     return Scene(
         commands=out.packed,
         legend=legend,
         title=(
-            f"{robot.name}: trot T = {gait.period_s:.4g} s, duty {gait.duty_cycle:.4g}, "
+            f"{' beside '.join(dict.fromkeys(w.name for w in walkers))}: trot T = "
+            f"{gait.period_s:.4g} s, duty {gait.duty_cycle:.4g}, "
             f"S = {gait.step_length_m:.4g} m, H = {gait.clearance_m:.4g} m, "
             f"z0 = {gait.stance_height_m:.4g} m, {gait.speed_m_s:.3g} m/s"
         ),
@@ -309,11 +318,14 @@ def tube(
     )
 
 
-def _send_ground(out: _Commands, walks: Sequence[Walk], robot: Robot) -> None:
-    """A light ground slab whose top is 1 mm below z = 0 (the grid lines stay visible)."""
-    margin = 3.0 * walks[0].trunk_height_m
+def _send_ground(out: _Commands, walks: Sequence[Walk], spacing: float) -> None:
+    """A light ground slab whose top is 1 mm below z = 0 (the grid lines stay visible).
+
+    ``spacing``: the lateral distance between the walks [m].
+    """
+    margin = 3.0 * max(w.trunk_height_m for w in walks)
     x_lo, x_hi = -margin, walks[0].cycle.gait.distance_per_cycle_m * walks[0].n_cycles + margin
-    y_lo = -lateral_spacing_m(robot)
+    y_lo = -spacing
     y_hi = max(w.lateral_offset_m for w in walks) - y_lo
     thickness = 0.01
     box = mg.Box([x_hi - x_lo, y_hi - y_lo, thickness])
@@ -381,7 +393,10 @@ def _visual_poses(walk: Walk, visuals: Sequence[Visual], times: np.ndarray) -> n
 
 
 def _send_animation(
-    out: _Commands, walks: Sequence[Walk], visuals: Sequence[Visual], opts: SceneOptions
+    out: _Commands,
+    walks: Sequence[Walk],
+    visuals: Sequence[Sequence[Visual]],
+    opts: SceneOptions,
 ) -> None:
     """Place every visual at its first pose and animate it over the walk, looping."""
     duration = walks[0].duration_s
@@ -391,9 +406,9 @@ def _send_animation(
     # three.js plays key ``k`` at k / fps seconds: fps sets the playback speed
     fps = (n_frames - 1) / duration * opts.playback_speed
     clips: dict[MeshcatPath, AnimationClip] = {}
-    for index, walk in enumerate(walks):
-        poses = _visual_poses(walk, visuals, times)
-        for k, visual in enumerate(visuals):
+    for index, (walk, looks) in enumerate(zip(walks, visuals, strict=True)):
+        poses = _visual_poses(walk, looks, times)
+        for k, visual in enumerate(looks):
             node = path_of("trajectories", f"{index}", "robot", visual.name)
             out.send(SetTransform(poses[0, k], node))
             positions = [[float(v) for v in poses[f, k, :3, 3]] for f in frames]
@@ -413,18 +428,19 @@ def _send_animation(
     out.send(SetAnimation(_Animation(), play=True, repetitions=float("inf")))
 
 
-def _send_camera(out: _Commands, walks: Sequence[Walk], robot: Robot) -> None:
+def _send_camera(out: _Commands, walks: Sequence[Walk], spacing: float) -> None:
     """Look at the middle of the foot paths from ahead on the right, above: every robot in sight.
 
     The scene is shifted so that its middle is at the origin, where the camera looks.
+    ``spacing``: the lateral distance between the walks [m].
     """
-    height = walks[0].trunk_height_m
+    height = max(w.trunk_height_m for w in walks)
     x_end = walks[0].cycle.gait.distance_per_cycle_m * walks[0].n_cycles
-    hip_x = max(abs(robot.leg(leg).hip_origin_m[0]) for leg in walks[0].cycle.legs)
+    hip_x = max(abs(w.robot.leg(leg).hip_origin_m[0]) for w in walks for leg in w.cycle.legs)
     y_max = max(w.lateral_offset_m for w in walks)
     center = np.array([x_end / 2.0, y_max / 2.0, 0.45 * height])
     # what must fit: every foot path along x, every robot along y, a standing robot along z
-    span = max(x_end + 2.0 * hip_x, y_max + lateral_spacing_m(robot), 2.5 * height)
+    span = max(x_end + 2.0 * hip_x, y_max + spacing, 2.5 * height)
     direction = np.array([0.6, -1.0, 0.55])
     offset = 0.9 * span * direction / np.linalg.norm(direction)
     # the viewer's orbit controls turn about the origin: move the scene so that its middle is there

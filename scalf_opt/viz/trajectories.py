@@ -11,6 +11,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 
 from scalf_opt.energy.cycle import RobotCycle
+from scalf_opt.model.robot import Robot
 
 REFERENCE_LABEL = "reference (cubic spline)"
 
@@ -24,11 +25,13 @@ class Trajectory:
         cycle: Every leg's stance and swing over one gait cycle.
         solved: The optimization behind it converged (always for the reference or a saved
             optimum, whose own status is in its result file).
+        robot: Who walks it, when not the view's robot (a variant's parent beside it).
     """
 
     label: str
     cycle: RobotCycle
     solved: bool = True
+    robot: Robot | None = None
 
     @property
     def energy_model(self) -> str:

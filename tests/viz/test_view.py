@@ -211,3 +211,18 @@ def test_view_refuses_a_bad_mesh_before_it_optimizes(tmp_path, monkeypatch, caps
     code = main(["view", "--urdf", str(urdf), "--out", str(tmp_path / "scene.html")])
     assert code == 2
     assert "gone.stl" in capsys.readouterr().err
+
+
+def test_a_variant_walks_beside_its_parent(tmp_path, capsys):
+    """``view --beside-parent``: the variant's reference and optimum, then its parent's on the
+    same gait, each label naming its robot; a robot that is no variant is refused first."""
+    urdf = tmp_path / "long.urdf"
+    assert main(["variant", "--thigh-length-scale", "1.1", "--out", str(urdf), "-q"]) == 0
+    argv = ["view", "--urdf", str(urdf), "--beside-parent", "--loads", "trunk"]
+    assert main([*argv, "--out", str(tmp_path / "scene.html")]) == 0
+    labels = [line.split(":")[0].strip() for line in capsys.readouterr().out.splitlines()[1:5]]
+    assert labels == ["long", "long", "scalf", "scalf"]
+    page = (tmp_path / "scene.html").read_text()
+    assert "long beside scalf" in page and page.count("optimum (joint-6, ipopt)") >= 2
+    assert main(["view", "--beside-parent", "--out", str(tmp_path / "no.html")]) == 2
+    assert "is not a variant" in capsys.readouterr().err and not (tmp_path / "no.html").exists()

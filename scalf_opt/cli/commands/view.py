@@ -68,6 +68,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         help="animation speed against real time, 0.01..100 (default 1; 0.25 is four times slower)",
     )
     parser.add_argument(
+        "--beside-parent",
+        action="store_true",
+        help="a variant (scalf-opt variant) beside its parent: the parent's reference and "
+        "default optimum walk the same gait in the same scene",
+    )
+    parser.add_argument(
         "--screenshot",
         type=Path,
         metavar="FILE",
@@ -77,7 +83,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when the page is written, 3 when the default optimum is not solved."""
-    from scalf_opt.api.presentation import NotSolvedError, shown_trajectories
+    from scalf_opt.api.presentation import (
+        NotSolvedError,
+        beside_parent,
+        parent_of,
+        shown_trajectories,
+    )
     from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.errors import ConfigError
     from scalf_opt.viz.scene import SceneOptions
@@ -101,6 +112,8 @@ def run(args: argparse.Namespace) -> int:
     refuse_gait_with_saved(args)
     robot = load_robot(args, next(iter(args.from_dirs), None))
     warn_without_effect(args, robot)
+    if args.beside_parent:
+        parent_of(robot)  # refused before any solve
     visuals = load_visuals(robot)  # a mesh too large or missing is refused before any solve
     try:
         with ProgressBar(None, "view", enabled=not args.quiet) as bar:
@@ -112,6 +125,8 @@ def run(args: argparse.Namespace) -> int:
                 bar.step,
                 args.loads,
             )
+            if args.beside_parent:
+                shown = beside_parent(robot, shown, bar.step)
     except NotSolvedError as exc:
         args.console.error(f"{exc}; nothing written")
         return 3
