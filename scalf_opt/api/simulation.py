@@ -68,13 +68,19 @@ class SimulationResult:
         )
 
     def write(self, out_dir: str | Path) -> list[Path]:
-        """Write ``simulation.json`` and ``simulation.png`` into ``out_dir`` (atomically)."""
+        """Write ``simulation.json``, ``simulation.png`` and ``report.txt`` into ``out_dir``.
+
+        ``report.txt`` is the whole report (the command prints its summary); each file is
+        written atomically.
+        """
+        from scalf_opt.sim.report import simulation_report
         from scalf_opt.viz.figures import save_atomic
 
         out, figure = Path(out_dir), self.figure()
         return [
             write_atomic(out / "simulation.json", to_json(self.data)),
             save_atomic(figure, out / "simulation.png"),
+            write_atomic(out / "report.txt", simulation_report(self.data, self.title) + "\n"),
         ]
 
     def write_log(self, path: str | Path, seed: int = 0) -> Path:

@@ -33,8 +33,15 @@ def _inverse_dynamics_rows(result: dict[str, Any]) -> list[str]:
     return rows
 
 
-def simulation_report(result: dict[str, Any], title: str) -> str:
-    """Trunk motion, foot forces and slip, joint energy against the model, checks and goals."""
+DETAILS = "the plan followed exactly, the servo's work, contacts and joint stops"
+"""What the whole report adds to the summary (:func:`simulation_report`)."""
+
+
+def simulation_report(result: dict[str, Any], title: str, details: bool = True) -> str:
+    """Trunk motion, foot forces and slip, joint energy against the model, checks and goals.
+
+    ``details``: also :data:`DETAILS` (the summary leaves them out).
+    """
     goals = result["goals"]
     basis = energy_basis(result["loads"], result["accounting"], result["gait"]["sample_rate_hz"])
     lines = [
@@ -78,6 +85,15 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
         ),
         f"goal: joint energy within {100 * goals['joint_energy_relative_difference_at_most']:.0f}"
         f" % of the model's on every leg: {_met(goals['joint_energy_met'])}",
+    ]
+    if details:
+        lines += _details(result)
+    return "\n".join(lines + _checks_and_saving(result))
+
+
+def _details(result: dict[str, Any]) -> list[str]:
+    """The report's middle: the plan followed exactly, the servo, contacts and joint stops."""
+    return [
         "",
         "the plan followed exactly (MuJoCo's inverse dynamics of the whole robot on the plan, "
         "foot forces by the sagittal minimum norm, as --loads whole-body-sagittal):",
@@ -108,6 +124,12 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
             )
             for leg, c in result["joint_stop_clearance_rad"].items()
         ),
+    ]
+
+
+def _checks_and_saving(result: dict[str, Any]) -> list[str]:
+    """The report's end: the checks, the referee's settings, the saving over the reference."""
+    lines = [
         "",
         "checks: mean vertical ground force / weight "
         f"{result['checks']['mean_vertical_ground_force_over_weight']:.5f}; "
@@ -138,4 +160,4 @@ def simulation_report(result: dict[str, Any], title: str) -> str:
             f"{saving['simulated_percent']:+.2f} %; goal same sign, within a third: "
             f"{_met(saving['same_sign_within_a_third_met'])}",
         ]
-    return "\n".join(lines)
+    return lines

@@ -59,7 +59,12 @@ def test_simulate_prints_the_table(tmp_path, capsys):
     assert "trunk height fluctuation" in out and "goal <= 4 mm: met" in out
     for leg in LEG_NAMES:
         assert f"\n{leg} " in out
-    assert out.rstrip().endswith("simulation.png")
+    assert out.rstrip().endswith("report.txt")
+    # a summary: the details (the plan followed exactly, the servo, contacts) are in the file
+    assert "the plan followed exactly (MuJoCo" not in out and f"{tmp_path}/report.txt" in out
+    report = (tmp_path / "report.txt").read_text()
+    assert "the plan followed exactly (MuJoCo" in report and "trunk height fluctuation" in report
+    assert len(out.splitlines()) <= 22
 
 
 def test_analyze_log_reads_the_simulated_log(simulated, capsys):

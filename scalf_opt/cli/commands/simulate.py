@@ -65,7 +65,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         type=Path,
         default=Path("results/simulate"),
         metavar="DIR",
-        help="write simulation.json and simulation.png here (default results/simulate)",
+        help="write simulation.json, simulation.png and report.txt here (default results/simulate)",
     )
     parser.add_argument(
         "--log",
@@ -89,11 +89,17 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         help="natural frequency of the servo's feedback loops, at most 1000 Hz (default: from the "
         "leg length L, 55.7 sqrt(g/L)/(2 pi): 30 Hz on SCalf; the time step follows)",
     )
+    parser.add_argument(
+        "--details",
+        action="store_true",
+        help="print the whole report (report.txt): also the plan followed exactly, the servo's "
+        "work, contacts and joint stops",
+    )
 
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.api import simulate
-    from scalf_opt.sim.report import simulation_report
+    from scalf_opt.sim.report import DETAILS, simulation_report
 
     check_output_dir(args.out)
     check_output_file(args.log, "--log")
@@ -128,7 +134,9 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         written.append(result.write_log(args.log, args.seed))
     saved = f"the gait saved with the swings of {args.source}" if args.source else None
     args.console.text(gait_origin(args, robot, saved))
-    args.console.text(simulation_report(result.data, result.title))
+    args.console.text(simulation_report(result.data, result.title, details=args.details))
+    if not args.details:
+        args.console.text(f"the whole report: {args.out / 'report.txt'} ({DETAILS}; --details)")
     args.console.json(result.to_dict())
     args.console.text(f"wrote {', '.join(map(str, written))}")
     return 0
