@@ -20,7 +20,7 @@ def row(speed, status="ok", **values):
         "cost_of_transport": 0.1 * speed,
         "default_cost_of_transport": 0.15 * speed,
         "reference_cost_of_transport": 0.2 * speed,
-        "pinned_by": "duty_cycle down: duty_cycle below the search box's 0.5, a trot's floor",
+        "pinned_by": "period_s up: period_s above the search box's 0.8819 s",
     }
     return {**base, **values}
 
@@ -49,7 +49,7 @@ def test_the_figure_has_the_three_lines_and_a_panel_per_field():
 
 
 def test_a_gait_held_by_the_search_box_is_hollow_on_the_cost_line_and_in_every_panel():
-    # 1.0 m/s held by the box's duty floor; 0.5 m/s by a joint's range, as every gait is by some
+    # 1.0 m/s held by the box's longest period; 0.5 m/s by a joint's range, as every gait is by some
     # limit: filled
     rows = [row(1.0), row(0.5, pinned_by="stance_height_m up: RF q_knee: joint range (URDF)")]
     fig = gait_figure(rows, "test")
@@ -58,3 +58,12 @@ def test_a_gait_held_by_the_search_box_is_hollow_on_the_cost_line_and_in_every_p
         drawn = [line for line in hollow if len(line.get_xdata())]
         assert [list(line.get_xdata()) for line in drawn] == [[1.0]] * len(drawn) and drawn, ax
     plt.close(fig)
+
+
+def test_the_duty_floor_is_the_models_limit_not_the_boxs():
+    from scalf_opt.viz.gait_figure import held_by_the_box
+
+    floor = "duty_cycle down: duty_cycle below the search box's 0.5, a trot's floor"
+    edge = "period_s up: period_s above the search box's 0.8819 s"
+    assert not held_by_the_box(floor) and held_by_the_box(edge)
+    assert held_by_the_box(f"{floor}; {edge}") and not held_by_the_box("")
