@@ -62,8 +62,8 @@ from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.bspline import BSplineFamily
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.optimize.driver import LegResult, Settings, optimize_swings
-from scalf_opt.optimize.problem import SwingProblem
-from scalf_opt.optimize.sampling import with_rate
+from scalf_opt.optimize.problem import SwingGoal
+from scalf_opt.optimize.sampling import resampled
 from scalf_opt.optimize.starts import closest_member, reference_path
 from scalf_opt.workers import map_in_processes, worker_progress
 
@@ -306,7 +306,7 @@ def bound_for(
         raise_if_stopped()
         if progress is not None:
             progress(f"{leg}: free-trajectory bound, {count} spans")
-        level = pipeline.with_gait(with_rate(pipeline.gait, level_rate_hz(pipeline.gait, count)))
+        level = resampled(pipeline, level_rate_hz(pipeline.gait, count))
         if previous is None:
             candidates = _seed_starts(level, leg, family, seeds or [])
         else:
@@ -399,7 +399,7 @@ def _revisit(
     """
     start = time.perf_counter()
     family = BSplineFamily(coarse.spans)
-    level = pipeline.with_gait(with_rate(pipeline.gait, coarse.sample_rate_hz))
+    level = resampled(pipeline, coarse.sample_rate_hz)
     theta0 = _projection(level, leg, family, fine_family, fine_theta)
     found, rate = _solve_level(level, leg, family, theta0, True, margins, REVISIT_OPTIONS)
     spent = coarse.wall_time_s + time.perf_counter() - start
@@ -499,7 +499,7 @@ def _seed_starts(
     family: SwingFamily,
     seeds: list[tuple[SwingFamily, np.ndarray]],
 ) -> list[np.ndarray]:
-    problem = SwingProblem(pipeline, leg, family)
+    problem = SwingGoal(family).on(pipeline, leg)
     out = [closest_member(problem, reference_path(problem))]
     out += [_projection(pipeline, leg, family, f, theta) for f, theta in seeds]
     return out
@@ -513,7 +513,7 @@ def _projection(
     theta: np.ndarray,
 ) -> np.ndarray:
     """The member of ``family`` closest to ``source``'s member ``theta`` (joint space)."""
-    problem = SwingProblem(pipeline, leg, family)
+    problem = SwingGoal(family).on(pipeline, leg)
     path = pipeline.swing_path(leg, source).values(theta)
     if source.space == "foot":
         kin = pipeline.kinematics(leg)
@@ -532,7 +532,7 @@ def bound_cycle_inputs(
     """
     spans = max(b.spans for b in bounds.values())
     rate = max(b.sample_rate_hz for b in bounds.values())
-    at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
+    at_rate = resampled(pipeline, rate)
     family = BSplineFamily(spans)
     thetas = {
         leg: _projection(at_rate, leg, family, b.family, b.result.best.theta)

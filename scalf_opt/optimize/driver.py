@@ -33,16 +33,16 @@ from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.locomotion.trot import DIAGONAL_PARTNER
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
-from scalf_opt.optimize.problem import PairProblem, SwingProblem
+from scalf_opt.optimize.problem import PairProblem, SwingGoal
 from scalf_opt.optimize.sampling import (
     BETWEEN_SAMPLES_RTOL,
     CHECK_FACTOR,
     MAX_RATE_HZ,
     SAMPLING_TOLERANCE,
-    check_rate_hz,
     initial_rate_hz,
+    on_check_grid,
     relative_difference,
-    with_rate,
+    resampled,
 )
 from scalf_opt.optimize.solve import SwingOptimum
 from scalf_opt.optimize.solvers import (
@@ -347,7 +347,7 @@ def _solve_leg(
     warm solve (:mod:`scalf_opt.optimize.solvers`), one trial of a search.
     """
     raise_if_stopped()
-    problem = SwingProblem(pipeline, leg, family, others, margins=settings.margins)
+    problem = SwingGoal(family, settings.margins).on(pipeline, leg, others)
     if theta0 is None:
         theta0 = np.zeros(problem.n_params)
     optimum = solver(settings.method).solve(problem, theta0, settings.solver_options, warm=trial)
@@ -369,8 +369,8 @@ def _check_energy_j(
     """
     if not optimum.success:
         return math.inf
-    fine_pipeline = pipeline.with_gait(with_rate(pipeline.gait, check_rate_hz(pipeline.gait)))
-    fine = SwingProblem(fine_pipeline, leg, family, others, margins=settings.margins)
+    fine_pipeline = on_check_grid(pipeline)
+    fine = SwingGoal(family, settings.margins).on(fine_pipeline, leg, others)
     check, crossed = fine.energy_and_bound_excess(optimum.theta)
     return math.inf if crossed > BETWEEN_SAMPLES_RTOL else check
 
@@ -481,7 +481,7 @@ def _first_round(
     options = replace(settings.solver_options, first_strategy_iterations=FIRST_ROUND_ITERATIONS)
     for leg in legs:
         others = {o: current[o] for o in legs if o != leg}
-        problem = SwingProblem(pipeline, leg, family, others, margins=settings.margins)
+        problem = SwingGoal(family, settings.margins).on(pipeline, leg, others)
         answer = solver(settings.method).solve(problem, current[leg], options)
         if answer.success:
             current[leg] = answer.theta
@@ -550,7 +550,7 @@ def optimize_swings(
             label, theta = "given", np.asarray(theta0[leg], dtype=float)
         else:
             label, theta = starts(
-                SwingProblem(pipeline, leg, family, margins=settings.margins),
+                SwingGoal(family, settings.margins).on(pipeline, leg),
                 solver(settings.method),
                 1,
             )[0]
@@ -565,7 +565,7 @@ def optimize_swings(
         rates.append(rate)
         if progress is not None:
             progress(f"{family.name} at {rate:g} Hz")
-        at_rate = pipeline.with_gait(with_rate(pipeline.gait, rate))
+        at_rate = resampled(pipeline, rate)
         answers, rounds, settled, together = _solve_legs(
             at_rate, legs, family, settings, current, workers, trial, len(rates) > 1
         )
@@ -588,7 +588,7 @@ def optimize_swings(
         ok = optimum.success and error <= settings.sampling_tolerance
         runs = [StartResult(first[leg][0], optimum, check, ok)]
         others = coupled_others(at_rate, legs, leg, final)
-        problem = SwingProblem(at_rate, leg, family, others, margins=settings.margins)
+        problem = SwingGoal(family, settings.margins).on(at_rate, leg, others)
         extra = 1 if trial else settings.starts  # a trial is one warm solve: no extra start
         for label, theta in starts(problem, solver(settings.method), extra)[1:]:
             if progress is not None:
@@ -606,10 +606,10 @@ def optimize_swings(
         if others is not None and math.isfinite(check_energy):
             # the alternation solved this leg beside the others' parameters of that round: its
             # check is renewed beside their final ones, the pair the result reports
-            fine = at_rate.with_gait(with_rate(at_rate.gait, check_rate_hz(at_rate.gait)))
-            final_problem = SwingProblem(fine, leg, family, others, margins=settings.margins)
+            fine = on_check_grid(at_rate)
+            final_problem = SwingGoal(family, settings.margins).on(fine, leg, others)
             check_energy = final_problem.energy_j(best.optimum.theta)
-            check_swing = SwingProblem(fine, leg, family).swing_energy_j(best.optimum.theta)
+            check_swing = SwingGoal(family).on(fine, leg).swing_energy_j(best.optimum.theta)
         results[leg] = LegResult(
             leg=leg,
             best=best.optimum,

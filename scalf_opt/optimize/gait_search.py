@@ -60,7 +60,7 @@ from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.driver import Settings
 from scalf_opt.optimize.free_stance import GaitTrials, StanceEvaluation
 from scalf_opt.optimize.pattern_search import PatternSearchOptions, pattern_search
-from scalf_opt.optimize.sampling import check_rate_hz, with_rate
+from scalf_opt.optimize.sampling import on_check_grid
 from scalf_opt.types import FIRST_PAIR
 
 SEARCH_VARIABLES = (
@@ -249,7 +249,7 @@ def reference_unwalkable(pipeline: EnergyPipeline) -> str | None:
     ``simulate --from``), so a gait it cannot walk is no answer. Checked at ten times the
     gait's rate, finer than any rate an optimum converges at.
     """
-    fine = pipeline.with_gait(with_rate(pipeline.gait, check_rate_hz(pipeline.gait)))
+    fine = on_check_grid(pipeline)
     for leg in FIRST_PAIR:
         try:
             fine.swing(leg, make_family("reference"))

@@ -408,6 +408,29 @@ class SwingProblem:
         return "foot target out of reach"
 
 
+@dataclass(frozen=True)
+class SwingGoal:
+    """What a swing optimization asks for, before it is put on a robot's sampled gait.
+
+    The family the swing is sought in and how far inside the joint range and the stroke it
+    stays; :meth:`on` puts it on a pipeline (its robot, gait and sampling) for one leg, the one
+    place a :class:`SwingProblem` is built.
+    """
+
+    family: SwingFamily
+    margins: LimitMargins = DEFAULT_MARGINS
+
+    def on(
+        self,
+        pipeline: EnergyPipeline,
+        leg: str,
+        others: Mapping[str, np.ndarray] | None = None,
+        stance_term: bool = True,
+    ) -> SwingProblem:
+        """``leg``'s problem on ``pipeline`` (see :class:`SwingProblem` for the arguments)."""
+        return SwingProblem(pipeline, leg, self.family, others, self.margins, stance_term)
+
+
 @dataclass
 class PairProblem:
     """Both legs of a diagonal pair optimized together, under loads that couple them.
@@ -434,10 +457,8 @@ class PairProblem:
     @cached_property
     def problems(self) -> tuple[SwingProblem, ...]:
         """Each leg's own swing problem, without the stance term (which the pair owns)."""
-        return tuple(
-            SwingProblem(self.pipeline, leg, self.family, margins=self.margins, stance_term=False)
-            for leg in self.legs
-        )
+        goal = SwingGoal(self.family, self.margins)
+        return tuple(goal.on(self.pipeline, leg, stance_term=False) for leg in self.legs)
 
     @cached_property
     def couplings(self) -> tuple[StanceCoupling, ...]:
@@ -456,4 +477,4 @@ class PairProblem:
         What a leg's answer is evaluated on, exactly as when the leg is solved alone.
         """
         others = {o: np.asarray(thetas[o], dtype=float) for o in self.legs if o != leg}
-        return SwingProblem(self.pipeline, leg, self.family, others, self.margins)
+        return SwingGoal(self.family, self.margins).on(self.pipeline, leg, others)

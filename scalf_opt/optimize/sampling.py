@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import MAX_SAMPLES_PER_PHASE, Gait
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.types import PHASES
@@ -70,6 +71,20 @@ def check_rate_hz(gait: Gait) -> float:
 def with_rate(gait: Gait, rate_hz: float) -> Gait:
     """``gait`` sampled at ``rate_hz``."""
     return replace(gait, sample_rate_hz=float(rate_hz))
+
+
+def resampled(pipeline: EnergyPipeline, rate_hz: float) -> EnergyPipeline:
+    """The same robot, gait and models, sampled at ``rate_hz`` (a refinement of the grid).
+
+    The one place an optimizer changes the sampling: the rate is the transcription's choice,
+    the physics (the pipeline's robot, gait and load model) stays as it is.
+    """
+    return pipeline.with_gait(with_rate(pipeline.gait, rate_hz))
+
+
+def on_check_grid(pipeline: EnergyPipeline) -> EnergyPipeline:
+    """The pipeline on the check grid of an optimum found at its rate (:func:`check_rate_hz`)."""
+    return resampled(pipeline, check_rate_hz(pipeline.gait))
 
 
 def relative_difference(value: float, check: float) -> float:

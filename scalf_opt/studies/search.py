@@ -18,7 +18,7 @@ from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.driver import Settings, optimize_swings
 from scalf_opt.optimize.landscape import energy_landscape
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
-from scalf_opt.optimize.problem import SwingProblem
+from scalf_opt.optimize.problem import SwingGoal
 from scalf_opt.types import FIRST_PAIR
 from scalf_opt.viz.search_figure import LegSearch
 
@@ -64,7 +64,7 @@ def search_study(
         out[leg] = LegSearch(
             pattern=pattern,
             ipopt=ipopt,
-            landscape=energy_landscape(SwingProblem(at_rate, leg, family), x, y),
+            landscape=energy_landscape(SwingGoal(family).on(at_rate, leg), x, y),
             reference_swing_j=ipopt_run.legs[leg].reference_swing_energy_j,
             pattern_rates_hz=tuple(pattern_run.rates_hz),
         )
