@@ -29,6 +29,7 @@ import numpy as np
 from scalf_opt.actuators.drive import Channel, Drive, MaxFn
 from scalf_opt.actuators.stribeck import smooth_max
 from scalf_opt.energy.accounting import accounting as power_accounting
+from scalf_opt.energy.built_once import BuiltOnce
 from scalf_opt.model.kinematics import LegKinematics
 from scalf_opt.types import JOINT_ROLES, Accounting, Expr, Space, casadi_name, check_choice
 
@@ -89,6 +90,8 @@ class LegPhysics:
         self.kin = kinematics
         self.leg = kinematics.leg
         self.drives = drives
+        self.built = BuiltOnce()
+        """What the optimizers build from this leg once (kernels, bound analyses, NLPs)."""
 
     @cached_property
     def drive_outputs(self) -> tuple[DriveOutput, ...]:

@@ -28,13 +28,13 @@ samples and CasADi differentiates through it.
 from __future__ import annotations
 
 import threading
-import weakref
 from dataclasses import dataclass, field
 from functools import cached_property
 
 import casadi as ca
 import numpy as np
 
+from scalf_opt.energy.built_once import BuiltOnce
 from scalf_opt.energy.codegen import compile_library, load_external
 from scalf_opt.energy.limits import Bound, leg_bounds
 from scalf_opt.energy.physics import LegPhysics
@@ -81,7 +81,7 @@ class Kernel:
     _smooth_hessian: ca.Function | None = None
     _exact: dict[str, ca.Function] = field(default_factory=dict)
     _mapped: dict[tuple[str, int], ca.Function] = field(default_factory=dict)
-    nlps: dict[object, object] = field(default_factory=dict)
+    nlps: BuiltOnce = field(default_factory=BuiltOnce)
     """Built NLPs by their structure (filled by :mod:`scalf_opt.optimize.nlp`)."""
 
     def row(self, name: str) -> int:
@@ -172,28 +172,22 @@ class Kernel:
         return np.array(self._mapped[key](samples))
 
 
-_KERNELS: weakref.WeakKeyDictionary[LegPhysics, dict[Space, Kernel]] = weakref.WeakKeyDictionary()
-
-
 def kernel_for(physics: LegPhysics, space: Space) -> Kernel:
     """The leg's kernel in ``space``, built once per leg (and compiled once per machine)."""
-    per_leg = _KERNELS.setdefault(physics, {})
+
+    def build() -> Kernel:
+        bounds = leg_bounds(physics)
+        rows = (*(b.name for b in bounds), FOOT_Z, FOOT_Z_ACCEL)
+        if space == "foot":
+            rows = (*rows, REACH)
+        return Kernel(physics, space, bounds, rows)
+
     with SYMBOLIC_LOCK:
-        if space not in per_leg:
-            bounds = leg_bounds(physics)
-            rows = (*(b.name for b in bounds), FOOT_Z, FOOT_Z_ACCEL)
-            if space == "foot":
-                rows = (*rows, REACH)
-            per_leg[space] = Kernel(physics, space, bounds, rows)
-    return per_leg[space]
+        return physics.built.get(("kernel", space), build)
 
 
 STANCE_INPUTS = 18
 """Inputs per stance leg and sample of the stance kernel: q (2), qd (2), tau0 (2), gain (12)."""
-
-_STANCE_KERNELS: weakref.WeakKeyDictionary[LegPhysics, dict[object, ca.Function]] = (
-    weakref.WeakKeyDictionary()
-)
 
 
 def stance_kernel(
@@ -210,42 +204,44 @@ def stance_kernel(
     torque-dependent drive outputs, such as a cylinder's force). See
     :mod:`scalf_opt.energy.coupling`.
     """
-    key = (space, tuple(id(v) for v in varying[1:]), tuple(id(s) for s in stance))
-    per_leg = _STANCE_KERNELS.setdefault(varying[0], {})
+    # the first varying leg owns it; the others are named by identity (they live as long)
+    key = ("stance kernel", space, tuple(id(v) for v in varying[1:]), tuple(id(s) for s in stance))
+
+    def build() -> ca.Function:
+        y = ca.SX.sym("y", 6 * len(varying))
+        d = ca.SX.sym("d", STANCE_INPUTS * len(stance))
+        wrenches = [
+            physics.wrench_function(space)(
+                y[6 * i : 6 * i + 2], y[6 * i + 2 : 6 * i + 4], y[6 * i + 4 : 6 * i + 6]
+            )
+            for i, physics in enumerate(varying)
+        ]
+        wrench = sum(wrenches[1:], wrenches[0])
+        powers, losses, limited = [], [], []
+        for k, physics in enumerate(stance):
+            block = d[STANCE_INPUTS * k : STANCE_INPUTS * (k + 1)]
+            q, qd, tau0 = block[0:2], block[2:4], block[4:6]
+            gain = ca.reshape(block[6:18], 6, 2).T  # row-major 2 x 6
+            tau = tau0 + ca.mtimes(gain, wrench)
+            powers.append(tau * qd)
+            _, loss = physics.power_expr(q, qd, tau, heat_eps=HEAT_SMOOTHING_EPS_M_S)
+            losses.append(ca.sum1(loss))
+            limited.append(stance_limit_function(physics)(q, qd, tau))
+        names = [*(v.leg.name for v in varying), space, *(s.leg.name for s in stance)]
+        name = casadi_name(*names, "stance_sample")
+        fn = ca.Function(
+            name,
+            [y, d],
+            [ca.vertcat(*powers), ca.sum1(ca.vertcat(*losses)), ca.vertcat(*limited)],
+        )
+        adjoint = fn.reverse(1)
+        library = compile_library(
+            name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian()]
+        )
+        return load_external(name, library) or fn
+
     with SYMBOLIC_LOCK:
-        if key not in per_leg:
-            y = ca.SX.sym("y", 6 * len(varying))
-            d = ca.SX.sym("d", STANCE_INPUTS * len(stance))
-            wrenches = [
-                physics.wrench_function(space)(
-                    y[6 * i : 6 * i + 2], y[6 * i + 2 : 6 * i + 4], y[6 * i + 4 : 6 * i + 6]
-                )
-                for i, physics in enumerate(varying)
-            ]
-            wrench = sum(wrenches[1:], wrenches[0])
-            powers, losses, limited = [], [], []
-            for k, physics in enumerate(stance):
-                block = d[STANCE_INPUTS * k : STANCE_INPUTS * (k + 1)]
-                q, qd, tau0 = block[0:2], block[2:4], block[4:6]
-                gain = ca.reshape(block[6:18], 6, 2).T  # row-major 2 x 6
-                tau = tau0 + ca.mtimes(gain, wrench)
-                powers.append(tau * qd)
-                _, loss = physics.power_expr(q, qd, tau, heat_eps=HEAT_SMOOTHING_EPS_M_S)
-                losses.append(ca.sum1(loss))
-                limited.append(stance_limit_function(physics)(q, qd, tau))
-            names = [*(v.leg.name for v in varying), space, *(s.leg.name for s in stance)]
-            name = casadi_name(*names, "stance_sample")
-            fn = ca.Function(
-                name,
-                [y, d],
-                [ca.vertcat(*powers), ca.sum1(ca.vertcat(*losses)), ca.vertcat(*limited)],
-            )
-            adjoint = fn.reverse(1)
-            library = compile_library(
-                name, [fn, fn.jacobian(), fn.forward(1), adjoint, adjoint.jacobian()]
-            )
-            per_leg[key] = load_external(name, library) or fn
-    return per_leg[key]
+        return varying[0].built.get(key, build)
 
 
 def _bounded_value(physics: LegPhysics, bound: Bound, q: ca.SX, qd: ca.SX, tau: ca.SX) -> ca.SX:
@@ -266,25 +262,17 @@ def stance_limited_bounds(physics: LegPhysics) -> tuple[Bound, ...]:
     torques, so the swing NLP keeps these inside their limits on the stance samples it loads
     (no margin: a margin is for end stops and stroke ends).
     """
-    if physics not in _STANCE_LIMITED_BOUNDS:  # symbolic, so once per leg (a search asks often)
+
+    def build() -> tuple[Bound, ...]:  # symbolic, so once per leg (a search asks often)
         q, qd, tau = (ca.SX.sym(n, 2) for n in ("q", "qd", "tau"))
-        _STANCE_LIMITED_BOUNDS[physics] = tuple(
+        return tuple(
             b
             for b in leg_bounds(physics)
             if b.output == "tau"
             or (b.row is None and ca.depends_on(_bounded_value(physics, b, q, qd, tau), tau))
         )
-    return _STANCE_LIMITED_BOUNDS[physics]
 
-
-_STANCE_LIMITED_BOUNDS: weakref.WeakKeyDictionary[LegPhysics, tuple[Bound, ...]] = (
-    weakref.WeakKeyDictionary()
-)
-
-
-_STANCE_LIMIT_FUNCTIONS: weakref.WeakKeyDictionary[LegPhysics, ca.Function] = (
-    weakref.WeakKeyDictionary()
-)
+    return physics.built.get("stance limited bounds", build)
 
 
 def stance_limit_function(physics: LegPhysics) -> ca.Function:
@@ -293,13 +281,13 @@ def stance_limit_function(physics: LegPhysics) -> ca.Function:
     The numeric twin of the stance kernel's third output: the pattern search and the limit
     checks evaluate the stance legs' limits with it (map it over the samples).
     """
+
+    def build() -> ca.Function:
+        q, qd, tau = (ca.SX.sym(n, 2) for n in ("q", "qd", "tau"))
+        values = [_bounded_value(physics, b, q, qd, tau) for b in stance_limited_bounds(physics)]
+        return ca.Function(
+            casadi_name(physics.leg.name, "stance_limits"), [q, qd, tau], [ca.vertcat(*values)]
+        )
+
     with SYMBOLIC_LOCK:
-        if physics not in _STANCE_LIMIT_FUNCTIONS:
-            q, qd, tau = (ca.SX.sym(n, 2) for n in ("q", "qd", "tau"))
-            values = [
-                _bounded_value(physics, b, q, qd, tau) for b in stance_limited_bounds(physics)
-            ]
-            _STANCE_LIMIT_FUNCTIONS[physics] = ca.Function(
-                casadi_name(physics.leg.name, "stance_limits"), [q, qd, tau], [ca.vertcat(*values)]
-            )
-    return _STANCE_LIMIT_FUNCTIONS[physics]
+        return physics.built.get("stance limit function", build)

@@ -647,17 +647,17 @@ def build_nlp(
             tuple(sorted(options.items())),
             stoppable,
         )
-        if key not in kernel.nlps:
+
+        def build() -> BuiltNlp:
             start = time.perf_counter()
             solver, callback = _build(
                 problem, legs, blocks, constants, accounting, options, stoppable, shapes
             )
-            kernel.nlps[key] = BuiltNlp(
+            return BuiltNlp(
                 solver, blocks, accounting, time.perf_counter() - start, shapes, callback
             )
-        built = kernel.nlps[key]
-    assert isinstance(built, BuiltNlp)
-    return built
+
+        return kernel.nlps.get(key, build)
 
 
 def _digest(matrix: ca.DM) -> str:

@@ -381,7 +381,9 @@ def test_optimize_bad_arguments(capsys):
 def test_paper_writes_report_json_and_csv(tmp_path, capsys):
     code, out, _ = run(["paper", "--quick", "--out", str(tmp_path)], capsys)
     assert code == 0
-    assert "Table 5" in out and "-33.76" in out and "671.52 -> 617.68" in out
+    assert "Table 6" in out and "671.52 W -> 617.68 W" in out and "report.md" in out
+    report = (tmp_path / "report.md").read_text()
+    assert "Table 5" in report and "-33.76" in report and "671.52 -> 617.68" in report
     for name in ("report.md", "paper.json", "table5.csv", "table6.csv"):
         assert (tmp_path / name).stat().st_size > 0
     for name in ("pattern_search.png", "swing_paths.png"):

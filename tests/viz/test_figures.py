@@ -288,7 +288,7 @@ def test_energy_bar_labels_are_the_cycle_energies_with_one_precision(scalf_shown
     assert [float(t) for t in totals] == pytest.approx([t.cycle.energy_j for t in shown], abs=0.01)
     assert len({len(number.partition(".")[2]) for number in bars + totals}) == 1
     # the energies depend on the load model and the accounting: the title names them
-    assert fig.axes[0].get_title().endswith("\nwhole-body loads, paper accounting")
+    assert fig.axes[0].get_title().endswith("\nloads 'whole-body', accounting 'paper', 40 Hz")
     close(fig)
 
 
@@ -318,5 +318,7 @@ def test_the_foot_force_figure_marks_half_the_weight_the_feet_carry(scalf, loads
 def test_the_joint_figures_name_the_energy_model(scalf_shown):
     _, shown = scalf_shown
     fig = joint_figure(shown, "torque")
-    assert fig.get_suptitle() == "Joint torques over a cycle\nwhole-body loads, paper accounting"
+    assert fig.get_suptitle() == (
+        "Joint torques over a cycle\nloads 'whole-body', accounting 'paper', 40 Hz"
+    )
     close(fig)

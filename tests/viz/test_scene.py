@@ -5,6 +5,8 @@ speed; the animated foot is where the drawn path is; the swing clears H at mid-s
 are what meshcat's viewer reads, and the same inputs give the same bytes.
 """
 
+import html
+
 import numpy as np
 import pytest
 import umsgpack
@@ -205,11 +207,12 @@ def test_the_legend_names_each_trajectorys_loads_and_accounting(scalf, scalf_sho
     shown = [*shown, Trajectory("trunk-only", trunk.robot_cycle(make_family("reference")))]
     scene = build_scene(scalf, shown, SceneOptions(n_cycles=1, frame_rate_hz=20.0))
     models = [entry.energy_model for entry in scene.legend]
-    assert models == ["whole-body loads, paper accounting"] * 2 + [
-        "trunk loads, positive accounting"
+    rate = f"{shown[0].cycle.gait.sample_rate_hz:.4g} Hz"
+    assert models == [f"loads 'whole-body', accounting 'paper', {rate}"] * 2 + [
+        f"loads 'trunk', accounting 'positive', {rate}"
     ]
     page = legend_html(scene)
-    assert all(f"({model})" in page for model in models)
+    assert all(f"({html.escape(model)})" in page for model in models)
 
 
 def test_the_legend_prints_the_energies_as_the_command_line_does(scalf, scalf_shown):
