@@ -22,19 +22,15 @@ from matplotlib.patches import Patch
 from matplotlib.ticker import MaxNLocator
 
 from scalf_opt.energy.cycle import RobotCycle
-from scalf_opt.files import write_with
 from scalf_opt.optimize.solve import SwingOptimum
 from scalf_opt.viz.colors import LEG_COLORS
+from scalf_opt.viz.plotting import save_figure
 
 
 def save_atomic(fig: Figure, path: Path) -> Path:
-    """Save ``fig`` as PNG to ``path`` atomically and close it."""
+    """Save ``fig`` to ``path`` (:func:`~scalf_opt.viz.plotting.save_figure`) and close it."""
     try:
-        # no software/date metadata: the same inputs give the same bytes
-        return write_with(
-            path,
-            lambda handle: fig.savefig(handle, format="png", dpi=110, metadata={"Software": None}),
-        )
+        return save_figure(fig, path)
     finally:
         plt.close(fig)
 

@@ -48,46 +48,54 @@ def peaks_table(peaks: list[Peak], reference: list[Peak] | None = None) -> str:
         "leg   joint " + "".join(f"{h:>{width}s}" for h in heads),
     ]
 
-    def by_row(items: list[Peak]) -> dict[tuple[str, str], dict[str, Peak]]:
-        rows: dict[tuple[str, str], dict[str, Peak]] = {}
-        for p in items:
-            rows.setdefault((p.leg, p.joint), {})[p.quantity] = p
-        return rows
-
-    rows, ref_rows = by_row(peaks), by_row(reference or [])
+    rows, ref_rows = _by_row(peaks), _by_row(reference or [])
     limits: dict[tuple[str, str], list[str]] = {}
     for (leg, joint), by_quantity in rows.items():
-        cells, limit_cells = [], []
-        for quantity, _ in columns:
-            found = by_quantity.get(quantity)
-            if found is None:
-                cells.append("-")
-                limit_cells.append("-")
-                continue
-            p = found
-            value = _g(p.value) if quantity in signed else _g(abs(p.value))
-            ref = ref_rows.get((leg, joint), {}).get(quantity)
-            if ref is not None:
-                shown = _g(ref.value) if quantity in signed else _g(abs(ref.value))
-                value += f" ({shown}{'*' if ref.exceeds else ''})"
-            cells.append(f"{value}{'*' if p.exceeds else ' '}")
-            if p.limit is None:
-                limit_cells.append("none ")
-            else:  # a one-sided limit carries the sign of its side
-                limit_cells.append(
-                    _g(p.limit if p.value >= 0 or not p.one_sided else -p.limit) + " "
-                )
+        pairs = [
+            _peak_cells(by_quantity.get(q), ref_rows.get((leg, joint), {}).get(q), q in signed)
+            for q, _ in columns
+        ]
+        cells = [cell for cell, _ in pairs]
         lines.append(f"{leg:5s} {joint:5s} " + "".join(f"{c:>{width}s}" for c in cells))
-        limits[(leg, joint)] = limit_cells
+        limits[(leg, joint)] = [limit for _, limit in pairs]
+    return "\n".join(lines + _limit_rows(limits, width))
+
+
+def _by_row(items: list[Peak]) -> dict[tuple[str, str], dict[str, Peak]]:
+    """The peaks by (leg, joint), then by quantity."""
+    rows: dict[tuple[str, str], dict[str, Peak]] = {}
+    for p in items:
+        rows.setdefault((p.leg, p.joint), {})[p.quantity] = p
+    return rows
+
+
+def _peak_cells(p: Peak | None, ref: Peak | None, signed: bool) -> tuple[str, str]:
+    """A peak's cell (the reference's in brackets, ``*`` beyond its limit) and its limit's."""
+    if p is None:
+        return "-", "-"
+    value = _g(p.value) if signed else _g(abs(p.value))
+    if ref is not None:
+        shown = _g(ref.value) if signed else _g(abs(ref.value))
+        value += f" ({shown}{'*' if ref.exceeds else ''})"
+    if p.limit is None:
+        limit = "none "
+    else:  # a one-sided limit carries the sign of its side
+        limit = _g(p.limit if p.value >= 0 or not p.one_sided else -p.limit) + " "
+    return f"{value}{'*' if p.exceeds else ' '}", limit
+
+
+def _limit_rows(limits: dict[tuple[str, str], list[str]], width: int) -> list[str]:
+    """The limits: one row per joint when every leg has the same, else one per leg and joint."""
     by_joint = {joint: cells for (_, joint), cells in limits.items()}
-    same = all(cells == by_joint[joint] for (_, joint), cells in limits.items())
-    if same:  # every leg has the same limits: one row per joint
-        for joint, cells in by_joint.items():
-            lines.append(f"limit {joint:5s} " + "".join(f"{c:>{width}s}" for c in cells))
-    else:
-        for (leg, joint), cells in limits.items():
-            lines.append(f"limit {leg} {joint:5s}" + "".join(f"{c:>{width}s}" for c in cells))
-    return "\n".join(lines)
+    if all(cells == by_joint[joint] for (_, joint), cells in limits.items()):
+        return [
+            f"limit {joint:5s} " + "".join(f"{c:>{width}s}" for c in cells)
+            for joint, cells in by_joint.items()
+        ]
+    return [
+        f"limit {leg} {joint:5s}" + "".join(f"{c:>{width}s}" for c in cells)
+        for (leg, joint), cells in limits.items()
+    ]
 
 
 def violation_lines(violations: list[CycleViolation]) -> list[str]:

@@ -175,14 +175,7 @@ def build_scene(
     if not trajectories:
         raise ConfigError("nothing to show: give at least one trajectory")
     walkers = [t.robot or robot for t in trajectories]
-    looks: dict[int, tuple[list[Visual], list[str]]] = {
-        id(robot): load_visuals(robot) if loaded is None else loaded
-    }
-    for walker in walkers:
-        if id(walker) not in looks:
-            looks[id(walker)] = load_visuals(walker)
-    skipped = list(dict.fromkeys(name for _, names in looks.values() for name in names))
-    visuals = [looks[id(walker)][0] for walker in walkers]
+    visuals, skipped = _looks(robot, walkers, loaded)
     gait = trajectories[0].cycle.gait
     spacing = max(lateral_spacing_m(walker) for walker in walkers)
     walks = [
@@ -245,6 +238,20 @@ def build_scene(
         n_cycles=opts.n_cycles,
         playback_speed=opts.playback_speed,
     )
+
+
+def _looks(
+    robot: Robot, walkers: Sequence[Robot], loaded: tuple[list[Visual], list[str]] | None
+) -> tuple[list[list[Visual]], list[str]]:
+    """Each walker's visuals (each robot's loaded once), and the names of those not drawn."""
+    looks: dict[int, tuple[list[Visual], list[str]]] = {
+        id(robot): load_visuals(robot) if loaded is None else loaded
+    }
+    for walker in walkers:
+        if id(walker) not in looks:
+            looks[id(walker)] = load_visuals(walker)
+    skipped = list(dict.fromkeys(name for _, names in looks.values() for name in names))
+    return [looks[id(walker)][0] for walker in walkers], skipped
 
 
 def lateral_spacing_m(robot: Robot) -> float:
