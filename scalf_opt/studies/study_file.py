@@ -230,7 +230,11 @@ def _check_field(path: Path, key: str, value: Any) -> Any:
     )
 
 
-def _axes(path: Path, sweep: dict[str, Any]) -> list[tuple[str, list[str], list[tuple[Any, ...]]]]:
+Axis = tuple[str, list[str], list[tuple[Any, ...]]]
+"""A sweep axis: its key, the fields it sets, and its points (a value per field each)."""
+
+
+def _axes(path: Path, sweep: dict[str, Any]) -> list[Axis]:
     """Each axis: its key, the fields it sets and its values (one tuple per point)."""
     out = []
     for key, values in sweep.items():
@@ -309,39 +313,15 @@ def read_study(path: str | Path) -> Study:
             file and the key).
     """
     path = Path(path)
-    data = read_toml(path, "study")
-    extra = sorted(set(data) - set(_TOP_KEYS))
-    if extra:
-        raise ConfigError(_misplaced(path, extra[0], data[extra[0]]))
-    tables = {}
-    for key in _TOP_KEYS:
-        value = data.get(key, {})
-        if not isinstance(value, dict):
-            raise ConfigError(f"{path}: {key} must be a table, got {value!r}")
-        tables[key] = value
+    tables = _tables(path, read_toml(path, "study"))
     study = tables["study"]
-    unknown = sorted(set(study) - set(_STUDY_KEYS))
-    if unknown:
-        raise ConfigError(
-            f"{path}: unknown key study.{unknown[0]}{did_you_mean(unknown[0], _STUDY_KEYS)} "
-            f"(known: {', '.join(_STUDY_KEYS)})"
-        )
     urdf = _file(path, study, "urdf")
     if urdf is not None and "robot" in study:
         raise ConfigError(f"{path}: give study.robot or study.urdf, not both")
     legs = _file(path, study, "legs")
     if legs is not None and urdf is None:
         raise ConfigError(f"{path}: study.legs goes with study.urdf")
-    settings = {
-        "robot": None if urdf else "scalf",
-        "family": DEFAULT_FAMILY,
-        "method": "ipopt",
-        "accounting": "paper",
-        "loads": DEFAULT_LOADS,
-    }
-    for key in SETTINGS:
-        if key in study:
-            settings[key] = _check_setting(path, key, study[key], f"study.{key}")
+    settings = _settings(path, study, urdf)
     optimize = _text(path, study, "optimize", "study") or "pair"
     if optimize not in OPTIMIZE_CHOICES:
         raise ConfigError(
@@ -351,6 +331,67 @@ def read_study(path: str | Path) -> Study:
     speed = _check_field(path, SPEED, study[SPEED]) if SPEED in study else None
     fixed_variant = {k: _check_field(path, f"variant.{k}", v) for k, v in tables["variant"].items()}
     axes = _axes(path, tables["sweep"])
+    _check_axes(path, axes, urdf, speed, optimize, fixed_gait)
+    common = {
+        "urdf": urdf,
+        "legs": legs,
+        "actuators": _file(path, study, "actuators"),
+        "optimize": optimize,
+    }
+    cases = [
+        _case(index, combo, axes, {**settings, SPEED: speed}, fixed_gait, fixed_variant, common)
+        for index, combo in enumerate(itertools.product(*(points for _, _, points in axes)))
+    ]
+    swept_fields = [f for _, fields_, _ in axes for f in fields_]
+    plot_x = _plot_x(path, tables["plot"], swept_fields)
+    name = _text(path, study, "name", "study") or path.stem
+    return Study(path, name, tuple(cases), tuple(key for key, _, _ in axes), plot_x)
+
+
+def _tables(path: Path, data: dict[str, Any]) -> dict[str, dict[str, Any]]:
+    """The file's tables, each a table (absent: empty); refuses anything else at the top."""
+    extra = sorted(set(data) - set(_TOP_KEYS))
+    if extra:
+        raise ConfigError(_misplaced(path, extra[0], data[extra[0]]))
+    tables = {}
+    for key in _TOP_KEYS:
+        value = data.get(key, {})
+        if not isinstance(value, dict):
+            raise ConfigError(f"{path}: {key} must be a table, got {value!r}")
+        tables[key] = value
+    unknown = sorted(set(tables["study"]) - set(_STUDY_KEYS))
+    if unknown:
+        raise ConfigError(
+            f"{path}: unknown key study.{unknown[0]}{did_you_mean(unknown[0], _STUDY_KEYS)} "
+            f"(known: {', '.join(_STUDY_KEYS)})"
+        )
+    return tables
+
+
+def _settings(path: Path, study: dict[str, Any], urdf: str | None) -> dict[str, Any]:
+    """The study's settings (robot, family, method, accounting, loads), checked, defaulted."""
+    settings: dict[str, Any] = {
+        "robot": None if urdf else "scalf",
+        "family": DEFAULT_FAMILY,
+        "method": "ipopt",
+        "accounting": "paper",
+        "loads": DEFAULT_LOADS,
+    }
+    for key in SETTINGS:
+        if key in study:
+            settings[key] = _check_setting(path, key, study[key], f"study.{key}")
+    return settings
+
+
+def _check_axes(
+    path: Path,
+    axes: list[Axis],
+    urdf: str | None,
+    speed: Any,
+    optimize: str,
+    fixed_gait: dict[str, Any],
+) -> None:
+    """The sweep's axes agree with the study's settings, and make at most MAX_CASES cases."""
     if urdf is not None and any("robot" in fields_ for _, fields_, _ in axes):
         raise ConfigError(f"{path}: sweep.robot needs study.robot, not study.urdf")
     swept_speed = any(SPEED in fields_ for _, fields_, _ in axes)
@@ -364,40 +405,46 @@ def read_study(path: str | Path) -> Study:
             f"{path}: [sweep] makes {count} cases, more than the {MAX_CASES} a study may have "
             "(split it into several studies)"
         )
-    cases = []
-    for index, combo in enumerate(itertools.product(*(points for _, _, points in axes))):
-        values: dict[str, Any] = {**settings, SPEED: speed}
-        gait, variant = dict(fixed_gait), dict(fixed_variant)
-        swept: dict[str, Any] = {}
-        for (_, fields_, _), point in zip(axes, combo, strict=True):
-            for f, v in zip(fields_, point, strict=True):
-                swept[f] = v
-                if f in SETTINGS or f == SPEED:
-                    values[f] = v
-                elif f.startswith("gait."):
-                    gait[f.removeprefix("gait.")] = v
-                else:
-                    variant[f.removeprefix("variant.")] = v
-        cases.append(
-            Case(
-                index=index,
-                swept=swept,
-                robot=values["robot"],
-                urdf=urdf,
-                legs=legs,
-                actuators=_file(path, study, "actuators"),
-                family=str(values["family"]),
-                method=str(values["method"]),
-                accounting=str(values["accounting"]),
-                optimize=optimize,
-                gait=gait,
-                variant=variant,
-                speed_m_s=values[SPEED],
-                loads=str(values["loads"]),
-            )
-        )
-    plot = tables["plot"]
-    swept_fields = [f for _, fields_, _ in axes for f in fields_]
+
+
+def _case(
+    index: int,
+    combo: tuple[tuple[Any, ...], ...],
+    axes: list[Axis],
+    values: dict[str, Any],
+    fixed_gait: dict[str, Any],
+    fixed_variant: dict[str, Any],
+    common: dict[str, Any],
+) -> Case:
+    """The case at one point of the sweep: the fixed fields, then the swept ones over them."""
+    values, gait, variant = dict(values), dict(fixed_gait), dict(fixed_variant)
+    swept: dict[str, Any] = {}
+    for (_, fields_, _), point in zip(axes, combo, strict=True):
+        for f, v in zip(fields_, point, strict=True):
+            swept[f] = v
+            if f in SETTINGS or f == SPEED:
+                values[f] = v
+            elif f.startswith("gait."):
+                gait[f.removeprefix("gait.")] = v
+            else:
+                variant[f.removeprefix("variant.")] = v
+    return Case(
+        index=index,
+        swept=swept,
+        robot=values["robot"],
+        family=str(values["family"]),
+        method=str(values["method"]),
+        accounting=str(values["accounting"]),
+        gait=gait,
+        variant=variant,
+        speed_m_s=values[SPEED],
+        loads=str(values["loads"]),
+        **common,
+    )
+
+
+def _plot_x(path: Path, plot: dict[str, Any], swept_fields: list[str]) -> str:
+    """The figure's x axis: ``plot.x``, else the first swept field, else the case number."""
     plot_x = _text(path, plot, "x", "plot") or (swept_fields[0] if swept_fields else "case")
     extra = sorted(set(plot) - {"x"})
     if extra:
@@ -411,8 +458,7 @@ def read_study(path: str | Path) -> Study:
             f"{', '.join(c for c in RESULT_COLUMNS if c != 'error')})",
             field="plot.x",
         )
-    name = _text(path, study, "name", "study") or path.stem
-    return Study(path, name, tuple(cases), tuple(key for key, _, _ in axes), plot_x)
+    return plot_x
 
 
 def speed_study(
