@@ -18,6 +18,7 @@ matplotlib.use("Agg")  # files only: no display needed
 
 import matplotlib.pyplot as plt
 import numpy as np
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from scalf_opt.io.study_columns import RESULT_COLUMNS
@@ -127,51 +128,13 @@ def study_figure(rows: Sequence[dict[str, Any]], x: str, title: str) -> Figure:
     ok = [r for r in rows if r.get("status") == "ok"]
     numeric = all(_is_number(r.get(x)) for r in rows)
     if numeric:
-        for (label, group), color in zip(
-            _groups(rows, x).items(),
-            plt.rcParams["axes.prop_cycle"].by_key()["color"] * 10,
-            strict=False,
-        ):
-            good = sorted((r for r in group if r.get("status") == "ok"), key=lambda r: r[x])
-            xs = [r[x] for r in good]
-            ax_e.plot(xs, [r["reference_energy_j"] for r in good], "--o", ms=3, color=color)
-            ax_e.plot(
-                xs, [r["optimized_energy_j"] for r in good], "-o", ms=3, color=color, label=label
-            )
-            ax_s.plot(xs, [r["saving_pct"] for r in good], "-o", ms=3, color=color, label=label)
-            ax_c.plot(
-                xs, [r["cost_of_transport_reference"] for r in good], "--o", ms=3, color=color
-            )
-            ax_c.plot(xs, [r["cost_of_transport_optimized"] for r in good], "-o", ms=3, color=color)
-        bad = [r[x] for r in rows if r.get("status") != "ok"]
-        for ax in axes:
-            if bad:
-                ax.plot(bad, [0.0] * len(bad), "x", color="red", transform=ax.get_xaxis_transform())
+        _study_lines(axes, rows, x)
     else:
-        labels = [str(r.get(x)) for r in rows]
-        pos = np.arange(len(rows))
-        ref = [r["reference_energy_j"] if r.get("status") == "ok" else 0.0 for r in rows]
-        opt = [r["optimized_energy_j"] if r.get("status") == "ok" else 0.0 for r in rows]
-        ax_e.bar(pos - 0.2, ref, 0.4, label="reference", color="0.7")
-        ax_e.bar(pos + 0.2, opt, 0.4, label="optimized", color="C0")
-        ax_e.set_yscale("log")
-        ax_s.bar(pos, [r["saving_pct"] if r.get("status") == "ok" else 0.0 for r in rows], 0.5)
-        cot = [
-            (r["cost_of_transport_reference"], r["cost_of_transport_optimized"])
-            if r.get("status") == "ok"
-            else (0.0, 0.0)
-            for r in rows
-        ]
-        ax_c.bar(pos - 0.2, [c[0] for c in cot], 0.4, color="0.7", label="reference")
-        ax_c.bar(pos + 0.2, [c[1] for c in cot], 0.4, color="C0", label="optimized")
-        ax_c.set_xticks(pos, labels, rotation=20)
-    ax_e.set_ylabel(
-        "energy per cycle [J]\n(dashed: reference)" if numeric else "energy per cycle [J]"
-    )
+        _study_bars(axes, rows, x)
+    dashed = "\n(dashed: reference)" if numeric else ""
+    ax_e.set_ylabel(f"energy per cycle [J]{dashed}")
     ax_s.set_ylabel("saving [%]")
-    ax_c.set_ylabel(
-        "cost of transport [-]\n(dashed: reference)" if numeric else "cost of transport [-]"
-    )
+    ax_c.set_ylabel(f"cost of transport [-]{dashed}")
     ax_c.set_xlabel(axis_label(x))
     ax_e.set_title(fitted_title(f"{title}: {len(ok)} of {len(rows)} cases solved", 8.0, 12.0))
     for ax in axes:
@@ -181,6 +144,44 @@ def study_figure(rows: Sequence[dict[str, Any]], x: str, title: str) -> Figure:
         ax_e.legend(fontsize=8)
     fig.tight_layout()
     return fig
+
+
+def _study_lines(axes: Sequence[Axes], rows: Sequence[dict[str, Any]], x: str) -> None:
+    """A numeric ``x``: a line per group of rows (reference dashed), failed cases as red x."""
+    ax_e, ax_s, ax_c = axes
+    colors = plt.rcParams["axes.prop_cycle"].by_key()["color"] * 10
+    for (label, group), color in zip(_groups(rows, x).items(), colors, strict=False):
+        good = sorted((r for r in group if r.get("status") == "ok"), key=lambda r: r[x])
+        xs = [r[x] for r in good]
+        for ax, key, style, name in (
+            (ax_e, "reference_energy_j", "--o", None),
+            (ax_e, "optimized_energy_j", "-o", label),
+            (ax_s, "saving_pct", "-o", label),
+            (ax_c, "cost_of_transport_reference", "--o", None),
+            (ax_c, "cost_of_transport_optimized", "-o", None),
+        ):
+            ax.plot(xs, [r[key] for r in good], style, ms=3, color=color, label=name)
+    bad = [r[x] for r in rows if r.get("status") != "ok"]
+    for ax in axes:
+        if bad:
+            ax.plot(bad, [0.0] * len(bad), "x", color="red", transform=ax.get_xaxis_transform())
+
+
+def _study_bars(axes: Sequence[Axes], rows: Sequence[dict[str, Any]], x: str) -> None:
+    """A categorical ``x``: bars per case (reference grey), a failed case at zero."""
+    ax_e, ax_s, ax_c = axes
+
+    def values(key: str) -> list[float]:
+        return [r[key] if r.get("status") == "ok" else 0.0 for r in rows]
+
+    pos = np.arange(len(rows))
+    ax_e.bar(pos - 0.2, values("reference_energy_j"), 0.4, label="reference", color="0.7")
+    ax_e.bar(pos + 0.2, values("optimized_energy_j"), 0.4, label="optimized", color="C0")
+    ax_e.set_yscale("log")
+    ax_s.bar(pos, values("saving_pct"), 0.5)
+    ax_c.bar(pos - 0.2, values("cost_of_transport_reference"), 0.4, color="0.7", label="reference")
+    ax_c.bar(pos + 0.2, values("cost_of_transport_optimized"), 0.4, color="C0", label="optimized")
+    ax_c.set_xticks(pos, [str(r.get(x)) for r in rows], rotation=20)
 
 
 def scan_figure(
