@@ -212,6 +212,46 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
     if not isinstance(data, dict):
         raise ConfigError(f"{path}: not a summary (expected a JSON object)")
     gait = _gait(path, _field(path, data, "gait", dict))
+    accounting, loads = _models(path, data)
+    families, parameters = _swings(path, _field(path, data, "legs", dict))
+    methods = {
+        leg: str(record["method"])
+        for leg, record in (data.get("optimization") or {}).items()
+        if isinstance(record, dict) and "method" in record
+    }
+    optimization = data.get("optimization")
+    run = data.get("optimization_run")
+    record = data.get("provenance")
+    source: dict[str, Any] = record if isinstance(record, dict) else {}
+    robot, sha = source.get("robot"), source.get("urdf_sha256")
+    return SavedSwings(
+        path,
+        gait,
+        accounting,
+        families,
+        parameters,
+        methods,
+        robot if isinstance(robot, str) else None,
+        sha if isinstance(sha, str) else None,
+        _number_or_none(data.get("total_mass_kg")),
+        optimization if isinstance(optimization, dict) else None,
+        _number_or_none(run.get("sample_rate_hz") if isinstance(run, dict) else None),
+        loads,
+    )
+
+
+def _number_or_none(value: Any) -> float | None:
+    """``value`` as a float when it is a JSON number a float holds, else ``None``."""
+    if not isinstance(value, int | float) or isinstance(value, bool):
+        return None
+    try:
+        return float(value)
+    except OverflowError:  # an integer of hundreds of digits
+        return None
+
+
+def _models(path: Path, data: dict[str, Any]) -> tuple[str, str]:
+    """The summary's power accounting and stance load model, each checked to be known."""
     accounting = _field(path, data, "accounting", str)
     try:
         power_accounting(accounting)
@@ -224,7 +264,11 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
         stance_loads(loads)
     except ScalfError as exc:
         raise ConfigError(f"{path}: {exc}") from exc
-    legs = _field(path, data, "legs", dict)
+    return accounting, loads
+
+
+def _swings(path: Path, legs: dict[str, Any]) -> tuple[dict[str, str], dict[str, np.ndarray]]:
+    """Each saved leg's swing family and parameters, checked against the family's size."""
     families: dict[str, str] = {}
     parameters: dict[str, np.ndarray] = {}
     for leg in LEG_NAMES:
@@ -238,8 +282,7 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
         except ScalfError as exc:
             raise ConfigError(f"{path}: legs.{leg}.swing_family: {exc}") from exc
         if len(params) != n_params or not all(
-            isinstance(v, int | float) and not isinstance(v, bool) and math.isfinite(v)
-            for v in params
+            _number_or_none(v) is not None and math.isfinite(v) for v in params
         ):
             raise ConfigError(
                 f"{path}: legs.{leg}.swing_parameters must be {n_params} finite numbers for family "
@@ -249,32 +292,7 @@ def read_saved_swings(directory: str | Path) -> SavedSwings:
         parameters[leg] = np.array(params, dtype=float)
     if not families:
         raise ConfigError(f"{path}: legs holds none of {', '.join(LEG_NAMES)}")
-    methods = {
-        leg: str(record["method"])
-        for leg, record in (data.get("optimization") or {}).items()
-        if isinstance(record, dict) and "method" in record
-    }
-    optimization = data.get("optimization")
-    run = data.get("optimization_run")
-    rate = run.get("sample_rate_hz") if isinstance(run, dict) else None
-    record = data.get("provenance")
-    source: dict[str, Any] = record if isinstance(record, dict) else {}
-    robot, sha = source.get("robot"), source.get("urdf_sha256")
-    mass = data.get("total_mass_kg")
-    return SavedSwings(
-        path,
-        gait,
-        accounting,
-        families,
-        parameters,
-        methods,
-        robot if isinstance(robot, str) else None,
-        sha if isinstance(sha, str) else None,
-        float(mass) if isinstance(mass, int | float) and not isinstance(mass, bool) else None,
-        optimization if isinstance(optimization, dict) else None,
-        float(rate) if isinstance(rate, int | float) and not isinstance(rate, bool) else None,
-        loads,
-    )
+    return families, parameters
 
 
 def _depth_of(data: Any) -> int:

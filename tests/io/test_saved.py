@@ -52,6 +52,11 @@ def edit(summary, change):
             ConfigError,
             "must be 2 finite numbers",
         ),
+        (
+            lambda d: d["legs"]["RF"].update(swing_parameters=[10**400, 1]),
+            ConfigError,
+            "must be 2 finite numbers",  # a float cannot hold it: refused, not a crash
+        ),
         (lambda d: d["legs"]["RF"].update(swing_family="bogus"), ConfigError, "bogus"),
         (lambda d: d["gait"].update(duty_cycle=0.2), GaitError, "duty_cycle"),
     ],
