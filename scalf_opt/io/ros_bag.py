@@ -303,6 +303,54 @@ def check_topic_names(path: Path, reader: Any) -> None:
 
 def _read_joint_states(path: Path, reader: Any, topic: str | None) -> JointStateSeries:
     """:func:`read_joint_states` of the opened bag ``reader``; messages name ``path``."""
+    topic, connections = _joint_state_topic(path, reader, topic)
+    names: tuple[str, ...] | None = None
+    times: list[float] = []
+    columns: dict[str, list[np.ndarray]] = {"position": [], "velocity": [], "effort": []}
+    try:
+        for index, (conn, ns, raw) in enumerate(reader.messages(connections=connections)):
+            msg: Any = reader.deserialize(raw, conn.msgtype)
+            stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
+            t = stamp if stamp > 0 else ns * 1e-9
+            where = f"{path}: topic {topic}, message {index}"
+            names = _message_names(msg, names, where)
+            if (index + 1) * 3 * len(names) > MAX_VALUES:
+                raise LogError(
+                    f"{path}: topic {topic} holds more than {MAX_VALUES:,} numbers: cut the bag "
+                    "to the part to analyse"
+                )
+            if times and not t > times[-1]:
+                raise LogError(
+                    f"{where}: time stamp {t!r} s does not increase (the previous message "
+                    f"has {times[-1]!r} s)"
+                )
+            times.append(t)
+            for field, values in columns.items():
+                values.append(_message_values(msg, field, len(names), where))
+    except LogError:
+        raise
+    except Exception as exc:
+        raise _bag_error(path, exc) from exc
+    if names is None:
+        raise LogError(f"{path}: topic {topic!r} has no messages")
+    where = f"{path}: topic {topic}"
+    series = {
+        field: _stacked(values, len(names), field, where) for field, values in columns.items()
+    }
+    position = series["position"]
+    if position is None:
+        raise LogError(f"{path}: topic {topic}: the messages have no position")
+    t_s = np.array(times)
+    if t_s.size and not math.isfinite(float(t_s[-1])):
+        raise LogError(f"{path}: topic {topic}: a time stamp is not finite")
+    return JointStateSeries(topic, names, t_s, position, series["velocity"], series["effort"])
+
+
+def _joint_state_topic(path: Path, reader: Any, topic: str | None) -> tuple[str, list[Any]]:
+    """The JointState topic to read and its connections.
+
+    ``topic`` ``None``: the bag's only JointState topic.
+    """
     check_topic_names(path, reader)
     states = sorted({c.topic for c in reader.connections if c.msgtype == JOINT_STATE})
     have = ", ".join(states) if states else "none"
@@ -324,67 +372,45 @@ def _read_joint_states(path: Path, reader: Any, topic: str | None) -> JointState
         raise LogError(
             f"{path}: topic {topic!r} holds {', '.join(sorted(kinds))}, not {JOINT_STATE}"
         )
-    names: tuple[str, ...] | None = None
-    times: list[float] = []
-    columns: dict[str, list[np.ndarray]] = {"position": [], "velocity": [], "effort": []}
-    try:
-        for index, (conn, ns, raw) in enumerate(reader.messages(connections=connections)):
-            msg: Any = reader.deserialize(raw, conn.msgtype)
-            stamp = msg.header.stamp.sec + 1e-9 * msg.header.stamp.nanosec
-            t = stamp if stamp > 0 else ns * 1e-9
-            where = f"{path}: topic {topic}, message {index}"
-            if len(msg.name) > MAX_JOINTS:
-                raise LogError(
-                    f"{where}: {len(msg.name):,} joints, more than the {MAX_JOINTS} a message "
-                    "may name"
-                )
-            here = tuple(msg.name)
-            if names is None:
-                names = checked_names(here, where)
-            elif here != names:
-                raise LogError(f"{where}: joint names {list(here)} differ from the first's")
-            if (index + 1) * 3 * len(names) > MAX_VALUES:
-                raise LogError(
-                    f"{path}: topic {topic} holds more than {MAX_VALUES:,} numbers: cut the bag "
-                    "to the part to analyse"
-                )
-            if times and not t > times[-1]:
-                raise LogError(
-                    f"{where}: time stamp {t!r} s does not increase (the previous message "
-                    f"has {times[-1]!r} s)"
-                )
-            times.append(t)
-            for field, values in columns.items():
-                array = np.asarray(getattr(msg, field), dtype=float)
-                if array.size not in (0, len(names)):
-                    raise LogError(
-                        f"{where}: {field} has {array.size} values for {len(names)} joints"
-                    )
-                if not np.all(np.isfinite(array)):
-                    raise LogError(f"{where}: {field} holds a value that is not finite")
-                values.append(array)
-    except LogError:
-        raise
-    except Exception as exc:
-        raise _bag_error(path, exc) from exc
-    if names is None:
-        raise LogError(f"{path}: topic {topic!r} has no messages")
-    series: dict[str, np.ndarray | None] = {}
-    for field, values in columns.items():
-        sizes = {v.size for v in values}
-        if sizes == {0}:
-            series[field] = None
-        elif sizes == {len(names)}:
-            series[field] = np.array(values).T
-        else:
-            raise LogError(f"{path}: topic {topic}: {field} is missing from some messages")
-    position = series["position"]
-    if position is None:
-        raise LogError(f"{path}: topic {topic}: the messages have no position")
-    t_s = np.array(times)
-    if t_s.size and not math.isfinite(float(t_s[-1])):
-        raise LogError(f"{path}: topic {topic}: a time stamp is not finite")
-    return JointStateSeries(topic, names, t_s, position, series["velocity"], series["effort"])
+    return topic, connections
+
+
+def _message_names(msg: Any, first: tuple[str, ...] | None, where: str) -> tuple[str, ...]:
+    """A message's joint names: bounded, each once, the same as the first message's."""
+    if len(msg.name) > MAX_JOINTS:
+        raise LogError(
+            f"{where}: {len(msg.name):,} joints, more than the {MAX_JOINTS} a message may name"
+        )
+    here = tuple(msg.name)
+    if first is None:
+        return checked_names(here, where)
+    if here != first:
+        raise LogError(f"{where}: joint names {list(here)} differ from the first's")
+    return first
+
+
+def _message_values(msg: Any, field: str, joints: int, where: str) -> np.ndarray:
+    """A message's ``field`` (position, velocity, effort): none, or one finite value a joint."""
+    array = np.asarray(getattr(msg, field), dtype=float)
+    if array.size not in (0, joints):
+        raise LogError(f"{where}: {field} has {array.size} values for {joints} joints")
+    if not np.all(np.isfinite(array)):
+        raise LogError(f"{where}: {field} holds a value that is not finite")
+    return array
+
+
+def _stacked(values: list[np.ndarray], joints: int, field: str, where: str) -> np.ndarray | None:
+    """A field over the messages, shape (joints, messages); ``None`` when no message has it.
+
+    Raises:
+        LogError: Some messages have it and some do not.
+    """
+    sizes = {v.size for v in values}
+    if sizes == {0}:
+        return None
+    if sizes == {joints}:
+        return np.array(values).T
+    raise LogError(f"{where}: {field} is missing from some messages")
 
 
 CYLINDER_SUFFIX = "_cylinder"
