@@ -35,6 +35,7 @@ from scalf_opt.io.results import (
     write_results_json,
 )
 from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY, parse_bspline_name
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.robot import Robot
@@ -211,15 +212,8 @@ def optimize_swing(
             that do not go together.
     """
     robot = as_robot(robot)
-    chosen = solver(method)
     legs = leg_tuple(legs)
-    if precision is not None and not isinstance(chosen, PatternSearchSolver):
-        raise ConfigError(
-            "the precision applies to the pattern search only (method 'pattern')",
-            field="precision",
-        )
-    if precision is not None and not precision > 0:
-        raise ConfigError(f"the precision must be > 0, got {precision}", field="precision")
+    _check_precision(method, precision)
     margins = LimitMargins(stop_margin_rad, stroke_margin_m)
     pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting, loads=loads)
     if not free_stance:  # the free stance searches stances that keep the margins
@@ -233,14 +227,7 @@ def optimize_swing(
                 field="family",
             )
         return _free_method(robot, pipeline, legs, progress, cmd, margins)
-    if parse_bspline_name(family) is not None:
-        raise ConfigError(
-            f"family {family}: B-splines are the free-trajectory bound's: family 'free'",
-            field="family",
-        )
-    swing_family = make_family(family)
-    if swing_family.n_params == 0:
-        raise ConfigError(f"family {family!r} has no free parameter to optimize", field="family")
+    swing_family = _optimizable_family(family)
     settings = Settings(
         method=method,
         starts=starts,
@@ -256,59 +243,99 @@ def optimize_swing(
             )
         if progress is not None:
             progress(f"the stance and the {family} swings")
-        stance = optimize_stance(pipeline, swing_family, settings)
-        run = stance.best.run
-        records: dict[str, Any] = {
-            "limit_margins": margins.to_dict(),
-            "free_stance": stance.as_dict(),
-        }
-        if run is None or not run.success:
-            return OptimizationResult(
-                robot,
-                pipeline,
-                stance.reference,
-                None,
-                records,
-                run,
-                stance=stance,
-                command=cmd,
-                settings=settings,
-            )
+        return _free_stance(robot, pipeline, swing_family, settings, cmd)
+    return _swings(robot, pipeline, legs, swing_family, settings, bound, progress, cmd)
+
+
+def _check_precision(method: Method, precision: float | None) -> None:
+    """A precision is the pattern search's, and > 0."""
+    if precision is not None and not isinstance(solver(method), PatternSearchSolver):
+        raise ConfigError(
+            "the precision applies to the pattern search only (method 'pattern')",
+            field="precision",
+        )
+    if precision is not None and not precision > 0:
+        raise ConfigError(f"the precision must be > 0, got {precision}", field="precision")
+
+
+def _optimizable_family(family: str) -> SwingFamily:
+    """The family ``family`` names, when it has parameters to optimize (not B-splines)."""
+    if parse_bspline_name(family) is not None:
+        raise ConfigError(
+            f"family {family}: B-splines are the free-trajectory bound's: family 'free'",
+            field="family",
+        )
+    swing_family = make_family(family)
+    if swing_family.n_params == 0:
+        raise ConfigError(f"family {family!r} has no free parameter to optimize", field="family")
+    return swing_family
+
+
+def _free_stance(
+    robot: Robot,
+    pipeline: EnergyPipeline,
+    family: SwingFamily,
+    settings: Settings,
+    cmd: tuple[str, ...] | None,
+) -> OptimizationResult:
+    """The stance height and x-offsets optimized with the diagonal pair's swings."""
+    stance = optimize_stance(pipeline, family, settings)
+    run = stance.best.run
+    records: dict[str, Any] = {
+        "limit_margins": settings.margins.to_dict(),
+        "free_stance": stance.as_dict(),
+    }
+    solved = run is not None and run.success
+    if run is not None and run.success:
         records.update(
             optimization={leg: r.as_dict() for leg, r in run.legs.items()},
             optimization_run=optimization_record(run),
         )
-        return OptimizationResult(
-            robot,
-            run.pipeline,
-            stance.reference,
-            stance.cycle(),
-            records,
-            run,
-            stance=stance,
-            command=cmd,
-            settings=settings,
-        )
-    run = optimize_swings(pipeline, legs, swing_family, settings, progress=progress)
-    records = {
-        "limit_margins": margins.to_dict(),
+    return OptimizationResult(
+        robot,
+        run.pipeline if run is not None and solved else pipeline,
+        stance.reference,
+        stance.cycle() if solved else None,
+        records,
+        run,
+        stance=stance,
+        command=cmd,
+        settings=settings,
+    )
+
+
+def _swings(
+    robot: Robot,
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    family: SwingFamily,
+    settings: Settings,
+    bound: bool,
+    progress: Progress | None,
+    cmd: tuple[str, ...] | None,
+) -> OptimizationResult:
+    """The legs' swings optimized on the pipeline's gait; with ``bound``, the bound beside."""
+    run = optimize_swings(pipeline, legs, family, settings, progress=progress)
+    records: dict[str, Any] = {
+        "limit_margins": settings.margins.to_dict(),
         "optimization": {leg: r.as_dict() for leg, r in run.legs.items()},
         "optimization_run": optimization_record(run),
     }
     bounds: dict[str, FreeBound] = {}
     if bound and run.success:
-        seeds = {leg: [(swing_family, r.best.theta)] for leg, r in run.legs.items()}
-        bounds = bounds_for(pipeline, tuple(run.legs), seeds, progress=progress, margins=margins)
+        seeds = {leg: [(family, r.best.theta)] for leg, r in run.legs.items()}
+        bounds = bounds_for(
+            pipeline, tuple(run.legs), seeds, progress=progress, margins=settings.margins
+        )
         for leg, result in run.legs.items():
             result.bound_check_energy_j = bounds[leg].check_energy_j
         records["optimization"] = {leg: r.as_dict() for leg, r in run.legs.items()}
         records["free_bound"] = {leg: b.as_dict() for leg, b in bounds.items()}
-    cycle = run.cycle() if run.success else None
     return OptimizationResult(
         robot,
         run.pipeline,
         run.reference_cycle(),
-        cycle,
+        run.cycle() if run.success else None,
         records,
         run,
         bounds,
