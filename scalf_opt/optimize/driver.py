@@ -424,21 +424,57 @@ def _solve_legs(
     thetas: dict[str, np.ndarray] = {
         leg: np.zeros(family.n_params) if (theta := current[leg]) is None else theta for leg in legs
     }
+    if settings.pair_together and one_pair(legs) and solver(settings.method).solves_pairs:
+        return (
+            _solve_pair(pipeline, legs, family, settings, thetas, trial, pair_start),
+            1,
+            True,
+            True,
+        )
+    return _alternate(pipeline, legs, family, settings, thetas, trial)
+
+
+def _solve_pair(
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    family: SwingFamily,
+    settings: Settings,
+    thetas: dict[str, np.ndarray],
+    trial: bool,
+    pair_start: bool,
+) -> dict[str, tuple[SwingOptimum, float]]:
+    """A diagonal pair as one problem, each leg's optimum with its check.
+
+    With ``trial`` or ``pair_start`` (see :func:`_solve_legs`), ``thetas`` is already a
+    (neighbouring) pair's optimum; else the pair starts where one round of its legs in turn
+    ends (:func:`_first_round`). A trial's solve is warm.
+    """
     chosen = solver(settings.method)
-    if settings.pair_together and one_pair(legs) and chosen.solves_pairs:
-        pair = PairProblem(pipeline, legs, family, settings.margins)
-        start = thetas
-        if not (trial or pair_start):  # else it starts at a (neighbouring) pair's optimum
-            start = _first_round(pipeline, legs, family, settings, thetas)
-        together = chosen.solve_pair(pair, start, settings.solver_options, warm=trial)
-        final = {leg: o.theta for leg, o in together.items()}
-        checks = {
-            leg: _check_energy_j(
+    pair = PairProblem(pipeline, legs, family, settings.margins)
+    started = trial or pair_start
+    start = thetas if started else _first_round(pipeline, legs, family, settings, thetas)
+    together = chosen.solve_pair(pair, start, settings.solver_options, warm=trial)
+    final = {leg: o.theta for leg, o in together.items()}
+    return {
+        leg: (
+            optimum,
+            _check_energy_j(
                 pipeline, leg, family, settings, optimum, coupled_others(pipeline, legs, leg, final)
-            )
-            for leg, optimum in together.items()
-        }
-        return {leg: (o, checks[leg]) for leg, o in together.items()}, 1, True, True
+            ),
+        )
+        for leg, optimum in together.items()
+    }
+
+
+def _alternate(
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    family: SwingFamily,
+    settings: Settings,
+    thetas: dict[str, np.ndarray],
+    trial: bool,
+) -> tuple[dict[str, tuple[SwingOptimum, float]], int, bool, bool]:
+    """The coupled legs in turn, each beside the others' latest, until the rounds settle."""
     answers: dict[str, tuple[SwingOptimum, float]] = {}
     previous = math.inf
     for round_ in range(1, MAX_ALTERNATIONS + 1):
@@ -502,6 +538,119 @@ def coupled_others(
     return {o: thetas[o] for o in legs if o != leg}
 
 
+def _first_starts(
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    family: SwingFamily,
+    settings: Settings,
+    theta0: Mapping[str, np.ndarray] | None,
+) -> dict[str, tuple[str, np.ndarray]]:
+    """Each leg's first start and its label: ``theta0``'s (``given``), else the default."""
+    first: dict[str, tuple[str, np.ndarray]] = {}
+    for leg in legs:
+        if theta0 is not None and leg in theta0:
+            first[leg] = ("given", np.asarray(theta0[leg], dtype=float))
+        else:
+            problem = SwingGoal(family, settings.margins).on(pipeline, leg)
+            first[leg] = starts(problem, solver(settings.method), 1)[0]
+    return first
+
+
+def _refined(
+    pipeline: EnergyPipeline,
+    legs: tuple[str, ...],
+    family: SwingFamily,
+    settings: Settings,
+    current: Mapping[str, np.ndarray | None],
+    trial: bool,
+    rates: list[float],
+    progress: Callable[[str], None] | None,
+) -> tuple[EnergyPipeline, dict[str, tuple[SwingOptimum, float]], tuple[int, bool, bool], bool]:
+    """The legs solved at the family's first rate, the rate doubled until they converge.
+
+    Converged: each optimum's objective agrees with its check (module docstring). ``rates``
+    gets each rate tried.
+
+    Returns:
+        The pipeline at the last rate, each leg's optimum and check there, the alternation's
+        (rounds, settled, together), and whether the sampling converged.
+    """
+    rate = initial_rate_hz(pipeline.gait, family)
+    workers = thread_budget() if solver(settings.method).releases_gil else 1
+    while True:
+        rates.append(rate)
+        if progress is not None:
+            progress(f"{family.name} at {rate:g} Hz")
+        at_rate = resampled(pipeline, rate)
+        answers, rounds, settled, together = _solve_legs(
+            at_rate, legs, family, settings, dict(current), workers, trial, len(rates) > 1
+        )
+        alternation = (rounds, settled, together)
+        if not all(o.success for o, _ in answers.values()):
+            return at_rate, answers, alternation, False
+        errors = [relative_difference(o.objective_j, c) for o, c in answers.values()]
+        if all(e <= settings.sampling_tolerance for e in errors):  # inf / inf is NaN: not met
+            return at_rate, answers, alternation, True
+        if rate * 2 > MAX_RATE_HZ:
+            return at_rate, answers, alternation, False
+        rate *= 2
+        current = {leg: o.theta for leg, (o, _) in answers.items()}
+
+
+def _leg_result(
+    at_rate: EnergyPipeline,
+    legs: tuple[str, ...],
+    leg: str,
+    family: SwingFamily,
+    settings: Settings,
+    answer: tuple[SwingOptimum, float],
+    first_label: str,
+    final: Mapping[str, np.ndarray],
+    trial: bool,
+    progress: Callable[[str], None] | None,
+) -> LegResult:
+    """One leg's result at the converged rate: its first answer, the extra starts', the best."""
+    optimum, check = answer
+    error = relative_difference(optimum.objective_j, check)
+    runs = [
+        StartResult(
+            first_label, optimum, check, optimum.success and error <= settings.sampling_tolerance
+        )
+    ]
+    others = coupled_others(at_rate, legs, leg, final)
+    problem = SwingGoal(family, settings.margins).on(at_rate, leg, others)
+    extra = 1 if trial else settings.starts  # a trial is one warm solve: no extra start
+    for label, theta in starts(problem, solver(settings.method), extra)[1:]:
+        if progress is not None:
+            progress(f"{leg}: start {label}")
+        other, other_check = _solve_leg(at_rate, leg, family, settings, theta, others)
+        other_ok = (
+            other.success
+            and relative_difference(other.objective_j, other_check) <= settings.sampling_tolerance
+        )
+        runs.append(StartResult(label, other, other_check, other_ok))
+    good = [r for r in runs if r.converged]
+    best = min(good, key=lambda r: r.optimum.objective_j) if good else runs[0]
+    check_energy, check_swing = best.check_energy_j, None
+    if others is not None and math.isfinite(check_energy):
+        # the alternation solved this leg beside the others' parameters of that round: its
+        # check is renewed beside their final ones, the pair the result reports
+        fine = on_check_grid(at_rate)
+        check_energy = (
+            SwingGoal(family, settings.margins).on(fine, leg, others).energy_j(best.optimum.theta)
+        )
+        check_swing = SwingGoal(family).on(fine, leg).swing_energy_j(best.optimum.theta)
+    return LegResult(
+        leg=leg,
+        best=best.optimum,
+        starts=runs,
+        reference_swing_energy_j=reference_swing_energy_j(at_rate, leg),
+        check_energy_j=check_energy,
+        sampling_error=relative_difference(best.optimum.objective_j, check_energy),
+        check_swing_energy_j=check_swing,
+    )
+
+
 def optimize_swings(
     pipeline: EnergyPipeline,
     legs: tuple[str, ...],
@@ -541,84 +690,35 @@ def optimize_swings(
     for leg in () if stance_checked else legs:  # an impossible stance is the gait's error
         pipeline.stance(leg)
     start = time.perf_counter()
-    rate = initial_rate_hz(pipeline.gait, family)
-    rates: list[float] = []
-    first: dict[str, tuple[str, np.ndarray]] = {}
-    current: dict[str, np.ndarray | None] = {}
-    for leg in legs:
-        if theta0 is not None and leg in theta0:
-            label, theta = "given", np.asarray(theta0[leg], dtype=float)
-        else:
-            label, theta = starts(
-                SwingGoal(family, settings.margins).on(pipeline, leg),
-                solver(settings.method),
-                1,
-            )[0]
-        first[leg] = (label, theta)
-        current[leg] = theta
-    answers: dict[str, tuple[SwingOptimum, float]] = {}
-    rounds, settled, together = 1, True, False
-    converged = False
-    workers = thread_budget() if solver(settings.method).releases_gil else 1
+    first = _first_starts(pipeline, legs, family, settings, theta0)
     trial = trial and theta0 is not None and all(leg in theta0 for leg in legs)  # else cold
-    while True:
-        rates.append(rate)
-        if progress is not None:
-            progress(f"{family.name} at {rate:g} Hz")
-        at_rate = resampled(pipeline, rate)
-        answers, rounds, settled, together = _solve_legs(
-            at_rate, legs, family, settings, current, workers, trial, len(rates) > 1
-        )
-        solved = all(o.success for o, _ in answers.values())
-        errors = [relative_difference(o.objective_j, c) for o, c in answers.values()]
-        if not solved:
-            break
-        if all(e <= settings.sampling_tolerance for e in errors):  # inf / inf is NaN: not met
-            converged = True
-            break
-        if rate * 2 > MAX_RATE_HZ:
-            break
-        rate *= 2
-        current = {leg: o.theta for leg, (o, _) in answers.items()}
-    results = {}
+    rates: list[float] = []
+    at_rate, answers, (rounds, settled, together), converged = _refined(
+        pipeline,
+        legs,
+        family,
+        settings,
+        {leg: t for leg, (_, t) in first.items()},
+        trial,
+        rates,
+        progress,
+    )
     final = {leg: answers[leg][0].theta for leg in legs}
-    for leg in legs:
-        optimum, check = answers[leg]
-        error = relative_difference(optimum.objective_j, check)
-        ok = optimum.success and error <= settings.sampling_tolerance
-        runs = [StartResult(first[leg][0], optimum, check, ok)]
-        others = coupled_others(at_rate, legs, leg, final)
-        problem = SwingGoal(family, settings.margins).on(at_rate, leg, others)
-        extra = 1 if trial else settings.starts  # a trial is one warm solve: no extra start
-        for label, theta in starts(problem, solver(settings.method), extra)[1:]:
-            if progress is not None:
-                progress(f"{leg}: start {label}")
-            other, other_check = _solve_leg(at_rate, leg, family, settings, theta, others)
-            other_ok = (
-                other.success
-                and relative_difference(other.objective_j, other_check)
-                <= settings.sampling_tolerance
-            )
-            runs.append(StartResult(label, other, other_check, other_ok))
-        good = [r for r in runs if r.converged]
-        best = min(good, key=lambda r: r.optimum.objective_j) if good else runs[0]
-        check_energy, check_swing = best.check_energy_j, None
-        if others is not None and math.isfinite(check_energy):
-            # the alternation solved this leg beside the others' parameters of that round: its
-            # check is renewed beside their final ones, the pair the result reports
-            fine = on_check_grid(at_rate)
-            final_problem = SwingGoal(family, settings.margins).on(fine, leg, others)
-            check_energy = final_problem.energy_j(best.optimum.theta)
-            check_swing = SwingGoal(family).on(fine, leg).swing_energy_j(best.optimum.theta)
-        results[leg] = LegResult(
-            leg=leg,
-            best=best.optimum,
-            starts=runs,
-            reference_swing_energy_j=reference_swing_energy_j(at_rate, leg),
-            check_energy_j=check_energy,
-            sampling_error=relative_difference(best.optimum.objective_j, check_energy),
-            check_swing_energy_j=check_swing,
+    results = {
+        leg: _leg_result(
+            at_rate,
+            legs,
+            leg,
+            family,
+            settings,
+            answers[leg],
+            first[leg][0],
+            final,
+            trial,
+            progress,
         )
+        for leg in legs
+    }
     return SwingOptimization(
         family,
         settings,
