@@ -86,9 +86,7 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
     The paper's numbers stand beside ours when the robot is SCalf on the paper's gait
     (:func:`is_paper_setup`).
     """
-    g = rep.gait
-    paper6 = paper_data.TABLE6_CHANGE_PERCENT
-    compare = is_paper_setup(robot, g)
+    compare = is_paper_setup(robot, rep.gait)
     title = (
         "# SCalf paper reproduction: Tables 5 and 6"
         if compare
@@ -104,6 +102,27 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         power = "drawn by the drives: " + " and ".join(metered)
     else:
         power = "`|tau qd|` plus the drives' losses"
+    lines = [
+        *_table5(rep, robot, compare, title, power),
+        *_table6(rep, compare),
+        *_validation(rep),
+        *_bound_section(rep),
+        *_stance_section(rep),
+        *_not_solved(rep),
+        *_differences(rep, compare),
+        "",
+        "## Figures",
+        "",
+        "![Pattern search (the paper's Figure 8)](pattern_search.png)",
+        "",
+        "![RF swing foot paths and power](swing_paths.png)",
+    ]
+    return "\n".join(lines) + "\n"
+
+
+def _table5(rep: Reproduction, robot: Robot, compare: bool, title: str, power: str) -> list[str]:
+    """The report's head and Table 5 (each run's parameters, the paper's beside RF's)."""
+    g = rep.gait
     lines = [
         title,
         "",
@@ -138,6 +157,13 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
                 f"| RF | paper, pattern search | {t5['C1']} | {t5['C2']} | {t5['iterations']} | "
                 "- | - | (Table 5) |"
             )
+    return lines
+
+
+def _table6(rep: Reproduction, compare: bool) -> list[str]:
+    """Table 6: each run's energies and changes at its rate, the paper's row, whole-body loads."""
+    lines: list[str] = []
+    paper6 = paper_data.TABLE6_CHANGE_PERCENT
     rows = table6_rows(rep)
     lines += [
         "",
@@ -175,6 +201,12 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         )
     if rep.whole_body is not None:
         lines += ["", whole_body_line(rep.whole_body)]
+    return lines
+
+
+def _validation(rep: Reproduction) -> list[str]:
+    """The pattern search against Ipopt, per leg, and the verdict."""
+    lines: list[str] = []
     lines += [
         "",
         "## Validation: pattern search against the NLP optimum",
@@ -192,6 +224,12 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
             f"{nlp.status} |"
         )
     lines += ["", validation_verdict(rep)]
+    return lines
+
+
+def _bound_section(rep: Reproduction) -> list[str]:
+    """Beyond the paper: the free-trajectory bound and each run's gap to it."""
+    lines: list[str] = []
     if rep.bounds:
         lines += [
             "",
@@ -218,6 +256,12 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
             state = b.status_text() if b.success else f"**NOT CONVERGED**: {b.status_text()}"
             cells += [f"{b.check_energy_j:.3f}", f"({state})"]
         lines.append("| free-trajectory bound | " + " | ".join(cells) + " |")
+    return lines
+
+
+def _stance_section(rep: Reproduction) -> list[str]:
+    """Beyond the paper: the stance as a free variable."""
+    lines: list[str] = []
     if rep.free_stance is not None and rep.free_stance.success:
         split = rep.free_stance.split_j()
         stance = rep.free_stance.best.gait
@@ -237,12 +281,25 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
             f"{split['swing_only']:.3f} J; freeing the stance adds "
             f"{split['from_freeing_the_stance']:.3f} J.",
         ]
+    return lines
+
+
+def _not_solved(rep: Reproduction) -> list[str]:
+    """A bold line when a run did not converge."""
+    lines: list[str] = []
     if not rep.all_solved:
         lines += [
             "",
             "**Not every optimizer converged: see the status columns. Rows of a run "
             "that did not converge are left out of Table 6.**",
         ]
+    return lines
+
+
+def _differences(rep: Reproduction, compare: bool) -> list[str]:
+    """Why the numbers differ from the paper's (SCalf on the paper's gait only)."""
+    lines: list[str] = []
+    g = rep.gait
     ref_power = rep.reference.average_power_w
     if compare:
         lines += [
@@ -264,15 +321,7 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
             "(the URDF's joint velocity and effort limits, the cylinders' force and speed); the "
             "foot's mid-swing x is free.",
         ]
-    lines += [
-        "",
-        "## Figures",
-        "",
-        "![Pattern search (the paper's Figure 8)](pattern_search.png)",
-        "",
-        "![RF swing foot paths and power](swing_paths.png)",
-    ]
-    return "\n".join(lines) + "\n"
+    return lines
 
 
 def paper_summary(rep: Reproduction, robot: Robot, report: Path) -> str:
