@@ -133,18 +133,9 @@ def bag_log(
     t = series.t_s - series.t_s[0]
     check_times(source, "", t, np.arange(t.size), place="message")
     for leg in LEG_NAMES:
-        joints = pipeline.robot.leg(leg).joint_names
-        present = [j in urdf_to_bag for j in joints]
-        if not any(present):
+        index = _leg_rows(pipeline, leg, series, mapping, urdf_to_bag, source)
+        if index is None:
             continue
-        if not all(present):
-            missing = next(j for j, p in zip(joints, present, strict=True) if not p)
-            wanted = next(b for b, u in mapping.items() if u == missing)
-            raise LogError(
-                f"{source}: joint {wanted!r} ({leg} {JOINT_ROLES[present.index(False)]}) is "
-                f"missing from the messages, which hold {', '.join(series.names)}"
-            )
-        index = [series.names.index(urdf_to_bag[j]) for j in joints]
         position = series.position[index]
         effort = series.effort[index]
         velocity = None if series.velocity is None else series.velocity[index]
@@ -161,20 +152,59 @@ def bag_log(
     if joint_legs:
         return JointLog(source, joint_legs)
     if not legs:
-        expected = ", ".join(list(mapping)[:4]) + ", ..."
-        held = ", ".join(series.names[:8]) + (", ..." if len(series.names) > 8 else "")
-        what = f"{pipeline.robot.name}'s {chosen}"
-        if signals is None and not names:
-            what = f"{pipeline.robot.name}'s leg joints nor their cylinders (<joint>_cylinder)"
-            expected = ", ".join(list(_names_of(pipeline, "joints", None))[:4]) + ", ..."
-        raise LogError(
-            f"{source}: the messages name none of {what} (expected {expected}; they hold "
-            f"{held}): give the robot (--robot, --urdf) or map the names with "
-            "--joint NAME=URDF_JOINT"
-        )
+        raise _no_leg(pipeline, series, mapping, chosen, signals is None and not names, source)
     if chosen == "joints":  # said, or the report calls joint states a cylinder log unasked
         source += " (joint states, converted to the cylinders' lengths, speeds and forces)"
     return CylinderLog(source, legs)
+
+
+def _leg_rows(
+    pipeline: EnergyPipeline,
+    leg: str,
+    series: JointStateSeries,
+    mapping: Mapping[str, str],
+    urdf_to_bag: Mapping[str, str],
+    source: str,
+) -> list[int] | None:
+    """The rows of ``leg``'s joints in the messages (hip pitch, knee), ``None`` when absent.
+
+    Raises:
+        LogError: The messages hold one of the leg's joints and not the other.
+    """
+    joints = pipeline.robot.leg(leg).joint_names
+    present = [j in urdf_to_bag for j in joints]
+    if not any(present):
+        return None
+    if not all(present):
+        missing = next(j for j, p in zip(joints, present, strict=True) if not p)
+        wanted = next(b for b, u in mapping.items() if u == missing)
+        raise LogError(
+            f"{source}: joint {wanted!r} ({leg} {JOINT_ROLES[present.index(False)]}) is "
+            f"missing from the messages, which hold {', '.join(series.names)}"
+        )
+    return [series.names.index(urdf_to_bag[j]) for j in joints]
+
+
+def _no_leg(
+    pipeline: EnergyPipeline,
+    series: JointStateSeries,
+    mapping: Mapping[str, str],
+    chosen: Signals,
+    guessed: bool,
+    source: str,
+) -> LogError:
+    """The error of messages that name no leg's joints (``guessed``: neither way was given)."""
+    expected = ", ".join(list(mapping)[:4]) + ", ..."
+    held = ", ".join(series.names[:8]) + (", ..." if len(series.names) > 8 else "")
+    what = f"{pipeline.robot.name}'s {chosen}"
+    if guessed:
+        what = f"{pipeline.robot.name}'s leg joints nor their cylinders (<joint>_cylinder)"
+        expected = ", ".join(list(_names_of(pipeline, "joints", None))[:4]) + ", ..."
+    return LogError(
+        f"{source}: the messages name none of {what} (expected {expected}; they hold "
+        f"{held}): give the robot (--robot, --urdf) or map the names with "
+        "--joint NAME=URDF_JOINT"
+    )
 
 
 def _has_cylinders(pipeline: EnergyPipeline) -> bool:
