@@ -134,7 +134,7 @@ def test_what_pins_a_gait_reads_as_limits_and_steps():
     )
     assert pinned_lines(pinned) == [
         "RF knee cylinder's stroke (actuator file): a longer period, a higher duty",
-        "the search box's lowest duty, 0.5, a trot's floor: a lower duty",
+        "the lowest duty this model walks, 0.5 (it has no flight phase): a lower duty",
         "LH knee's range (URDF): a higher stance",
         "LH's swing not solved (Maximum_Iterations_Exceeded): the hind feet further back",
     ]

@@ -216,6 +216,10 @@ _LIMIT_WORDS: tuple[tuple[re.Pattern[str], str], ...] = (
         r"\1 \2 cylinder's stroke (actuator file)",
     ),
     (re.compile(r"^swing not solved: (\w+) \((.*)\)$"), r"\1's swing not solved (\2)"),
+    (
+        re.compile(r"^duty_cycle below the search box's ([\d.]+), a trot's floor$"),
+        r"the lowest duty this model walks, \1 (it has no flight phase)",
+    ),
     (re.compile(r"^(\w+) below the search box's (.*)$"), r"the search box's lowest {\1}, \2"),
     (re.compile(r"^(\w+) above the search box's (.*)$"), r"the search box's highest {\1}, \2"),
 )
