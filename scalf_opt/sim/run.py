@@ -18,7 +18,9 @@ step's start; the record holds, per step ``k``:
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -115,6 +117,42 @@ def _stance_feedback(
     )
 
 
+def _legs_stacked(*per_leg: Mapping[str, np.ndarray]) -> list[np.ndarray]:
+    """Each per-leg mapping's arrays one after the other, legs in :data:`LEG_NAMES` order."""
+    return [np.concatenate([values[leg] for leg in LEG_NAMES]) for values in per_leg]
+
+
+def _record_contacts(
+    sim: SimModel,
+    data: Any,
+    foot_leg: dict[int, str],
+    k: int,
+    grf: dict[str, np.ndarray],
+    slip: dict[str, np.ndarray],
+    force6: np.ndarray,
+    jacp: np.ndarray,
+) -> None:
+    """Step ``k``'s foot contacts: each foot's ground force (x, z) and its slip speed [m/s].
+
+    ``force6`` and ``jacp`` are scratch arrays (reused: this runs at every step).
+    """
+    model = sim.model
+    for i in range(data.ncon):
+        contact = data.contact[i]
+        g1, g2 = int(contact.geom1), int(contact.geom2)
+        leg = foot_leg.get(g2) or foot_leg.get(g1)
+        if leg is None:
+            continue
+        mujoco.mj_contactForce(model, data, i, force6)
+        # the force of geom1 on geom2, along the contact normal (from geom1 to geom2) first
+        force = contact.frame.reshape(3, 3).T @ force6[:3]
+        if g1 == sim.foot_geom[leg]:
+            force = -force
+        grf[leg][:, k] += force[[0, 2]]
+        mujoco.mj_jac(model, data, jacp, None, contact.pos, sim.foot_body[leg])
+        slip[leg][k] = abs(float(jacp[0] @ data.qvel))
+
+
 def simulate(
     sim: SimModel,
     plan: TrotPlan,
@@ -139,12 +177,13 @@ def simulate(
     t = np.arange(n) * dt
     refs = [plan.sample(leg, t) for leg in LEG_NAMES]
     q_ref, qd_ref, tau_ff = (np.vstack([r[k] for r in refs]) for k in ("q", "qd", "tau"))
-    qpos_i = np.concatenate([sim.leg_qpos[leg] for leg in LEG_NAMES])
-    dof_i = np.concatenate([sim.leg_dof[leg] for leg in LEG_NAMES])
-    act_i = np.concatenate([sim.leg_actuators[leg] for leg in LEG_NAMES])
-    kp = np.concatenate([gains[leg].kp_nm_per_rad for leg in LEG_NAMES])
-    kd = np.concatenate([gains[leg].kd_nms_per_rad for leg in LEG_NAMES])
-    limit = np.concatenate([sim.effort_limit_nm[leg] for leg in LEG_NAMES])
+    qpos_i, dof_i, act_i, limit = _legs_stacked(
+        sim.leg_qpos, sim.leg_dof, sim.leg_actuators, sim.effort_limit_nm
+    )
+    kp, kd = _legs_stacked(
+        {leg: g.kp_nm_per_rad for leg, g in gains.items()},
+        {leg: g.kd_nms_per_rad for leg, g in gains.items()},
+    )
     foot_leg = {geom: leg for leg, geom in sim.foot_geom.items()}
     stance = np.array([plan.in_stance(leg, t) for leg in LEG_NAMES])  # (4, n)
     mass = np.zeros((model.nv, model.nv))
@@ -189,20 +228,7 @@ def simulate(
         p_con[k] = (data.qfrc_constraint + data.qfrc_passive) @ v_mid
         tau[:, k] = data.actuator_force[act_i]
         qd[:, k] = data.qvel[dof_i]
-        for i in range(data.ncon):
-            contact = data.contact[i]
-            g1, g2 = int(contact.geom1), int(contact.geom2)
-            leg = foot_leg.get(g2) or foot_leg.get(g1)
-            if leg is None:
-                continue
-            mujoco.mj_contactForce(model, data, i, force6)
-            # the force of geom1 on geom2, along the contact normal (from geom1 to geom2) first
-            force = contact.frame.reshape(3, 3).T @ force6[:3]
-            if g1 == sim.foot_geom[leg]:
-                force = -force
-            grf[leg][:, k] += force[[0, 2]]
-            mujoco.mj_jac(model, data, jacp, None, contact.pos, sim.foot_body[leg])
-            slip[leg][k] = abs(float(jacp[0] @ data.qvel))
+        _record_contacts(sim, data, foot_leg, k, grf, slip, force6, jacp)
     mujoco.mj_forward(model, data)
     energy[n] = data.energy[0] + data.energy[1]
 
