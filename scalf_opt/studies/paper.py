@@ -29,6 +29,7 @@ from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.interrupts import results_in_order
 from scalf_opt.io.provenance import provenance
 from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.model.robot import Robot
@@ -212,28 +213,13 @@ def reproduce(
             processes.submit(independent_solve, job, background=job[0] == WHOLE_BODY_JOB)
             for job in early
         ]
-        for key, (family_name, label, settings_) in RUNS.items():
-            step(label)
-            settings_ = replace(settings_, ipopt=ipopt_options)
-            run = optimize_swings(pipeline, PAIR, make_family(family_name), settings_)
-            out.runs[key] = run
-            out.optima[key] = {leg: r.best for leg, r in run.legs.items()}
-            if run.success:
-                out.cycles[key] = run.cycle()
-                out.references[key] = run.reference_cycle()
+        _table_runs(out, pipeline, ipopt_options, step)
         bounded = beyond and all(out.runs[k].success for k in ("ipopt", "ipopt_rich"))
         jobs = list(zip(early, started, strict=True))
         if not bounded:  # nothing beyond the tables to compare with: the free stance is dropped
             jobs = [(job, future) for job, future in jobs if job[0] != FREE_STANCE_JOB]
         else:
-            seeds = {
-                leg: [
-                    (out.runs[k].family, out.runs[k].legs[leg].best.theta)
-                    for k in ("ipopt", "ipopt_rich")
-                ]
-                for leg in PAIR
-            }
-            for leg_job in bound_jobs(pipeline, PAIR, seeds):
+            for leg_job in bound_jobs(pipeline, PAIR, _bound_seeds(out)):
                 job = (BOUND_JOB, leg_job)
                 jobs.append((job, processes.submit(independent_solve, job)))
         if jobs:
@@ -254,6 +240,35 @@ def reproduce(
             run.legs[leg].bound_check_energy_j = bound.check_energy_j
     out.wall_time_s = time.perf_counter() - start
     return out
+
+
+def _table_runs(
+    out: Reproduction,
+    pipeline: EnergyPipeline,
+    ipopt_options: dict[str, Any] | None,
+    step: Callable[[str], None],
+) -> None:
+    """The tables' runs (:data:`RUNS`), each on the RF and LH legs, into ``out``."""
+    for key, (family_name, label, settings) in RUNS.items():
+        step(label)
+        run = optimize_swings(
+            pipeline, PAIR, make_family(family_name), replace(settings, ipopt=ipopt_options)
+        )
+        out.runs[key] = run
+        out.optima[key] = {leg: r.best for leg, r in run.legs.items()}
+        if run.success:
+            out.cycles[key] = run.cycle()
+            out.references[key] = run.reference_cycle()
+
+
+def _bound_seeds(out: Reproduction) -> dict[str, list[tuple[SwingFamily, np.ndarray]]]:
+    """The bound's starts per leg: the two Ipopt optima of the tables."""
+    return {
+        leg: [
+            (out.runs[k].family, out.runs[k].legs[leg].best.theta) for k in ("ipopt", "ipopt_rich")
+        ]
+        for leg in PAIR
+    }
 
 
 WHOLE_BODY_JOB, BOUND_JOB, FREE_STANCE_JOB = "the whole-body line", "the bounds", "the free stance"
