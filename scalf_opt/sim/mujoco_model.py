@@ -35,12 +35,14 @@ from __future__ import annotations
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 import mujoco
 import numpy as np
 from defusedxml.ElementTree import fromstring
 
 from scalf_opt.errors import ModelError
+from scalf_opt.model.leg import Leg
 from scalf_opt.model.robot import Robot
 from scalf_opt.model.urdf_file import read_urdf_text
 from scalf_opt.sim.settings import SimSettings
@@ -193,6 +195,52 @@ def _child_link(root: ET.Element, joint: str) -> str:
     raise ModelError(f"URDF has no joint {joint!r}")
 
 
+def _sagittal_bodies(root: Any, sagittal: set[str]) -> None:
+    """Strip the URDF tree to its bodies and the sagittal joints.
+
+    No visual or collision geometry (the feet are added), every other joint fixed.
+    """
+    for link in root.iter("link"):
+        for tag in ("visual", "collision"):
+            for element in link.findall(tag):
+                link.remove(element)
+    for joint in root.iter("joint"):
+        if joint.get("name") not in sagittal:
+            joint.set("type", "fixed")
+
+
+def _add_foot_and_motors(
+    spec: Any,
+    name: str,
+    leg: Leg,
+    shank_link: str,
+    radius: float,
+    friction: list[float],
+    solref: list[float],
+) -> None:
+    """A leg's point foot (a sphere of ``radius`` at its foot frame) and its joints' motors."""
+    placement = leg.model.frames[leg.foot_frame_id].placement
+    spec.body(shank_link).add_geom(
+        name=f"{name}_foot_contact",
+        type=mujoco.mjtGeom.mjGEOM_SPHERE,
+        size=[radius, 0, 0],
+        pos=np.array(placement.translation),
+        contype=1,
+        conaffinity=0,
+        condim=3,
+        friction=friction,
+        solref=solref,
+        mass=0.0,
+    )
+    for joint_name in leg.joint_names:
+        spec.add_actuator(
+            name=joint_name,
+            target=joint_name,
+            trntype=mujoco.mjtTrn.mjTRN_JOINT,
+            gear=[1, 0, 0, 0, 0, 0],
+        )
+
+
 def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
     """Build the sagittal MuJoCo model of ``robot`` from its URDF.
 
@@ -209,13 +257,7 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
     radius = settings.value("foot_radius_m")
     trunk_link = _root_link(root, path)
     shank_links = {name: _child_link(root, leg.joint_names[1]) for name, leg in legs.items()}
-    for link in root.iter("link"):
-        for tag in ("visual", "collision"):
-            for element in link.findall(tag):
-                link.remove(element)
-    for joint in root.iter("joint"):
-        if joint.get("name") not in sagittal:
-            joint.set("type", "fixed")
+    _sagittal_bodies(root, sagittal)
     repairs = _repair_singular_inertias(root)
     repairs += _unbalanced_inertias(root)
     repairs += _drop_joint_dynamics(root, sagittal)
@@ -240,26 +282,7 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
         solref=solref,
     )
     for name, leg in legs.items():
-        placement = leg.model.frames[leg.foot_frame_id].placement
-        spec.body(shank_links[name]).add_geom(
-            name=f"{name}_foot_contact",
-            type=mujoco.mjtGeom.mjGEOM_SPHERE,
-            size=[radius, 0, 0],
-            pos=np.array(placement.translation),
-            contype=1,
-            conaffinity=0,
-            condim=3,
-            friction=friction,
-            solref=solref,
-            mass=0.0,
-        )
-        for joint_name in leg.joint_names:
-            spec.add_actuator(
-                name=joint_name,
-                target=joint_name,
-                trntype=mujoco.mjtTrn.mjTRN_JOINT,
-                gear=[1, 0, 0, 0, 0, 0],
-            )
+        _add_foot_and_motors(spec, name, leg, shank_links[name], radius, friction, solref)
     spec.option.timestep = settings.value("timestep_s")
     spec.option.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
     try:
