@@ -300,6 +300,41 @@ def with_local_meshes(
 _MAX_LINK_HOPS = 40
 
 
+def _component_info(candidate: Path, urdf: Path, filename: str) -> os.stat_result:
+    """``lstat`` of one component of a mesh path (a link is not followed).
+
+    Raises:
+        ModelError: It does not exist, or cannot be looked at.
+    """
+    try:
+        return os.lstat(candidate)
+    except FileNotFoundError:
+        raise ModelError(f"{urdf}: mesh {filename!r}: no such file ({candidate})") from None
+    except OSError as exc:
+        raise ModelError(f"{urdf}: mesh {filename!r}: {exc.strerror} ({candidate})") from None
+
+
+def _link_parts(
+    link_path: Path, root: Path, current: Path, out: ModelError
+) -> tuple[Path, list[str]]:
+    """Where a symbolic link's target is walked from, and its components, read as text.
+
+    A relative target is walked from the link's folder ``current``; an absolute one from
+    ``root``, when it lies inside it.
+
+    Raises:
+        ModelError: ``out``, when an absolute target lies outside ``root``.
+    """
+    link = os.readlink(link_path)
+    if os.path.isabs(link):
+        target = Path(os.path.normpath(link))
+        if not target.is_relative_to(root):
+            raise out
+        current = root
+        link = str(target.relative_to(root))
+    return current, [p for p in link.split(os.sep) if p not in ("", ".")]
+
+
 def _confined(folder: Path, relative: str, urdf: Path, filename: str, where: str) -> Path:
     """The regular file ``relative`` names inside ``folder``, never looking outside it.
 
@@ -325,24 +360,13 @@ def _confined(folder: Path, relative: str, urdf: Path, filename: str, where: str
                 raise out
             continue
         candidate = current / part
-        try:
-            info = os.lstat(candidate)
-        except FileNotFoundError:
-            raise ModelError(f"{urdf}: mesh {filename!r}: no such file ({candidate})") from None
-        except OSError as exc:
-            raise ModelError(f"{urdf}: mesh {filename!r}: {exc.strerror} ({candidate})") from None
+        info = _component_info(candidate, urdf, filename)
         if stat.S_ISLNK(info.st_mode):
             hops += 1
-            link = os.readlink(candidate)
             if hops > _MAX_LINK_HOPS:
                 raise out
-            if os.path.isabs(link):
-                target = Path(os.path.normpath(link))
-                if not target.is_relative_to(root):
-                    raise out
-                current = root
-                link = str(target.relative_to(root))
-            pending = [p for p in link.split(os.sep) if p not in ("", ".")] + pending
+            current, followed = _link_parts(candidate, root, current, out)
+            pending = followed + pending
             continue
         if pending and not stat.S_ISDIR(info.st_mode):
             raise ModelError(f"{urdf}: mesh {filename!r}: no such file ({candidate})")
