@@ -27,7 +27,7 @@ from scalf_opt.io.provenance import provenance
 from scalf_opt.io.results import checked_summary, samples_csv_text, write_results_json
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
-from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.locomotion.swing.registry import make_family, optimizable_family
 from scalf_opt.model.robot import Robot
 from scalf_opt.optimize.driver import Settings
 from scalf_opt.optimize.gait_search import GaitSearch
@@ -189,9 +189,7 @@ def optimize_gait(
         ConfigError: A speed out of range, a family without parameters, an unknown load model.
     """
     robot = as_robot(robot)
-    swing_family = make_family(family)
-    if swing_family.n_params == 0:
-        raise ConfigError(f"family {family!r} has no free parameter to optimize", field="family")
+    swing_family = optimizable_family(family)
     pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting, loads=loads)
     search = search_gait(pipeline, speed, swing_family, Settings(method=method))
     row = gait_row(search, robot.name)

@@ -37,7 +37,7 @@ from scalf_opt.io.results import (
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY, parse_bspline_name
-from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.locomotion.swing.registry import make_family, optimizable_family
 from scalf_opt.model.robot import Robot
 from scalf_opt.optimize.bound import FreeBound, bound_cycle_inputs, bounds_for
 from scalf_opt.optimize.driver import Settings, SwingOptimization, check_bounded, optimize_swings
@@ -265,10 +265,7 @@ def _optimizable_family(family: str) -> SwingFamily:
             f"family {family}: B-splines are the free-trajectory bound's: family 'free'",
             field="family",
         )
-    swing_family = make_family(family)
-    if swing_family.n_params == 0:
-        raise ConfigError(f"family {family!r} has no free parameter to optimize", field="family")
-    return swing_family
+    return optimizable_family(family)
 
 
 def _free_stance(

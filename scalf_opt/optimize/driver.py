@@ -30,7 +30,7 @@ from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError, GaitError, InfeasibleError
 from scalf_opt.interrupts import map_in_threads, raise_if_stopped
 from scalf_opt.locomotion.swing.family import SwingFamily
-from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.locomotion.swing.registry import check_optimizable, make_family
 from scalf_opt.locomotion.trot import DIAGONAL_PARTNER
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.problem import PairProblem, SwingGoal
@@ -684,8 +684,7 @@ def optimize_swings(
         GaitError: The gait's stance leaves a leg's reach or joint range.
     """
     settings = settings or Settings()
-    if family.n_params == 0:
-        raise ConfigError(f"--family {family.name}: has no free parameter to optimize")
+    check_optimizable(family)
     check_bounded(pipeline, legs)
     for leg in () if stance_checked else legs:  # an impossible stance is the gait's error
         pipeline.stance(leg)

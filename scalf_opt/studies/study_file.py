@@ -48,7 +48,7 @@ from scalf_opt.files import read_toml
 from scalf_opt.io.study_columns import RESULT_COLUMNS
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
-from scalf_opt.locomotion.swing.registry import make_family
+from scalf_opt.locomotion.swing.registry import optimizable_family
 from scalf_opt.optimize.gait_search import check_speed
 from scalf_opt.optimize.solvers import solver
 from scalf_opt.robots.catalog import robot_names
@@ -176,8 +176,7 @@ def _check_setting(path: Path, key: str, value: Any, label: str | None = None) -
                     f"unknown robot {value!r}: choose one of {', '.join(robot_names())}"
                 )
         elif key == "family":
-            if make_family(value).n_params == 0:
-                raise ConfigError(f"family {value!r} has no free parameter to optimize")
+            optimizable_family(value)
         elif key == "method":
             solver(value)
         elif key == "accounting":

@@ -252,15 +252,14 @@ def _limit_words(limit: str) -> str:
 
 def _check_family(family: str) -> None:
     from scalf_opt.locomotion.swing.names import FREE_FAMILY
-    from scalf_opt.locomotion.swing.registry import make_family
+    from scalf_opt.locomotion.swing.registry import optimizable_family
 
     if family == FREE_FAMILY:
         raise ConfigError(
             "family free is the free-trajectory bound, not a family to search gaits with",
             field="family",
         )
-    if make_family(family).n_params == 0:
-        raise ConfigError(f"family {family!r} has no free parameter to optimize", field="family")
+    optimizable_family(family)
 
 
 def speed_folder(out: Path, speed_m_s: float) -> Path:
