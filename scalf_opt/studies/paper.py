@@ -39,6 +39,7 @@ from scalf_opt.optimize.free_stance import FreeStance, optimize_stance
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.sampling import SAMPLING_TOLERANCE
 from scalf_opt.optimize.solve import SwingOptimum
+from scalf_opt.optimize.solvers import PatternSearchSolver
 from scalf_opt.types import FIRST_PAIR
 from scalf_opt.workers import WorkerProcesses, worker_progress
 
@@ -48,11 +49,15 @@ FINE_PRECISION = 1e-4
 PAIR = FIRST_PAIR
 
 RUNS: dict[str, tuple[str, str, Settings]] = {
-    "pattern": ("paper", "pattern search, paper family (precision 0.1)", Settings("pattern")),
+    "pattern": (
+        "paper",
+        "pattern search, paper family (precision 0.1)",
+        Settings(PatternSearchSolver.name),
+    ),
     "pattern_fine": (
         "paper",
         f"pattern search, paper family (precision {FINE_PRECISION:g})",
-        Settings("pattern", pattern=PatternSearchOptions(precision=FINE_PRECISION)),
+        Settings(PatternSearchSolver.name, pattern=PatternSearchOptions(precision=FINE_PRECISION)),
     ),
     "ipopt": ("paper", "Ipopt, paper family", Settings()),
     "ipopt_rich": (DEFAULT_FAMILY, f"Ipopt, {DEFAULT_FAMILY} family", Settings()),

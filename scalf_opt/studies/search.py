@@ -19,6 +19,7 @@ from scalf_opt.optimize.driver import Settings, optimize_swings
 from scalf_opt.optimize.landscape import energy_landscape
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.problem import SwingGoal
+from scalf_opt.optimize.solvers import IpoptSolver, PatternSearchSolver
 from scalf_opt.types import FIRST_PAIR
 from scalf_opt.viz.search_figure import LegSearch
 
@@ -44,9 +45,9 @@ def search_study(
     """
     pipeline = pipeline.with_loads(PAPER_LOADS)
     family = make_family(FAMILY)
-    pattern_settings = Settings("pattern", pattern=options or PatternSearchOptions())
+    pattern_settings = Settings(PatternSearchSolver.name, pattern=options or PatternSearchOptions())
     pattern_run = optimize_swings(pipeline, tuple(legs), family, pattern_settings)
-    ipopt_run = optimize_swings(pipeline, tuple(legs), family, Settings("ipopt"))
+    ipopt_run = optimize_swings(pipeline, tuple(legs), family, Settings(IpoptSolver.name))
     # the landscape at the finer of the two runs' rates (the paper family converges at the
     # gait's rate, so both are the same there)
     at_rate = max((pattern_run.pipeline, ipopt_run.pipeline), key=lambda p: p.gait.sample_rate_hz)

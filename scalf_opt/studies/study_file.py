@@ -50,7 +50,7 @@ from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import optimizable_family
 from scalf_opt.optimize.gait_search import check_speed
-from scalf_opt.optimize.solvers import solver
+from scalf_opt.optimize.solvers import DEFAULT_SOLVER, solver
 from scalf_opt.robots.catalog import robot_names
 from scalf_opt.robots.variants import VariantScales
 from scalf_opt.types import LEG_NAMES
@@ -372,7 +372,7 @@ def _settings(path: Path, study: dict[str, Any], urdf: str | None) -> dict[str, 
     settings: dict[str, Any] = {
         "robot": None if urdf else "scalf",
         "family": DEFAULT_FAMILY,
-        "method": "ipopt",
+        "method": DEFAULT_SOLVER,
         "accounting": "paper",
         "loads": DEFAULT_LOADS,
     }
@@ -465,7 +465,7 @@ def speed_study(
     robot: str | None = None,
     urdf: str | None = None,
     family: str = DEFAULT_FAMILY,
-    method: str = "ipopt",
+    method: str = DEFAULT_SOLVER,
     accounting: str = "paper",
     name: str = "cheapest trot",
     loads: str = DEFAULT_LOADS,
