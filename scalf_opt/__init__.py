@@ -33,6 +33,7 @@ __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "ExportResult",
     "Gait",
     "GaitResult",
+    "GaitSweep",
     "LogResult",
     "NotSolvedError",
     "OptimizationResult",
@@ -50,6 +51,7 @@ __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "paper",
     "read_gait",
     "simulate",
+    "sweep_gaits",
     "view",
 ]
 
@@ -59,6 +61,7 @@ if TYPE_CHECKING:
         ExportResult,
         Gait,
         GaitResult,
+        GaitSweep,
         LogResult,
         NotSolvedError,
         OptimizationResult,
@@ -76,6 +79,7 @@ if TYPE_CHECKING:
         paper,
         read_gait,
         simulate,
+        sweep_gaits,
         view,
     )
 

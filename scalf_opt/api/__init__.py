@@ -14,7 +14,7 @@ and the numbers are the command line's: the ``scalf-opt`` commands call these fu
 
 from scalf_opt.api.evaluation import EvaluationResult, evaluate
 from scalf_opt.api.export import ExportResult, export_plan
-from scalf_opt.api.gait_optimization import GaitResult, optimize_gait
+from scalf_opt.api.gait_optimization import GaitResult, GaitSweep, optimize_gait, sweep_gaits
 from scalf_opt.api.gaits import read_gait
 from scalf_opt.api.logs import LogResult, analyze_log
 from scalf_opt.api.optimization import OptimizationResult, optimize_swing
@@ -30,6 +30,7 @@ __all__ = [
     "ExportResult",
     "Gait",
     "GaitResult",
+    "GaitSweep",
     "LogResult",
     "NotSolvedError",
     "OptimizationResult",
@@ -47,5 +48,6 @@ __all__ = [
     "paper",
     "read_gait",
     "simulate",
+    "sweep_gaits",
     "view",
 ]

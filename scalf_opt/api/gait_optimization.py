@@ -194,3 +194,111 @@ def optimize_gait(
     search = search_gait(pipeline, speed, swing_family, Settings(method=method))
     row = gait_row(search, robot.name)
     return GaitResult.from_row(robot, row, gait_details(search), search, command)
+
+
+def speed_folder(out: Path, speed_m_s: float) -> Path:
+    """Where the cheapest gait at ``speed_m_s`` of a sweep is written: ``out/speed_<v>``."""
+    return out / f"speed_{speed_m_s:g}"
+
+
+@dataclass(frozen=True)
+class GaitSweep:
+    """The cheapest trot at every speed of a sweep (:func:`sweep_gaits`).
+
+    Attributes:
+        robot: The robot.
+        rows: One ``gaits.csv`` row per speed, in speed order
+            (:data:`~scalf_opt.studies.gait_case.GAIT_COLUMNS`).
+        written: ``gaits.csv`` and ``gaits.png``.
+        cached: How many speeds came from the cache of an earlier run.
+        out: The folder (also a folder ``speed_<v>`` per solved speed).
+    """
+
+    robot: Robot
+    rows: list[dict[str, Any]]
+    written: list[Path]
+    cached: int
+    out: Path
+
+    @property
+    def failed(self) -> list[dict[str, Any]]:
+        """The rows of the speeds whose search did not succeed."""
+        return [r for r in self.rows if r["status"] != "ok"]
+
+
+def sweep_gaits(
+    robot: Robot,
+    speeds: Sequence[float],
+    out: str | Path,
+    *,
+    catalog_name: str | None = None,
+    urdf: str | Path | None = None,
+    family: str = DEFAULT_FAMILY,
+    method: Method = DEFAULT_SOLVER,
+    accounting: Accounting = "paper",
+    loads: str = DEFAULT_LOADS,
+    workers: int | None = None,
+    scheduler: str | None = None,
+    quiet: bool = False,
+    command: Sequence[str] | None = None,
+) -> GaitSweep:
+    """The cheapest trot at every speed, each speed a case of the study engine.
+
+    Writes ``out/gaits.csv``, ``out/gaits.png`` and per solved speed ``out/speed_<v>/``
+    (``gait.toml``, ``summary.json``, ``samples.csv``); finished speeds are cached in ``out``,
+    so a stopped sweep resumes.
+
+    Args:
+        robot: The robot (loaded).
+        speeds: Target speeds [m/s].
+        out: The output folder.
+        catalog_name: The robot's catalog name, when it is one (the cases load it by name).
+        urdf: Its URDF otherwise.
+        family: The swing family of every gait's swings.
+        method: The swings' solver.
+        accounting: Power accounting.
+        loads: The stance load model.
+        workers: Local worker processes (default: one per usable core).
+        scheduler: A Dask scheduler's address instead of local workers.
+        quiet: No progress line.
+        command: The command line, recorded in each speed's provenance.
+
+    Raises:
+        ConfigError: Both ``workers`` and ``scheduler``; a speed out of range; a family without
+            parameters; a scheduler that cannot be reached.
+    """
+    from scalf_opt.io.results import rows_csv_text
+    from scalf_opt.studies.gait_case import GAIT_COLUMNS
+    from scalf_opt.studies.runner import choose_runner, run_cases
+    from scalf_opt.studies.study_file import speed_study
+    from scalf_opt.viz.figures import save_atomic
+    from scalf_opt.viz.gait_figure import gait_figure
+
+    if workers is not None and scheduler is not None:
+        raise ConfigError("give --workers or --scheduler, not both")
+    optimizable_family(family)
+    out = Path(out)
+    study = speed_study(
+        list(speeds),
+        robot=catalog_name or (None if urdf else "scalf"),
+        urdf=str(urdf) if urdf else None,
+        family=family,
+        method=method,
+        accounting=accounting,
+        name=f"cheapest trot of {robot.name}",
+        loads=loads,
+    )
+    runner = choose_runner(workers, scheduler)
+    full, cached = run_cases(study, out, runner, label="gait", quiet=quiet)
+    rows: list[dict[str, Any]] = [{c: full[i].get(c) for c in GAIT_COLUMNS} for i in sorted(full)]
+    title = f"{study.name}: {family} swings, loads '{loads}', accounting '{accounting}'"
+    written = [
+        write_atomic(out / "gaits.csv", rows_csv_text(rows)),
+        save_atomic(gait_figure(rows, title), out / "gaits.png"),
+    ]
+    for index, row in zip(sorted(full), rows, strict=True):
+        details = full[index].get("details") or {}
+        if row["status"] == "ok" and "parameters" in details:
+            result = GaitResult.from_row(robot, row, details, command=command)
+            result.write(speed_folder(out, float(row["speed_m_s"])))
+    return GaitSweep(robot, rows, written, cached, out)

@@ -262,56 +262,34 @@ def _check_family(family: str) -> None:
     optimizable_family(family)
 
 
-def speed_folder(out: Path, speed_m_s: float) -> Path:
-    """Where the cheapest gait at ``speed_m_s`` is written: ``out/speed_<v>``."""
-    return out / f"speed_{speed_m_s:g}"
-
-
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when every speed's search succeeded, 3 when some did not (``gaits.csv`` says why)."""
-    from scalf_opt.api.gait_optimization import GaitResult
-    from scalf_opt.files import write_atomic
+    from scalf_opt.api.gait_optimization import sweep_gaits
     from scalf_opt.io.provenance import run_provenance
-    from scalf_opt.io.results import rows_csv_text
-    from scalf_opt.studies.gait_case import GAIT_COLUMNS
-    from scalf_opt.studies.runner import choose_runner, run_cases
-    from scalf_opt.studies.study_file import speed_study
-    from scalf_opt.viz.figures import save_atomic
-    from scalf_opt.viz.gait_figure import gait_figure
 
-    if args.workers is not None and args.scheduler is not None:
-        raise ConfigError("give --workers or --scheduler, not both")
     speeds = all_speeds(args.speed)
     _check_family(args.family)
     robot: Robot = load_robot(args)
-    study = speed_study(
+    sweep = sweep_gaits(
+        robot,
         speeds,
-        robot=args.robot or (None if args.urdf else "scalf"),
-        urdf=str(args.urdf) if args.urdf else None,
+        args.out,
+        catalog_name=args.robot,
+        urdf=args.urdf,
         family=args.family,
         method=args.method,
         accounting=args.accounting,
-        name=f"cheapest trot of {robot.name}",
         loads=args.loads,
+        workers=args.workers,
+        scheduler=args.scheduler,
+        quiet=args.quiet,
+        command=args.argv,
     )
-    runner = choose_runner(args.workers, args.scheduler)
-    out: Path = args.out
-    full, cached = run_cases(study, out, runner, label=NAME, quiet=args.quiet)
-    rows: list[dict[str, Any]] = [{c: full[i].get(c) for c in GAIT_COLUMNS} for i in sorted(full)]
-    written = [write_atomic(out / "gaits.csv", rows_csv_text(rows))]
-    title = (
-        f"{study.name}: {args.family} swings, loads '{args.loads}', accounting '{args.accounting}'"
-    )
-    written.append(save_atomic(gait_figure(rows, title), out / "gaits.png"))
-    for index, row in zip(sorted(full), rows, strict=True):
-        details = full[index].get("details") or {}
-        if row["status"] == "ok" and "parameters" in details:
-            result = GaitResult.from_row(robot, row, details, command=args.argv)
-            result.write(speed_folder(out, float(row["speed_m_s"])))
+    out, rows = sweep.out, sweep.rows
     console = args.console
     console.text(gait_table(robot.name, rows))
-    files = ", ".join(map(str, written))
-    console.text(f"{len(rows)} speeds ({cached} from the cache); wrote {files}")
+    files = ", ".join(map(str, sweep.written))
+    console.text(f"{len(rows)} speeds ({sweep.cached} from the cache); wrote {files}")
     console.text(f"and per solved speed {out}/speed_<v>/ (gait.toml, summary.json, samples.csv)")
     console.json(
         {
@@ -320,10 +298,9 @@ def run(args: argparse.Namespace) -> int:
             "rows": rows,
         }
     )
-    failed = [r for r in rows if r["status"] != "ok"]
-    if failed:
+    if sweep.failed:
         console.error(
-            f"{len(failed)} of {len(rows)} speeds did not succeed (see {out / 'gaits.csv'})"
+            f"{len(sweep.failed)} of {len(rows)} speeds did not succeed (see {out / 'gaits.csv'})"
         )
         return 3
     return 0
