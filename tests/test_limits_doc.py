@@ -53,3 +53,4 @@ def test_the_command_lines_copy_of_a_bound_is_the_apis():
     from scalf_opt.io import plan_export
 
     assert export.MAX_CYCLES == plan_export.MAX_CYCLES
+    assert export.FORMATS == plan_export.EXPORT_FORMATS  # the registry's suffixes

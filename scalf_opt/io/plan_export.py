@@ -30,7 +30,7 @@ from __future__ import annotations
 import csv
 import io
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from pathlib import Path
 from typing import Any
@@ -57,9 +57,6 @@ from scalf_opt.locomotion.gait import (
 from scalf_opt.locomotion.trot import TROT_PHASE_OFFSET
 from scalf_opt.model.robot import Robot
 from scalf_opt.types import JOINT_ROLES, LEG_NAMES
-
-EXPORT_FORMATS = (".csv", ".json", ".mcap")
-"""Output suffixes :meth:`PlanExport.write` knows."""
 
 TOPICS = {
     "joints": "/plan/joint_states",
@@ -310,18 +307,38 @@ class PlanExport:
             ConfigError: An unknown suffix.
         """
         path = Path(path)
-        if path.suffix == ".csv":
-            return write_atomic(path, self.csv_text())
-        if path.suffix == ".json":
-            from scalf_opt.io.results import to_json
+        writer = EXPORT_WRITERS.get(path.suffix)
+        if writer is None:
+            raise ConfigError(
+                f"{path}: unknown export format {path.suffix!r} (give {', '.join(EXPORT_FORMATS)})"
+            )
+        return writer(self, path)
 
-            return write_atomic(path, to_json(self.to_dict()))
-        if path.suffix == ".mcap":
-            series, trajectories = self.bag_series()
-            return write_bag(path, series, trajectories)
-        raise ConfigError(
-            f"{path}: unknown export format {path.suffix!r} (give {', '.join(EXPORT_FORMATS)})"
-        )
+
+def _csv(export: PlanExport, path: Path) -> Path:
+    return write_atomic(path, export.csv_text())
+
+
+def _json(export: PlanExport, path: Path) -> Path:
+    from scalf_opt.io.results import to_json
+
+    return write_atomic(path, to_json(export.to_dict()))
+
+
+def _bag(export: PlanExport, path: Path) -> Path:
+    series, trajectories = export.bag_series()
+    return write_bag(path, series, trajectories)
+
+
+EXPORT_WRITERS: dict[str, Callable[[PlanExport, Path], Path]] = {
+    ".csv": _csv,
+    ".json": _json,
+    ".mcap": _bag,
+}
+"""The export formats, by suffix: a new format is one writer and one entry here."""
+
+EXPORT_FORMATS = tuple(EXPORT_WRITERS)
+"""Output suffixes :meth:`PlanExport.write` knows."""
 
 
 def planned_mechanical_energy_j(cycle: RobotCycle) -> dict[str, float]:

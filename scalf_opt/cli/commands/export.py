@@ -36,6 +36,8 @@ EXAMPLES = (
     ),
 )
 FORMATS = (".csv", ".json", ".mcap")
+"""``scalf_opt.io.plan_export.EXPORT_FORMATS``, the writers' suffixes (a test checks they agree:
+the command line does not import the writers before it runs)."""
 
 MAX_CYCLES = 1000
 """Most cycles exported: ``scalf_opt.io.plan_export.MAX_CYCLES``, which the command line does not
