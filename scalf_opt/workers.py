@@ -1,8 +1,8 @@
 """Independent solves in worker processes: :func:`map_in_processes`.
 
 Ipopt's interface to MUMPS holds one lock for the whole process, so two large solves on two
-threads factorize one after the other: SCalf's two free-trajectory bounds took 34 s on two
-threads and 18 s each alone. Solves whose time is the linear solver therefore run in worker
+threads factorize one after the other (measured on SCalf's two free-trajectory bounds:
+docs/speed-log.md). Solves whose time is the linear solver therefore run in worker
 processes, each a fresh interpreter (``python -m scalf_opt.workers``) that reads one pickled
 ``(function, item)`` on its standard input and writes pickled frames back: progress labels, then
 the result or the error.

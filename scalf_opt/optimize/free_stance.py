@@ -403,8 +403,8 @@ def optimize_stance(
         raise ScalfError(reason)
     nominal = StanceEvaluation(at_rate.gait, nominal_total, None, nominal_run)
     # a trial starts at a neighbouring stance's optimum: its NLP leaves out the rows far from
-    # their bounds there (screening; measured, same run: the search in 17.5 s instead of 28.1 s,
-    # 76 stances instead of 87, the same z0 and offsets within the search's 1.25 mm precision)
+    # their bounds there (screening: the same stance, faster; docs/speed-log.md has the
+    # measurement)
     trials = GaitTrials(
         at_rate, family, replace(settings, screen=True), legs, nominal_run, keep_uncoupled=True
     )

@@ -93,8 +93,8 @@ IPOPT_DEFAULTS: dict[str, Any] = {
 
 CONDENSED_MAX_PARAMS = 2
 """Families with at most this many parameters get the condensed NLP (``Y`` eliminated): with
-so few parameters the lifted variables cost more than they save (paper family, 200 Hz: 33 ms
-condensed, 40 ms lifted; ``joint-6``, 300 Hz: 0.63 s condensed, 0.16 s lifted)."""
+so few parameters the lifted variables cost more than they save (measured: docs/speed-log.md,
+"Measurements behind choices")."""
 
 CONDENSED_OPTIONS: dict[str, Any] = {"mu_oracle": "probing", "mu_max": 10.0}
 """Ipopt options of the condensed NLP: Mehrotra's probing for the barrier parameter (paper

@@ -138,11 +138,9 @@ scaling. Options the user sets win; a strategy that would change one of them is 
 FIRST_ROUND_ITERATIONS = 300
 """Ipopt's first strategy's iterations in the solves that only start a whole-body pair's problem
 (:func:`scalf_opt.optimize.driver.optimize_swings`' first round of the legs in turn). On the six
-robots' default pairs those solves take 34 to 186 iterations; on Go1 at a gait of a user's own
-(T 0.45 s, duty 0.55, S 0.2 m, H 0.07 m) the adaptive update wandered through all 1000 of RF's
-(14 s) where the monotone one, tried next, converged in 111 (the same answer 10 s sooner); LH,
-which the adaptive update had solved in 377, then took 300 of it and 320 of the monotone one to
-another start: the whole optimization 15 s instead of 20 s, to a pair 0.001 J from the other."""
+robots' default pairs those solves take 34 to 186 iterations; on a Go1 gait the adaptive update
+wandered through all 1000 of one leg's where the monotone one, tried next, converged in 111
+(the measurement: docs/speed-log.md, "Measurements behind choices")."""
 
 IPOPT_WARM_ATTEMPT: dict[str, Any] = {"max_iter": 1000, "mu_max": 0.1}
 """Ipopt's strategy for a warm solve: the adaptive barrier update, its parameter never above

@@ -203,8 +203,7 @@ def reproduce(
     # process (scalf_opt.workers): they run side by side in worker processes, those that need
     # no optimum of the tables from the start. The whole-body line, the shortest, runs behind
     # the others in priority; the free stance beside the bounds: behind them it was the last to
-    # finish, alone on one core (`paper -q`, alternating runs: 16.0 to 18.0 s instead of 17.4 to
-    # 21.4 s, and 16.8 to 19.7 s with nothing behind)
+    # finish, alone on one core (measured: docs/speed-log.md, "Measurements behind choices")
     settings = Settings(ipopt=ipopt_options)
     early: list[tuple[str, Any]] = []
     if not pipeline.load_model.couples_legs:
