@@ -274,8 +274,7 @@ def sweep_gaits(
     from scalf_opt.viz.figures import save_atomic
     from scalf_opt.viz.gait_figure import gait_figure
 
-    if workers is not None and scheduler is not None:
-        raise ConfigError("give --workers or --scheduler, not both")
+    runner = choose_runner(workers, scheduler)
     optimizable_family(family)
     out = Path(out)
     study = speed_study(
@@ -288,7 +287,6 @@ def sweep_gaits(
         name=f"cheapest trot of {robot.name}",
         loads=loads,
     )
-    runner = choose_runner(workers, scheduler)
     full, cached = run_cases(study, out, runner, label="gait", quiet=quiet)
     rows: list[dict[str, Any]] = [{c: full[i].get(c) for c in GAIT_COLUMNS} for i in sorted(full)]
     title = f"{study.name}: {family} swings, loads '{loads}', accounting '{accounting}'"

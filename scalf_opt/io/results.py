@@ -70,13 +70,10 @@ def samples_csv_text(cycle: RobotCycle) -> str:
             for name, column in phase.drive_columns.items():
                 cells[column] = phase.values[name]
             for j in range(phase.t_s.size):
-                row = [leg.leg, phase.phase, _fmt(phase.t_s[j])]
-                row += [_fmt(cells[c][j]) if c in cells else "" for c in columns[3:]]
+                row = [leg.leg, phase.phase, number_text(phase.t_s[j])]
+                row += [number_text(cells[c][j]) if c in cells else "" for c in columns[3:]]
                 writer.writerow(row)
     return buffer.getvalue()
-
-
-_fmt = number_text
 
 
 def _cell(value: Any) -> Any:
@@ -225,7 +222,5 @@ def rows_csv_text(rows: list[dict[str, Any]]) -> str:
         writer = csv.DictWriter(buffer, fieldnames=columns, lineterminator="\n")
         writer.writeheader()
         for row in rows:
-            writer.writerow(
-                {k: number_text(v) if isinstance(v, float) else v for k, v in row.items()}
-            )
+            writer.writerow({k: _cell(v) for k, v in row.items()})
     return buffer.getvalue()

@@ -139,8 +139,11 @@ def choose_runner(workers: int | None = None, scheduler: str | None = None) -> R
     """The backend: Dask with a scheduler address, else a pool of ``workers`` processes.
 
     Raises:
-        ConfigError: ``workers`` is below 1 or above :func:`usable_cores`, or Dask is missing.
+        ConfigError: Both given; ``workers`` is below 1 or above :func:`usable_cores`; a
+            scheduler address that is not plain TCP, or Dask is missing.
     """
+    if workers is not None and scheduler is not None:
+        raise ConfigError("give --workers or --scheduler, not both")
     if scheduler is not None:
         return _dask(scheduler)
     cores = usable_cores()

@@ -49,17 +49,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when every case succeeded, 3 when some did not (``results.csv`` says why)."""
-    from scalf_opt.errors import ConfigError
     from scalf_opt.io.provenance import run_provenance
     from scalf_opt.studies.runner import choose_runner, run_study
     from scalf_opt.studies.study_file import read_study
     from scalf_opt.studies.table import results_table
 
-    if args.workers is not None and args.scheduler is not None:
-        raise ConfigError("give --workers or --scheduler, not both")
+    runner = choose_runner(args.workers, args.scheduler)  # before the file: a wrong option first
     study = read_study(args.file)
     out = output_folder(args)
-    result = run_study(study, out, choose_runner(args.workers, args.scheduler), quiet=args.quiet)
+    result = run_study(study, out, runner, quiet=args.quiet)
     args.console.text(results_table(study.name, result))
     args.console.json(
         {
