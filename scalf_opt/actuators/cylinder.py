@@ -19,14 +19,17 @@ through the accounting (decision 9).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import casadi as ca
+import numpy as np
 
-from scalf_opt.actuators.drive import Channel, Drive, MaxFn
-from scalf_opt.actuators.stribeck import StribeckFriction
+from scalf_opt.actuators.drive import Channel, Drive, DriveKind, MaxFn
+from scalf_opt.actuators.stribeck import StribeckBranch, StribeckFriction
 from scalf_opt.errors import ModelError
+from scalf_opt.tables import Table
 from scalf_opt.types import Expr
 
 
@@ -57,6 +60,8 @@ class HydraulicCylinder(Drive):
     max_speed_m_s: float = field(default=math.inf, kw_only=True)
 
     kind: ClassVar[str] = "cylinder"
+    noun: ClassVar[str] = "cylinder"
+    file_table: ClassVar[str] = "cylinders"
     channels: ClassVar[tuple[Channel, ...]] = (
         Channel("cyl_len", "m", "cylinder length l(q)"),
         Channel("cyl_vel", "m_s", "cylinder velocity (dl/dq) qd"),
@@ -136,3 +141,97 @@ class HydraulicCylinder(Drive):
             )
         shortest = min(float(self.length_m(t)) for t in (theta_lower, theta_upper))
         return shortest, shortest + self.stroke_m
+
+    def described(self, q_lower: float, q_upper: float) -> dict[str, Any]:
+        """The mounting geometry and the length range over the joint range (SI)."""
+        grid = np.linspace(q_lower, q_upper, 2001)
+        lengths = np.array([float(self.length_m(x)) for x in grid])
+        return {
+            "a_m": self.a_m,
+            "b_m": self.b_m,
+            "phi_offset_rad": self.phi_offset_rad,
+            "angle_sign": self.angle_sign,
+            "stroke_m": self.stroke_m,
+            "length_range_m": [float(lengths.min()), float(lengths.max())],
+        }
+
+
+# --- the actuator file's [friction] and [cylinders.<joint>] tables --------------------------------
+
+FRICTIONLESS = StribeckFriction(
+    StribeckBranch(0.0, 0.0, 0.0, 1.0), StribeckBranch(0.0, 0.0, 0.0, 1.0)
+)
+"""No friction, for supply-fed cylinders of a file without a ``[friction]`` table."""
+
+BRANCH_KEYS = ("viscous_n_s_per_m", "static_n", "coulomb_n", "stribeck_velocity_m_s")
+GEOMETRY_KEYS = ("a_mm", "b_mm", "phi_offset_deg", "angle_sign", "stroke_mm")
+LIMIT_KEYS = ("max_force_n", "max_speed_m_s")
+
+
+def read_friction(file: Table) -> StribeckFriction | None:
+    """``[friction.extend]`` and ``[friction.retract]``; ``None`` without ``[friction]``."""
+    if "friction" not in file:
+        return None
+    table = file.table("friction")
+    table.only(("extend", "retract"))
+    branches = []
+    for key in ("extend", "retract"):
+        branch = table.table(key)
+        branch.only(BRANCH_KEYS)
+        branch.require(BRANCH_KEYS)
+        branches.append(StribeckBranch(*(branch.number(k) for k in BRANCH_KEYS)))
+    return StribeckFriction(extend=branches[0], retract=branches[1])
+
+
+def read_cylinder(joint: str, table: Table, friction: StribeckFriction) -> HydraulicCylinder:
+    """One ``[cylinders.<joint>]`` table; millimetres and degrees converted to SI."""
+    table.only(GEOMETRY_KEYS + LIMIT_KEYS)
+    table.require(GEOMETRY_KEYS)
+    limits = {key: table.number(key) for key in LIMIT_KEYS if key in table}
+    return HydraulicCylinder(
+        joint_name=joint,
+        a_m=table.number("a_mm") * 1e-3,
+        b_m=table.number("b_mm") * 1e-3,
+        phi_offset_rad=math.radians(table.number("phi_offset_deg", positive=False)),
+        angle_sign=table.sign("angle_sign"),
+        stroke_m=table.number("stroke_mm") * 1e-3,
+        friction=friction,
+        **limits,
+    )
+
+
+def read_cylinders(file: Table, drives: Mapping[str, Drive]) -> dict[str, Drive]:
+    """Every ``[cylinders.<joint>]``, with the file's friction.
+
+    Without ``[friction]`` the cylinders are frictionless and :func:`check_friction` asks that
+    each be fed by a supply.
+    """
+    friction = read_friction(file)
+    tables = file.tables("cylinders")
+    if "cylinders" in file and not tables:
+        raise file.error("[cylinders] is empty")
+    return {j: read_cylinder(j, t, friction or FRICTIONLESS) for j, t in tables.items()}
+
+
+def check_friction(file: Table, drives: Mapping[str, Drive]) -> None:
+    """A cylinder not fed by a supply charges its friction heat: the file needs ``[friction]``."""
+    plain = [j for j, d in drives.items() if type(d) is HydraulicCylinder]
+    if plain and "friction" not in file:
+        raise file.error(
+            f"missing table [friction] (cylinder {plain[0]} is not fed by a supply and "
+            "charges its friction heat)"
+        )
+
+
+CYLINDERS = DriveKind(
+    tables=("friction", "cylinders"),
+    read=read_cylinders,
+    help=(
+        "[friction.extend], [friction.retract]: Stribeck friction of every cylinder "
+        "(viscous_n_s_per_m, static_n, coulomb_n, stribeck_velocity_m_s); "
+        "[cylinders.<joint>]: a cylinder's mounting (a_mm, b_mm, phi_offset_deg, angle_sign, "
+        "stroke_mm; optional max_force_n, max_speed_m_s)"
+    ),
+    check=check_friction,
+)
+"""SCalf's cylinders: joint power plus Stribeck friction heat."""

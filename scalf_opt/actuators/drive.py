@@ -21,12 +21,13 @@ is 1e-4 in its argument's unit; a drive passes arguments in units where that wid
 
 from __future__ import annotations
 
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
-from typing import ClassVar
+from typing import Any, ClassVar
 
 import casadi as ca
 
+from scalf_opt.tables import Table
 from scalf_opt.types import Expr
 
 MaxFn = Callable[[Expr, Expr], Expr]
@@ -60,6 +61,8 @@ class Drive:
             accounting) in addition to :meth:`loss_rate`.
         power_text: What a drive that does not charge the joint power draws, in words, for
             reports (its :meth:`loss_rate` is all it draws).
+        noun: What the drive is, in words (``cylinder``, ``electric drive``).
+        file_table: The actuator file's table that names its joint (``cylinders``).
     """
 
     joint_name: str
@@ -67,6 +70,8 @@ class Drive:
     channels: ClassVar[tuple[Channel, ...]] = ()
     charges_joint_power: ClassVar[bool] = True
     power_text: ClassVar[str] = ""
+    noun: ClassVar[str] = "drive"
+    file_table: ClassVar[str] = ""
 
     def outputs(self, q: Expr, qd: Expr, tau: Expr) -> dict[str, Expr]:
         """The drive's per-sample outputs, one scalar per channel (SI units)."""
@@ -88,9 +93,45 @@ class Drive:
         """One line describing the drive and its parameters, for reports."""
         return f"{self.kind} drive"
 
+    def described(self, q_lower: float, q_upper: float) -> dict[str, Any]:
+        """The drive's parameters for ``scalf-opt model --json`` (SI); none by default.
+
+        ``[q_lower, q_upper]`` [rad] is the joint's range, over which a drive may report what its
+        parameters give (a cylinder: its length range).
+        """
+        return {}
+
 
 @dataclass(frozen=True)
 class IdealDrive(Drive):
     """A lossless torque source: the joint draws its mechanical power and nothing else."""
 
     kind: ClassVar[str] = "ideal"
+
+
+DriveReader = Callable[[Table, Mapping[str, Drive]], dict[str, Drive]]
+"""``read(file, drives)``: the drives one kind's table(s) of an actuator file give, keyed by
+joint; ``file`` is the file's top level, ``drives`` those the kinds before it gave."""
+
+
+@dataclass(frozen=True)
+class DriveKind:
+    """One kind of drive in the actuator-file registry (``registry.DRIVE_KINDS``).
+
+    Attributes:
+        tables: The top-level tables of the actuator file the kind reads (``cylinders``,
+            ``friction``); together the registry's tables are every table a file may have.
+        read: Its reader (:data:`DriveReader`), written with :class:`~scalf_opt.tables.Table` so
+            that every message names the file and the key path.
+        help: The kind's tables in one line, for the documentation.
+        replaces: Its drives replace those the kinds before it gave the same joints (a supply
+            feeding cylinders); otherwise a joint given two drives is an error.
+        check: A check over the file's final drives, or ``None`` (a cylinder not fed by a supply
+            needs the friction table).
+    """
+
+    tables: tuple[str, ...]
+    read: DriveReader
+    help: str
+    replaces: bool = False
+    check: Callable[[Table, Mapping[str, Drive]], None] | None = None

@@ -30,12 +30,14 @@ these widths let it converge on all of them, and every reported energy is the ex
 
 from __future__ import annotations
 
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import ClassVar
 
 import casadi as ca
 
-from scalf_opt.actuators.drive import Channel, Drive, MaxFn
+from scalf_opt.actuators.drive import Channel, Drive, DriveKind, MaxFn
+from scalf_opt.tables import Table
 from scalf_opt.types import Expr
 
 POWER_SCALE_W = 1000.0
@@ -84,6 +86,8 @@ class ElectricDrive(Drive):
     regenerative: bool = False
 
     kind: ClassVar[str] = "electric"
+    noun: ClassVar[str] = "electric drive"
+    file_table: ClassVar[str] = "electric"
     channels: ClassVar[tuple[Channel, ...]] = (
         Channel("motor_current", "a", "motor current (tau + tau_f) / (N k_t)"),
         Channel("copper_loss", "w", "copper loss R i^2 in the motor winding"),
@@ -137,3 +141,47 @@ class ElectricDrive(Drive):
             f"{self.coulomb_friction_nm:g} N m + {self.viscous_friction_nm_s_per_rad:g} N m s/rad, "
             f"{regen}"
         )
+
+
+REQUIRED_KEYS = ("joints", "gear_ratio", "torque_constant_nm_per_a", "winding_resistance_ohm")
+OPTIONAL_KEYS = ("coulomb_friction_nm", "viscous_friction_nm_s_per_rad", "regenerative")
+
+
+def read_motors(file: Table, drives: Mapping[str, Drive]) -> dict[str, Drive]:
+    """The joints each ``[electric.<name>]`` drives, as electric drives."""
+    out: dict[str, Drive] = {}
+    for table in file.tables("electric").values():
+        table.only(REQUIRED_KEYS + OPTIONAL_KEYS)
+        table.require(REQUIRED_KEYS)
+        regenerative = table.boolean("regenerative", False)
+        values = {
+            "gear_ratio": table.number("gear_ratio"),
+            "torque_constant_nm_per_a": table.number("torque_constant_nm_per_a"),
+            **{
+                key: table.number(key, zero=True, default=0.0 if key in OPTIONAL_KEYS else None)
+                for key in (
+                    "winding_resistance_ohm",
+                    "coulomb_friction_nm",
+                    "viscous_friction_nm_s_per_rad",
+                )
+            },
+        }
+        for joint in table.names("joints"):
+            if joint in out:
+                raise file.error(
+                    f"{table.key('joints')} names {joint}, already driven by another motor"
+                )
+            out[joint] = ElectricDrive(joint_name=joint, regenerative=regenerative, **values)
+    return out
+
+
+MOTORS = DriveKind(
+    tables=("electric",),
+    read=read_motors,
+    help=(
+        "[electric.<name>]: a geared motor (gear_ratio, torque_constant_nm_per_a, "
+        "winding_resistance_ohm; optional coulomb_friction_nm, viscous_friction_nm_s_per_rad, "
+        "regenerative) and the joints it drives"
+    ),
+)
+"""Geared electric motors: electrical power with copper loss."""

@@ -25,15 +25,20 @@ outputs; it does not change ``P`` (the flow is set by the velocity alone).
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import ClassVar
 
 import casadi as ca
 
 from scalf_opt.actuators.cylinder import HydraulicCylinder
-from scalf_opt.actuators.drive import Channel, MaxFn
+from scalf_opt.actuators.drive import Channel, Drive, DriveKind, MaxFn
 from scalf_opt.errors import ModelError
+from scalf_opt.tables import Table
 from scalf_opt.types import Expr
+
+BAR_TO_PA = 1e5
+SUPPLY_KEYS = ("joints", "pressure_bar", "bore_mm", "rod_mm")
 
 VELOCITY_SCALE_M_S = 10.0
 """Unit in which the flow's ``max(v, 0)`` is taken [m/s]: with the NLP's smoothing width of 1e-4
@@ -134,3 +139,39 @@ class ValveControlledCylinder(HydraulicCylinder):
             f"{self.piston_area_m2 * 1e6:.1f} mm^2, annulus {self.annulus_area_m2 * 1e6:.1f} mm^2; "
             f"force {lo:.0f}..{hi:.0f} N; power = pressure x flow"
         )
+
+
+def read_supplies(file: Table, drives: Mapping[str, Drive]) -> dict[str, Drive]:
+    """The cylinders each ``[supplies.<name>]`` feeds, as valve-controlled cylinders."""
+    out: dict[str, Drive] = {}
+    for table in file.tables("supplies").values():
+        table.only(SUPPLY_KEYS)
+        table.require(SUPPLY_KEYS)
+        pressure = table.number("pressure_bar") * BAR_TO_PA
+        bore, rod = table.number("bore_mm") * 1e-3, table.number("rod_mm") * 1e-3
+        if rod >= bore:
+            raise file.error(f"{table.key('rod_mm')} must be below {table.key('bore_mm')}")
+        for joint in table.names("joints"):
+            cylinder = drives.get(joint)
+            if not isinstance(cylinder, HydraulicCylinder):
+                raise file.error(
+                    f"{table.key('joints')} names {joint}, which has no [cylinders.{joint}] table"
+                )
+            if joint in out:
+                raise file.error(
+                    f"{table.key('joints')} names {joint}, already fed by another supply"
+                )
+            out[joint] = ValveControlledCylinder.from_diameters(cylinder, pressure, bore, rod)
+    return out
+
+
+SUPPLIES = DriveKind(
+    tables=("supplies",),
+    read=read_supplies,
+    help=(
+        "[supplies.<name>]: a constant-pressure supply (pressure_bar, bore_mm, rod_mm) and the "
+        "joints whose cylinders it feeds through valves"
+    ),
+    replaces=True,
+)
+"""HyQ's valve-controlled cylinders: supply pressure x flow."""

@@ -12,7 +12,6 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
-from scalf_opt.actuators.cylinder import HydraulicCylinder
 from scalf_opt.actuators.drive import Drive
 from scalf_opt.model.kinematics import LegKinematics
 from scalf_opt.model.leg import Leg
@@ -57,19 +56,7 @@ def drive_summary(drive: Drive, lower_rad: float, upper_rad: float) -> dict[str,
         "kind": drive.kind,
         "summary": drive.summary(),
     }
-    if isinstance(drive, HydraulicCylinder):
-        grid = np.linspace(lower_rad, upper_rad, 2001)
-        lengths = np.array([float(drive.length_m(x)) for x in grid])
-        out.update(
-            {
-                "a_m": drive.a_m,
-                "b_m": drive.b_m,
-                "phi_offset_rad": drive.phi_offset_rad,
-                "angle_sign": drive.angle_sign,
-                "stroke_m": drive.stroke_m,
-                "length_range_m": [float(lengths.min()), float(lengths.max())],
-            }
-        )
+    out.update(drive.described(lower_rad, upper_rad))
     return out
 
 

@@ -10,8 +10,8 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from scalf_opt.actuators.cylinder import HydraulicCylinder
-from scalf_opt.actuators.sidecar import FRICTIONLESS, drives_for
+from scalf_opt.actuators.cylinder import FRICTIONLESS, HydraulicCylinder
+from scalf_opt.actuators.sidecar import drives_for
 from scalf_opt.actuators.stribeck import smooth_max
 from scalf_opt.actuators.valve_cylinder import ValveControlledCylinder
 from scalf_opt.errors import ModelError

@@ -15,7 +15,17 @@ import pytest
 PACKAGE = Path(__file__).resolve().parents[2] / "scalf_opt"
 
 LAYERS: tuple[tuple[str, ...], ...] = (
-    ("errors", "types", "files", "interrupts", "heartbeat", "blas_kernels", "workers", "version"),
+    (
+        "errors",
+        "types",
+        "files",
+        "tables",
+        "interrupts",
+        "heartbeat",
+        "blas_kernels",
+        "workers",
+        "version",
+    ),
     ("model",),
     ("actuators",),
     ("robots",),
@@ -28,8 +38,8 @@ LAYERS: tuple[tuple[str, ...], ...] = (
     ("cli", "__init__", "__main__", "api"),
 )
 """Bottom to top. Packages in one tuple share a floor but may not import each other, except on
-the foundation (errors, types, files, interrupts, heartbeat, blas_kernels, workers, version) and
-the top floor (the command line and the public API), which are one piece each."""
+the foundation (errors, types, files, tables, interrupts, heartbeat, blas_kernels, workers,
+version) and the top floor (the command line and the public API), which are one piece each."""
 
 HEAVY_OPTIONAL = {
     "matplotlib": ("viz",),
