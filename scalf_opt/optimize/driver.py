@@ -37,12 +37,10 @@ from scalf_opt.optimize.problem import PairProblem, SwingGoal
 from scalf_opt.optimize.sampling import (
     BETWEEN_SAMPLES_RTOL,
     CHECK_FACTOR,
-    MAX_RATE_HZ,
     SAMPLING_TOLERANCE,
-    initial_rate_hz,
+    Transcription,
     on_check_grid,
     relative_difference,
-    resampled,
 )
 from scalf_opt.optimize.solve import SwingOptimum
 from scalf_opt.optimize.solvers import (
@@ -575,13 +573,13 @@ def _refined(
         The pipeline at the last rate, each leg's optimum and check there, the alternation's
         (rounds, settled, together), and whether the sampling converged.
     """
-    rate = initial_rate_hz(pipeline.gait, family)
+    transcription = Transcription.first(pipeline.gait, family)
     workers = thread_budget() if solver(settings.method).releases_gil else 1
     while True:
-        rates.append(rate)
+        rates.append(transcription.rate_hz)
         if progress is not None:
-            progress(f"{family.name} at {rate:g} Hz")
-        at_rate = resampled(pipeline, rate)
+            progress(f"{family.name} at {transcription.rate_hz:g} Hz")
+        at_rate = transcription.on(pipeline)
         answers, rounds, settled, together = _solve_legs(
             at_rate, legs, family, settings, dict(current), workers, trial, len(rates) > 1
         )
@@ -591,9 +589,9 @@ def _refined(
         errors = [relative_difference(o.objective_j, c) for o, c in answers.values()]
         if all(e <= settings.sampling_tolerance for e in errors):  # inf / inf is NaN: not met
             return at_rate, answers, alternation, True
-        if rate * 2 > MAX_RATE_HZ:
+        if transcription.finest:
             return at_rate, answers, alternation, False
-        rate *= 2
+        transcription = transcription.refined()
         current = {leg: o.theta for leg, (o, _) in answers.items()}
 
 

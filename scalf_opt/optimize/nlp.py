@@ -9,8 +9,10 @@ function of one sample's six inputs: the constraint Jacobian is block-sparse and
 Hessian block-diagonal (6 x 6 per sample), which Ipopt's sparse linear algebra factorizes
 several times faster than the condensed problem, where every sample depends on every parameter
 (measured: ``joint-10`` at 500 Hz, 2.4 s instead of 7.0 s; ``joint-6`` at 300 Hz, 0.16 s instead
-of 0.63 s). Families with at most :data:`CONDENSED_MAX_PARAMS` parameters (the paper family)
-keep the condensed form, ``Y`` eliminated, which is faster for them.
+of 0.63 s). Families with at most
+:data:`~scalf_opt.optimize.sampling.CONDENSED_MAX_PARAMS` parameters (the paper family) keep the
+condensed form, ``Y`` eliminated, which is faster for them (the transcription's
+:func:`~scalf_opt.optimize.sampling.scheme`).
 
 Parameters ``p = (Y_0, B, trapezoidal weights)`` (``B`` by its nonzeros: :class:`BasisPattern`),
 so that one built NLP serves every problem of the same shape (leg, space, number of samples and
@@ -68,6 +70,7 @@ from scalf_opt.optimize.kernels import (
     stance_limited_bounds,
 )
 from scalf_opt.optimize.problem import PairProblem, SwingProblem
+from scalf_opt.optimize.sampling import scheme
 from scalf_opt.types import Accounting, Space
 
 IPOPT_DEFAULTS: dict[str, Any] = {
@@ -90,11 +93,6 @@ IPOPT_DEFAULTS: dict[str, Any] = {
     # of their time doing so). Ipopt enlarges it if a factorization runs short.
     "mumps_mem_percent": 10,
 }
-
-CONDENSED_MAX_PARAMS = 2
-"""Families with at most this many parameters get the condensed NLP (``Y`` eliminated): with
-so few parameters the lifted variables cost more than they save (measured: docs/speed-log.md,
-"Measurements behind choices")."""
 
 CONDENSED_OPTIONS: dict[str, Any] = {"mu_oracle": "probing", "mu_max": 10.0}
 """Ipopt options of the condensed NLP: Mehrotra's probing for the barrier parameter (paper
@@ -396,7 +394,7 @@ def coupled_shapes(problem: SwingProblem | PairProblem) -> tuple[CoupledShape, .
                 int(coupling.weights.size),
                 charged,
                 len(_stance_limits(problem, coupling)[0]),
-                problem.family.n_params > CONDENSED_MAX_PARAMS,
+                scheme(problem.family.n_params) == "lifted",
             )
         )
     return tuple(shapes)
@@ -582,7 +580,7 @@ def _block(
     ``coupled``: the NLP has a stance term (then a dense basis is given whole:
     :class:`BasisPattern`).
     """
-    lifted = problem.n_params > CONDENSED_MAX_PARAMS
+    lifted = scheme(problem.n_params) == "lifted"
     charged = tuple(
         i for i, drive in enumerate(problem.physics.drives) if drive.charges_joint_power
     )

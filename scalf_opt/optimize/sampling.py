@@ -14,12 +14,17 @@ lift-off and touch-down are under-resolved. So:
    optimization repeated from the optimum found, until they agree (or :data:`MAX_RATE_HZ`).
 
 Every energy a command then reports is at the rate the optimization converged at.
+
+A :class:`Transcription` is that choice as an object, apart from the problem it samples (the
+robot, gait, family and margins): its rate, :meth:`Transcription.refined` for the next rate, its
+check grid, and the scheme the NLP takes (:func:`scheme`).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import dataclass, replace
+from typing import Literal
 
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import MAX_SAMPLES_PER_PHASE, Gait
@@ -73,18 +78,70 @@ def with_rate(gait: Gait, rate_hz: float) -> Gait:
     return replace(gait, sample_rate_hz=float(rate_hz))
 
 
-def resampled(pipeline: EnergyPipeline, rate_hz: float) -> EnergyPipeline:
-    """The same robot, gait and models, sampled at ``rate_hz`` (a refinement of the grid).
+CONDENSED_MAX_PARAMS = 2
+"""Families with at most this many parameters get the condensed NLP (``Y`` eliminated): with
+so few parameters the lifted variables cost more than they save (measured: docs/speed-log.md,
+"Measurements behind choices")."""
 
-    The one place an optimizer changes the sampling: the rate is the transcription's choice,
-    the physics (the pipeline's robot, gait and load model) stays as it is.
+Scheme = Literal["condensed", "lifted"]
+"""How the NLP holds a leg's samples: eliminated (condensed) or as variables (lifted)."""
+
+
+def scheme(n_params: int) -> Scheme:
+    """The NLP scheme of a family with ``n_params`` parameters per leg."""
+    return "condensed" if n_params <= CONDENSED_MAX_PARAMS else "lifted"
+
+
+@dataclass(frozen=True)
+class Transcription:
+    """How a swing problem is sampled: the rate of its grid, the grid it is checked on.
+
+    The problem (robot, gait, loads, family, margins) is the physics; the transcription is a
+    choice made to solve it, refined until the answer does not depend on it (module docstring).
+    :meth:`on` is the one place an optimizer changes the sampling.
+
+    Attributes:
+        rate_hz: Samples per second of the cycle's grid [Hz].
     """
-    return pipeline.with_gait(with_rate(pipeline.gait, rate_hz))
+
+    rate_hz: float
+
+    @classmethod
+    def first(cls, gait: Gait, family: SwingFamily) -> Transcription:
+        """The first rate to try ``family`` on ``gait`` at (:func:`initial_rate_hz`)."""
+        return cls(initial_rate_hz(gait, family))
+
+    @classmethod
+    def of(cls, pipeline: EnergyPipeline) -> Transcription:
+        """The transcription ``pipeline`` is sampled at."""
+        return cls(pipeline.gait.sample_rate_hz)
+
+    def refined(self, factor: float = 2.0) -> Transcription:
+        """``factor`` times as many samples."""
+        return Transcription(self.rate_hz * factor)
+
+    @property
+    def finest(self) -> bool:
+        """No refinement by two is left below :data:`MAX_RATE_HZ`."""
+        return self.rate_hz * 2 > MAX_RATE_HZ
+
+    def check(self, gait: Gait) -> Transcription:
+        """The grid an optimum at this rate is checked on (:func:`check_rate_hz`)."""
+        return Transcription(check_rate_hz(with_rate(gait, self.rate_hz)))
+
+    def on(self, pipeline: EnergyPipeline) -> EnergyPipeline:
+        """The same robot, gait and models, sampled at this rate."""
+        return pipeline.with_gait(with_rate(pipeline.gait, self.rate_hz))
+
+
+def resampled(pipeline: EnergyPipeline, rate_hz: float) -> EnergyPipeline:
+    """The same robot, gait and models, sampled at ``rate_hz`` (:meth:`Transcription.on`)."""
+    return Transcription(rate_hz).on(pipeline)
 
 
 def on_check_grid(pipeline: EnergyPipeline) -> EnergyPipeline:
     """The pipeline on the check grid of an optimum found at its rate (:func:`check_rate_hz`)."""
-    return resampled(pipeline, check_rate_hz(pipeline.gait))
+    return Transcription.of(pipeline).check(pipeline.gait).on(pipeline)
 
 
 def relative_difference(value: float, check: float) -> float:

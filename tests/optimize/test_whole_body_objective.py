@@ -12,7 +12,7 @@ from scalf_opt.api.gaits import read_gait
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
-from scalf_opt.optimize import driver
+from scalf_opt.optimize import driver, sampling
 from scalf_opt.optimize.driver import Settings, optimize_swings
 from scalf_opt.optimize.free_stance import pair_energy_j
 from scalf_opt.optimize.problem import PairProblem, SwingProblem
@@ -248,7 +248,7 @@ def test_the_lifted_and_the_condensed_stance_term_reach_the_same_optimum(scalf, 
     start = {leg: np.zeros(2) for leg in ("RF", "LH")}
     condensed = run_ipopt_pair(pair, start)
     assert not nlp.build_nlp(pair).coupled[0].lifted
-    monkeypatch.setattr(nlp, "CONDENSED_MAX_PARAMS", 1)
+    monkeypatch.setattr(sampling, "CONDENSED_MAX_PARAMS", 1)
     lifted_nlp = nlp.build_nlp(pair)
     assert lifted_nlp.coupled[0].lifted and lifted_nlp.lifted
     lifted = run_ipopt_pair(pair, start)
