@@ -42,6 +42,7 @@ from scalf_opt.model.robot import Robot
 from scalf_opt.optimize.bound import FreeBound, bound_cycle_inputs, bounds_for
 from scalf_opt.optimize.driver import Settings, SwingOptimization, check_bounded, optimize_swings
 from scalf_opt.optimize.free_stance import FreeStance, optimize_stance
+from scalf_opt.optimize.goals import BoundGoal, FamilyGoal, Goal, StanceGoal
 from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, PatternSearchSolver, solver
 from scalf_opt.types import FIRST_PAIR, Accounting, Method, leg_tuple
@@ -211,14 +212,45 @@ def optimize_swing(
             precision with Ipopt or not > 0, an accounting with nothing to optimize, options
             that do not go together.
     """
+    goal = goal_from(
+        family=family,
+        method=method,
+        legs=legs,
+        precision=precision,
+        starts=starts,
+        bound=bound,
+        free_stance=free_stance,
+        verbose=verbose,
+        margins=LimitMargins(stop_margin_rad, stroke_margin_m),
+    )
     robot = as_robot(robot)
-    legs = leg_tuple(legs)
-    _check_precision(method, precision)
-    margins = LimitMargins(stop_margin_rad, stroke_margin_m)
     pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting, loads=loads)
-    if not free_stance:  # the free stance searches stances that keep the margins
-        _check_stance_margins(pipeline, legs, margins)
-    cmd = command_tuple(command)
+    return optimize_goal(robot, pipeline, goal, progress, command)
+
+
+def goal_from(
+    *,
+    family: str = DEFAULT_FAMILY,
+    method: Method = DEFAULT_SOLVER,
+    legs: str | Sequence[str] = FIRST_PAIR,
+    precision: float | None = None,
+    starts: int = 1,
+    bound: bool = False,
+    free_stance: bool = False,
+    verbose: bool = False,
+    margins: LimitMargins | None = None,
+) -> Goal:
+    """The goal that :func:`optimize_swing`'s names and flags ask for (the arguments are its).
+
+    The one place the names become objects: ``family="free"`` is the :class:`BoundGoal`,
+    ``free_stance`` the :class:`StanceGoal`, any other family a :class:`FamilyGoal`.
+
+    Raises:
+        ConfigError: Options that do not go together; see :func:`optimize_swing`.
+    """
+    leg_names = leg_tuple(legs)
+    margins = margins or LimitMargins()
+    _check_precision(method, precision)
     if family == FREE_FAMILY:
         if bound or free_stance or starts != 1 or method != DEFAULT_SOLVER:
             raise ConfigError(
@@ -226,7 +258,7 @@ def optimize_swing(
                 "no --bound, --free-stance, --starts or --method with it",
                 field="family",
             )
-        return _free_method(robot, pipeline, legs, progress, cmd, margins)
+        return BoundGoal(leg_names, margins)
     swing_family = _optimizable_family(family)
     settings = Settings(
         method=method,
@@ -236,15 +268,39 @@ def optimize_swing(
         margins=margins,
     )
     if free_stance:
-        if legs != FIRST_PAIR:
+        if leg_names != FIRST_PAIR:
             raise ConfigError(
                 "the free stance optimizes the diagonal pair's swings: legs RF and LH",
                 field="free_stance",
             )
+        return StanceGoal(swing_family, settings)
+    return FamilyGoal(leg_names, swing_family, settings, with_bound=bound)
+
+
+def optimize_goal(
+    robot: Robot,
+    pipeline: EnergyPipeline,
+    goal: Goal,
+    progress: Progress | None = None,
+    command: Sequence[str] | None = None,
+) -> OptimizationResult:
+    """Reach ``goal`` on ``pipeline`` (the robot's gait, accounting and loads).
+
+    Raises:
+        ConfigError: Margins the gait's own stance does not keep (a family's legs).
+    """
+    cmd = command_tuple(command)
+    if isinstance(goal, BoundGoal):
+        _check_stance_margins(pipeline, goal.legs, goal.margins)
+        return _free_method(robot, pipeline, goal.legs, progress, cmd, goal.margins)
+    if isinstance(goal, StanceGoal):  # it searches stances that keep the margins
         if progress is not None:
-            progress(f"the stance and the {family} swings")
-        return _free_stance(robot, pipeline, swing_family, settings, cmd)
-    return _swings(robot, pipeline, legs, swing_family, settings, bound, progress, cmd)
+            progress(f"the stance and the {goal.family.name} swings")
+        return _free_stance(robot, pipeline, goal.family, goal.settings, cmd)
+    _check_stance_margins(pipeline, goal.legs, goal.settings.margins)
+    return _swings(
+        robot, pipeline, goal.legs, goal.family, goal.settings, goal.with_bound, progress, cmd
+    )
 
 
 def _check_precision(method: Method, precision: float | None) -> None:

@@ -140,8 +140,11 @@ def check_family(name: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when everything converged, 3 when something did not (unless accepted)."""
-    from scalf_opt.api import optimize_swing
+    from scalf_opt.api.optimization import goal_from, optimize_goal
     from scalf_opt.cli.progress import ProgressBar
+    from scalf_opt.energy.margins import LimitMargins
+    from scalf_opt.energy.pipeline import EnergyPipeline
+    from scalf_opt.optimize.goals import BoundGoal, StanceGoal
     from scalf_opt.viz.optimization_report import (
         bound_report,
         free_stance_report,
@@ -154,29 +157,24 @@ def run(args: argparse.Namespace) -> int:
 
     check_output_dir(args.out)
     check_family(args.family)
+    legs = FIRST_PAIR if args.leg == "PAIR" else (args.leg,)
+    goal = goal_from(
+        family=args.family,
+        method=args.method,
+        legs=legs,
+        precision=args.precision,
+        starts=args.starts,
+        bound=args.bound,
+        free_stance=args.free_stance,
+        verbose=args.verbose,
+        margins=LimitMargins(math.radians(args.stop_margin), 1e-3 * args.stroke_margin),
+    )
     robot = load_robot(args)
     warn_without_effect(args, robot)
     gait = load_gait(args, robot)
-    legs = FIRST_PAIR if args.leg == "PAIR" else (args.leg,)
+    pipeline = EnergyPipeline(robot, gait, args.accounting, loads=args.loads)
     with ProgressBar(None, "optimize", enabled=not args.quiet) as bar:
-        result = optimize_swing(
-            robot,
-            gait,
-            family=args.family,
-            method=args.method,
-            legs=legs,
-            accounting=args.accounting,
-            precision=args.precision,
-            starts=args.starts,
-            bound=args.bound,
-            free_stance=args.free_stance,
-            verbose=args.verbose,
-            progress=bar.step,
-            command=args.argv,
-            loads=args.loads,
-            stop_margin_rad=math.radians(args.stop_margin),
-            stroke_margin_m=1e-3 * args.stroke_margin,
-        )
+        result = optimize_goal(robot, pipeline, goal, bar.step, args.argv)
     console = args.console
     console.text(gait_origin(args, robot))
     written = result.write(args.out) if result.success and args.out is not None else []
@@ -193,9 +191,9 @@ def run(args: argparse.Namespace) -> int:
         console.error(f"not solved: {result.failure()}; no optimum is reported")
         return 3
     assert result.cycle is not None
-    if args.family == FREE_FAMILY:
+    if isinstance(goal, BoundGoal):
         title = f"free-trajectory bound ({result.cycle.legs[legs[0]].swing_family})"
-    elif args.free_stance:
+    elif isinstance(goal, StanceGoal):
         title = f"free stance ({args.family}, {args.method})"
     else:
         title = f"optimized ({args.family}, {args.method})"
