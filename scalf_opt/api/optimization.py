@@ -380,8 +380,7 @@ def _swings(
         bounds = bounds_for(
             pipeline, tuple(run.legs), seeds, progress=progress, margins=settings.margins
         )
-        for leg, result in run.legs.items():
-            result.bound_check_energy_j = bounds[leg].check_energy_j
+        run = run.with_bound_checks({leg: b.check_energy_j for leg, b in bounds.items()})
         records["optimization"] = {leg: r.as_dict() for leg, r in run.legs.items()}
         records["free_bound"] = {leg: b.as_dict() for leg, b in bounds.items()}
     return OptimizationResult(

@@ -161,7 +161,7 @@ and both bounds converged at 128 spans (0.9 %). A level's optima differ by a few
 per cent, so an estimate above twice the tolerance is not revisited."""
 
 
-@dataclass
+@dataclass(frozen=True)
 class BoundLevel:
     """One refinement level of the bound for one leg."""
 
@@ -180,7 +180,7 @@ class BoundLevel:
         return dict(self.__dict__)
 
 
-@dataclass
+@dataclass(frozen=True)
 class FreeBound:
     """The free-trajectory bound of one leg.
 

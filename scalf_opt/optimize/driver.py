@@ -95,7 +95,7 @@ class Settings:
         return SolverOptions(self.pattern, self.ipopt, self.screen)
 
 
-@dataclass
+@dataclass(frozen=True)
 class StartResult:
     """One start of one leg.
 
@@ -126,7 +126,7 @@ class StartResult:
         }
 
 
-@dataclass
+@dataclass(frozen=True)
 class LegResult:
     """The optimization of one leg.
 
@@ -208,7 +208,7 @@ class LegResult:
         }
 
 
-@dataclass
+@dataclass(frozen=True)
 class SwingOptimization:
     """The optimization of several legs with one family and method.
 
@@ -285,6 +285,20 @@ class SwingOptimization:
     def reference_cycle(self) -> RobotCycle:
         """The robot's cycle with the reference swing, at the same rate."""
         return self.pipeline.robot_cycle(make_family("reference"))
+
+    def with_bound_checks(self, check_energy_j: Mapping[str, float]) -> SwingOptimization:
+        """The same optimization with the legs' free-trajectory bounds beside them.
+
+        ``check_energy_j``: each bounded leg's bound energy at ten times its rate [J], which the
+        leg's gap to the bound is reported against.
+        """
+        legs = {
+            leg: replace(r, bound_check_energy_j=check_energy_j[leg])
+            if leg in check_energy_j
+            else r
+            for leg, r in self.legs.items()
+        }
+        return replace(self, legs=legs)
 
 
 def check_bounded(pipeline: EnergyPipeline, legs: tuple[str, ...]) -> None:

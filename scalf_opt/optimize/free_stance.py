@@ -80,7 +80,7 @@ def stance_vector_cm(gait: Gait) -> np.ndarray:
     return np.array([100.0 * getattr(gait, name) for name in STANCE_VARIABLES])
 
 
-@dataclass
+@dataclass(frozen=True)
 class StanceEvaluation:
     """One stance tried by the search.
 
@@ -99,7 +99,7 @@ class StanceEvaluation:
     run: SwingOptimization | None = None
 
 
-@dataclass
+@dataclass(frozen=True)
 class FreeStance:
     """The stance and swing optimized together.
 

@@ -269,7 +269,7 @@ def cost_of_transport(evaluation: StanceEvaluation, mass_kg: float, speed_m_s: f
     return 2.0 * evaluation.total_j / (mass_kg * GRAVITY_M_S2 * distance_m)
 
 
-@dataclass
+@dataclass(frozen=True)
 class GaitSearch:
     """The cheapest trot found at one speed, and what it is compared with.
 

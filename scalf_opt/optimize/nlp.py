@@ -898,7 +898,7 @@ def _sample_derivatives(
     }
 
 
-@dataclass
+@dataclass(frozen=True)
 class NlpSolution:
     """Ipopt's answer.
 

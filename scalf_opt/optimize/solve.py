@@ -10,7 +10,7 @@ from __future__ import annotations
 import math
 import time
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -25,8 +25,54 @@ from scalf_opt.optimize.problem import PairProblem, SwingProblem
 from scalf_opt.optimize.screening import rows_far_from_bounds, strictly_inside
 from scalf_opt.types import Method
 
+History = tuple[tuple[float, ...], ...]
+"""Rows ``(iteration, *theta, value)`` of a pattern search's accepted points."""
 
-@dataclass
+
+@dataclass(frozen=True)
+class PatternSearchDetails:
+    """What the pattern search reports beyond the common answer.
+
+    Attributes:
+        evaluations: Objective evaluations (of both phases).
+        history: Rows (iteration, *theta, energy) of accepted points; in
+            :meth:`SwingOptimum.as_dict` records with named parameters.
+        feasibility_history: From an infeasible start: rows (iteration, *theta, total
+            constraint violation) of the feasibility phase's accepted points (empty when the
+            start is feasible).
+        infeasible: Count of infeasible evaluations per reason.
+        feasibility_phase_iterations: Iterations of the feasibility phase (0 without one).
+    """
+
+    evaluations: int
+    history: History = ()
+    feasibility_history: History = ()
+    infeasible: Mapping[str, int] = field(default_factory=dict)
+    feasibility_phase_iterations: int = 0
+
+    def solver_stats(self) -> dict[str, Any]:
+        """The statistics of ``solver_stats`` in the JSON record."""
+        return {"feasibility_phase_iterations": self.feasibility_phase_iterations}
+
+
+@dataclass(frozen=True)
+class IpoptDetails:
+    """What Ipopt reports beyond the common answer.
+
+    Attributes:
+        stats: Ipopt's statistics as CasADi returns them, with ``smooth_objective_j`` (the
+            smoothed objective at the answer [J]), ``solver_time_s`` and ``rows_left_out``
+            (the rows screening left out, comma-separated; empty when none was).
+    """
+
+    stats: Mapping[str, Any]
+
+
+SolverDetails = PatternSearchDetails | IpoptDetails
+"""The solver-specific part of a :class:`SwingOptimum`."""
+
+
+@dataclass(frozen=True)
 class SwingOptimum:
     """The answer of one optimizer for one leg and family.
 
@@ -42,15 +88,8 @@ class SwingOptimum:
         status: The optimizer's own status text.
         iterations: Iterations (pattern search: exploratory moves of both phases; Ipopt: its
             iteration count).
-        evaluations: Objective evaluations (pattern search) or 0 (Ipopt).
         wall_time_s: Time spent [s].
-        history: Pattern search: rows (iteration, *theta, energy) of accepted points; in
-            :meth:`as_dict` records with named parameters.
-        feasibility_history: Pattern search from an infeasible start: rows (iteration, *theta,
-            total constraint violation) of the feasibility phase's accepted points (empty when
-            the start is feasible); in :meth:`as_dict` records like ``history``.
-        infeasible: Pattern search: count of infeasible evaluations per reason.
-        stats: Solver statistics (Ipopt's, as returned by CasADi).
+        details: What the solver reports beyond this (:data:`SolverDetails`).
         objective_j: The exact objective at ``theta`` [J]: ``swing_energy_j`` plus, under
             whole-body loads, the pair's stance energy (:class:`SwingProblem`); inf if
             infeasible.
@@ -66,15 +105,16 @@ class SwingOptimum:
     success: bool
     status: str
     iterations: int
-    evaluations: int
     wall_time_s: float
-    history: list[tuple[float, ...]] = field(default_factory=list)
-    feasibility_history: list[tuple[float, ...]] = field(default_factory=list)
-    infeasible: dict[str, int] = field(default_factory=dict)
-    stats: dict[str, Any] = field(default_factory=dict)
+    details: SolverDetails
     objective_j: float = math.nan
 
-    def _records(self, rows: list[tuple[float, ...]], value: str) -> list[dict[str, Any]]:
+    @property
+    def evaluations(self) -> int:
+        """Objective evaluations (pattern search) or 0 (Ipopt evaluates its NLP, not these)."""
+        return self.details.evaluations if isinstance(self.details, PatternSearchDetails) else 0
+
+    def _records(self, rows: History, value: str) -> list[dict[str, Any]]:
         """History rows ``(iteration, *theta, value)`` as records with named parameters."""
         return [
             {
@@ -85,8 +125,22 @@ class SwingOptimum:
             for row in rows
         ]
 
+    @property
+    def pattern_details(self) -> PatternSearchDetails:
+        """The pattern search's details (its history, for the paper's Fig. 8).
+
+        Raises:
+            TypeError: The answer is another solver's.
+        """
+        if not isinstance(self.details, PatternSearchDetails):
+            raise TypeError(f"the {self.method} answer of {self.leg} has no pattern-search details")
+        return self.details
+
     def as_dict(self) -> dict[str, Any]:
         """Plain-data form for JSON."""
+        details = self.details
+        pattern = details if isinstance(details, PatternSearchDetails) else None
+        stats = details.stats if isinstance(details, IpoptDetails) else details.solver_stats()
         return {
             "leg": self.leg,
             "family": self.family,
@@ -100,10 +154,12 @@ class SwingOptimum:
             "iterations": self.iterations,
             "evaluations": self.evaluations,
             "wall_time_s": self.wall_time_s,
-            "infeasible_evaluations": dict(self.infeasible),
-            "solver_stats": self.stats,
-            "history": self._records(self.history, "swing_energy_j"),
-            "feasibility_history": self._records(self.feasibility_history, "violation"),
+            "infeasible_evaluations": dict(pattern.infeasible) if pattern else {},
+            "solver_stats": dict(stats),
+            "history": self._records(pattern.history if pattern else (), "swing_energy_j"),
+            "feasibility_history": self._records(
+                pattern.feasibility_history if pattern else (), "violation"
+            ),
         }
 
 
@@ -137,11 +193,6 @@ def run_pattern_search(
             )
         x0 = phase1.x
     result = pattern_search(energy, x0, opts)
-    if phase1 is not None:
-        result.iterations += phase1.iterations
-        result.evaluations += phase1.evaluations
-        result.infeasible.update(phase1.infeasible)
-        result.history = [(row[0] + phase1.iterations, *row[1:]) for row in result.history]
     status = "converged: step below precision" if result.converged else "evaluation limit"
     return _pattern_optimum(problem, result, phase1, time.perf_counter() - start, status)
 
@@ -173,6 +224,15 @@ def _pattern_optimum(
 ) -> SwingOptimum:
     final = problem.evaluate(result.x)
     feasible = final.reason is None and (phase1 is None or phase1.value == 0.0)
+    before = phase1 if phase1 is not None and phase1 is not result else None
+    shift = before.iterations if before is not None else 0
+    details = PatternSearchDetails(
+        evaluations=result.evaluations + (before.evaluations if before else 0),
+        history=tuple((row[0] + shift, *row[1:]) for row in result.history),
+        feasibility_history=tuple(phase1.history) if phase1 is not None else (),
+        infeasible={**result.infeasible, **(before.infeasible if before else {})},
+        feasibility_phase_iterations=phase1.iterations if phase1 else 0,
+    )
     return SwingOptimum(
         leg=problem.leg,
         family=problem.family.name,
@@ -184,13 +244,9 @@ def _pattern_optimum(
         objective_j=final.energy_j,
         success=feasible and result.converged,
         status=status,
-        iterations=result.iterations,
-        evaluations=result.evaluations,
+        iterations=result.iterations + shift,
         wall_time_s=elapsed,
-        history=list(result.history),
-        feasibility_history=list(phase1.history) if phase1 is not None else [],
-        infeasible=dict(result.infeasible),
-        stats={"feasibility_phase_iterations": phase1.iterations if phase1 else 0},
+        details=details,
     )
 
 
@@ -258,10 +314,12 @@ def run_ipopt_pair(
         for leg in problem.legs
     }
     if not all(a.success for a in answers.values()):  # the pair's answer fails as a whole
-        for answer in answers.values():
-            if answer.success:
-                answer.success = False
-                answer.status = f"{answer.status}; the other leg's answer failed"
+        answers = {
+            leg: replace(a, success=False, status=f"{a.status}; the other leg's answer failed")
+            if a.success
+            else a
+            for leg, a in answers.items()
+        }
     return answers
 
 
@@ -286,7 +344,6 @@ def _ipopt_optimum(
         success=solution.success and final.reason is None,
         status=solution.status if final.reason is None else f"{solution.status}; {final.reason}",
         iterations=solution.iterations,
-        evaluations=0,
         wall_time_s=elapsed,
-        stats=stats,
+        details=IpoptDetails(stats),
     )

@@ -239,9 +239,8 @@ def reproduce(
             out.bounds[args[1]] = result  # a bound job names its leg second
         else:
             out.free_stance = result
-    for leg, bound in out.bounds.items():
-        for run in out.runs.values():
-            run.legs[leg].bound_check_energy_j = bound.check_energy_j
+    checks = {leg: bound.check_energy_j for leg, bound in out.bounds.items()}
+    out.runs = {key: run.with_bound_checks(checks) for key, run in out.runs.items()}
     out.wall_time_s = time.perf_counter() - start
     return out
 

@@ -55,7 +55,8 @@ def search_study(
     for leg in legs:
         pattern = pattern_run.legs[leg].best
         ipopt = ipopt_run.legs[leg].best
-        points = [row[1:3] for row in (*pattern.feasibility_history, *pattern.history)]
+        details = pattern.pattern_details
+        points = [row[1:3] for row in (*details.feasibility_history, *details.history)]
         points += [tuple(ipopt.theta), (0.0, 0.0)]
         cloud = np.array(points, dtype=float)
         lo, hi = cloud.min(axis=0), cloud.max(axis=0)

@@ -47,8 +47,9 @@ def pattern_search_figure(optima: Mapping[str, SwingOptimum]) -> Figure:
     styles = ("-o", "--s", "-.^", ":v")
     for (leg, optimum), style in zip(optima.items(), styles, strict=False):
         color = LEG_COLORS[leg]
-        history = np.array(optimum.history)
-        phase1 = np.array(optimum.feasibility_history, dtype=float).reshape(-1, 4)
+        details = optimum.pattern_details
+        history = np.array(details.history)
+        phase1 = np.array(details.feasibility_history, dtype=float).reshape(-1, 4)
         for ax, column, label in zip(
             axes, (1, 2, 3), ("C1 [deg]", "C2 [deg]", "swing energy [J]"), strict=True
         ):

@@ -145,8 +145,9 @@ def _landscape_panel(ax: Axes, search: LegSearch, leg: str, levels: np.ndarray) 
             path_effects=outline,
             label="the reference's swing energy (inside: lower)",
         )
-    feasibility = np.array(search.pattern.feasibility_history, dtype=float).reshape(-1, 4)
-    accepted = np.array(search.pattern.history, dtype=float).reshape(-1, 4)
+    details = search.pattern.pattern_details
+    feasibility = np.array(details.feasibility_history, dtype=float).reshape(-1, 4)
+    accepted = np.array(details.history, dtype=float).reshape(-1, 4)
     if feasibility.size:
         ax.plot(
             feasibility[:, 1],
@@ -181,8 +182,8 @@ def _landscape_panel(ax: Axes, search: LegSearch, leg: str, levels: np.ndarray) 
 
 def _iteration_panel(ax: Axes, search: LegSearch, leg: str) -> None:
     pattern = search.pattern
-    accepted = np.array(pattern.history, dtype=float).reshape(-1, 4)
-    feasibility = np.array(pattern.feasibility_history, dtype=float).reshape(-1, 4)
+    accepted = np.array(pattern.pattern_details.history, dtype=float).reshape(-1, 4)
+    feasibility = np.array(pattern.pattern_details.feasibility_history, dtype=float).reshape(-1, 4)
     if feasibility.size:
         end = float(feasibility[-1, 0])
         ax.axvspan(0.0, end, color=FEASIBILITY_COLOR, alpha=0.12, lw=0)

@@ -98,7 +98,7 @@ def test_every_level_samples_every_knot_and_converges_at_its_first_rate(model, b
 def test_the_warm_levels_leave_out_the_rows_far_from_their_bounds(bound_and_family):
     """The finest level started at the coarser optimum solved without the far rows (screening)."""
     bound, _ = bound_and_family
-    left_out = bound.result.best.stats["rows_left_out"].split(",")
+    left_out = bound.result.best.details.stats["rows_left_out"].split(",")
     assert "cyl_vel_hip" in left_out and "foot_z" not in left_out
 
 

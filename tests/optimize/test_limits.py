@@ -197,7 +197,9 @@ def test_a_failed_start_is_reported_not_fatal(model, monkeypatch):
             seen.append(key)
         optimum = real(problem, theta0, ipopt, screen)
         if seen.index(key) == 1:  # every solve from the second start fails, its retry too
-            optimum.success, optimum.status = False, "Maximum_Iterations_Exceeded"
+            optimum = dataclasses.replace(
+                optimum, success=False, status="Maximum_Iterations_Exceeded"
+            )
             retried.append((ipopt or {}).get("mu_strategy"))
         return optimum
 

@@ -69,13 +69,13 @@ def test_paper_family_beats_the_reference(paper_optima, reference, leg):
 
 def test_pattern_search_records_its_history(paper_optima):
     run = paper_optima["RF"]["coarse"]
-    energies = [row[-1] for row in run.history]
-    assert len(run.history[0]) == 2 + 2  # iteration, C1, C2, energy
+    energies = [row[-1] for row in run.pattern_details.history]
+    assert len(run.pattern_details.history[0]) == 2 + 2  # iteration, C1, C2, energy
     assert all(b < a for a, b in itertools.pairwise(energies))
-    assert run.history[-1][-1] == pytest.approx(run.swing_energy_j)
+    assert run.pattern_details.history[-1][-1] == pytest.approx(run.swing_energy_j)
     # (0, 0) is infeasible: the feasibility phase ran, and infeasible points were counted
-    assert run.stats["feasibility_phase_iterations"] > 0
-    assert run.infeasible.get("mid-swing clearance", 0) > 0
+    assert run.pattern_details.feasibility_phase_iterations > 0
+    assert run.pattern_details.infeasible.get("mid-swing clearance", 0) > 0
 
 
 def test_richer_nested_families_never_do_worse(model):
@@ -139,7 +139,7 @@ def test_kernel_equals_the_pipeline_sample_function(model):
 def test_nlp_objective_equals_exact_energy_at_the_optimum(model, paper_optima):
     # slack pairs make sum(s+ + s-) equal |tau qd| at an optimum; only the heat is smoothed
     run = paper_optima["RF"]["ipopt"]
-    assert abs(run.stats["smooth_objective_j"] - run.swing_energy_j) <= SMOOTHING_BOUND_J
+    assert abs(run.details.stats["smooth_objective_j"] - run.swing_energy_j) <= SMOOTHING_BOUND_J
 
 
 @pytest.mark.parametrize("space", ["joint", "foot"])
@@ -268,7 +268,7 @@ def test_an_unsolved_nlp_is_reported_not_presented(model):
     result = run_ipopt(problem, ipopt_options={"max_iter": 2})
     assert not result.success
     assert "Maximum_Iterations_Exceeded" in result.status
-    assert result.stats["iter_count"] == 2
+    assert result.details.stats["iter_count"] == 2
 
 
 def test_build_nlp_has_the_constraints_and_is_built_once(model):

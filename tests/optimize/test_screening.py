@@ -67,7 +67,9 @@ def test_a_screened_answer_is_an_answer_of_the_whole_problem(warm, whole):
     problem, theta0 = warm
     screened = run_ipopt(problem, theta0, WARM_START_OPTIONS, screen=True)
     assert screened.success and whole.success
-    left_out = [problem.kernel.rows.index(n) for n in screened.stats["rows_left_out"].split(",")]
+    left_out = [
+        problem.kernel.rows.index(n) for n in screened.details.stats["rows_left_out"].split(",")
+    ]
     assert left_out
     # every row left out is strictly inside its bounds at the answer: their multipliers are zero,
     # so Ipopt's KKT point of the smaller NLP is one of the whole problem
@@ -94,5 +96,5 @@ def test_an_answer_that_crosses_a_row_left_out_is_solved_again_with_every_row(
     monkeypatch.setattr(solve_module, "rows_far_from_bounds", lambda p, t: (ground,))
     again = run_ipopt(problem, theta0, WARM_START_OPTIONS, screen=True)
     assert again.success
-    assert again.stats["rows_left_out"] == ""
+    assert again.details.stats["rows_left_out"] == ""
     np.testing.assert_array_equal(again.theta, whole.theta)  # the solve with every row, bitwise

@@ -126,7 +126,7 @@ def test_the_pair_solved_as_one_problem_is_no_worse_than_the_legs_in_turn(scalf)
     # drives' smooth max adds: (v + sqrt(v^2 + eps^2)) / 2 >= max(v, 0), by at most
     # F_s eps / 2 = 2.5 mW per cylinder, over 2 joint-seconds here (two swing and two stance
     # joints for 0.25 s each, both legs): at most 5 mJ, never below the exact energy
-    stats = together.legs["RF"].best.stats
+    stats = together.legs["RF"].best.details.stats
     exact = sum(r.best.swing_energy_j for r in together.legs.values()) + PairProblem(
         together.pipeline, ("RF", "LH"), family
     ).stance_energy_j(tuple(together.thetas.values()))
@@ -187,7 +187,7 @@ def test_the_feasibility_phase_counts_every_crossed_limit(hyq):
     # the total counts both: the rows' (as evaluate weighs them) and the stance samples'
     assert problem.violation(start) > found.violation + share
     result = run_pattern_search(problem, start)
-    assert result.success and result.stats["feasibility_phase_iterations"] > 0
+    assert result.success and result.pattern_details.feasibility_phase_iterations > 0
     assert problem.violation(result.theta) == 0.0 and problem.evaluate(result.theta).reason is None
     assert result.objective_j == pytest.approx(problem.energy_j(result.theta), rel=1e-12)
 

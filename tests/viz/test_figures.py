@@ -147,10 +147,10 @@ def test_figure_8_shows_the_feasibility_phase_too(scalf_study):
     fig = pattern_search_figure(optima)
     c1, _, energy = fig.axes
     for optimum in optima.values():
-        phase1 = np.array(optimum.feasibility_history)
+        phase1 = np.array(optimum.pattern_details.feasibility_history)
         assert phase1.shape[0] > 1 and phase1[0, 0] == 0.0
     assert min(line.get_xdata()[0] for line in c1.get_lines()) == 0.0
-    first = min(optimum.history[0][0] for optimum in optima.values())
+    first = min(optimum.pattern_details.history[0][0] for optimum in optima.values())
     assert first > 0 and min(line.get_xdata()[0] for line in energy.get_lines()) == first
     labels = [t.get_text() for t in fig.legends[0].get_texts()]
     assert labels[:2] == ["RF", "LH"] and labels[2].startswith("feasibility phase")
