@@ -33,6 +33,21 @@ def is_number(value: Any) -> bool:
     return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
 
 
+def number_value(path: Path, label: str, value: Any, finite: bool = True) -> float | int:
+    """``value``, a TOML number (an entry of a list, say); ``label`` names it in the message.
+
+    Args:
+        path: The file.
+        label: What the value is (``gait.period_s``, ``gait field period_s``).
+        value: The value as parsed.
+        finite: Refuse ``nan`` and ``inf`` too (else the caller's range check names them).
+    """
+    typed = isinstance(value, int | float) and not isinstance(value, bool)
+    if not typed or (finite and not math.isfinite(value)):
+        raise ConfigError(f"{path}: {label} must be a number, got {value!r}")
+    return value
+
+
 @dataclass(frozen=True)
 class Table:
     """One table of a TOML file being read.
@@ -66,10 +81,6 @@ class Table:
 
     def __contains__(self, key: object) -> bool:
         return key in self.data
-
-    def keys(self) -> list[str]:
-        """The table's keys, in file order."""
-        return list(self.data)
 
     def only(self, allowed: Iterable[str]) -> None:
         """Refuse a key that is not in ``allowed`` (the first in sorted order is named)."""
@@ -168,14 +179,13 @@ class Table:
             raise self.error(f"{self.key(key)} must be a non-empty list of {what}")
         return value
 
-    def text(self, key: str, max_length: int = 200) -> str | None:
-        """A non-empty text of at most ``max_length`` characters; ``None`` when left out."""
+    def text(self, key: str, max_length: int | None = None) -> str | None:
+        """A non-empty text (of at most ``max_length`` characters); ``None`` when left out."""
         if key not in self.data:
             return None
         value = self.data[key]
-        if not isinstance(value, str) or not value.strip() or len(value) > max_length:
-            raise self.error(
-                f"{self.key(key)} must be a non-empty text of at most {max_length} characters, "
-                f"got {value!r:.60}"
-            )
+        short = max_length is None or (isinstance(value, str) and len(value) <= max_length)
+        if not isinstance(value, str) or not value or not short:
+            most = f" of at most {max_length} characters" if max_length is not None else ""
+            raise self.error(f"{self.key(key)} must be a non-empty text{most}, got {value!r}")
         return value

@@ -10,9 +10,9 @@ from __future__ import annotations
 from dataclasses import replace
 from pathlib import Path
 
-from scalf_opt.errors import ConfigError, GaitError
-from scalf_opt.files import read_toml
+from scalf_opt.errors import GaitError
 from scalf_opt.locomotion.gait import Gait
+from scalf_opt.tables import Table, number_value
 
 
 def read_gait_fields(path: str | Path) -> dict[str, float | int]:
@@ -21,28 +21,27 @@ def read_gait_fields(path: str | Path) -> dict[str, float | int]:
     Raises:
         ConfigError: The file cannot be read, is not TOML, or has an unknown or mistyped key.
     """
-    path = Path(path)
-    data = read_toml(path, "gait")
-    table = data.get("gait", data)
-    if not isinstance(table, dict):
-        raise ConfigError(f"{path}: [gait] must be a table")
-    stray = sorted(set(data) - {"gait", "robot"}) if "gait" in data else []
+    file = Table.read(path, "gait")
+    if "gait" in file and not isinstance(file.data["gait"], dict):
+        raise file.error("[gait] must be a table")
+    table = file.table("gait") if "gait" in file else file
+    stray = sorted(set(file.data) - {"gait", "robot"}) if "gait" in file else []
     if stray:
-        raise ConfigError(
-            f"{path}: unknown key or table {stray[0]!r} beside [gait] (a gait file holds one "
+        raise file.error(
+            f"unknown key or table {stray[0]!r} beside [gait] (a gait file holds one "
             "[gait] table, or its fields at the top level)"
         )
     known = Gait.field_names()
     values: dict[str, float | int] = {}
-    for key, value in table.items():
+    for key in table.data:
         if key not in known:
-            raise ConfigError(f"{path}: {Gait.unknown_field(key)}")
-        if key == "cycles":
-            if isinstance(value, bool) or not isinstance(value, int):
-                raise ConfigError(f"{path}: gait field cycles must be an integer, got {value!r}")
-        elif isinstance(value, bool) or not isinstance(value, int | float):
-            raise ConfigError(f"{path}: gait field {key} must be a number, got {value!r}")
-        values[key] = value
+            raise file.error(Gait.unknown_field(key))
+        label = f"gait field {key}"
+        values[key] = (
+            table.integer(key, label)
+            if key == "cycles"
+            else number_value(file.path, label, table.data[key], finite=False)
+        )
     return values
 
 
@@ -52,10 +51,10 @@ def gait_file_robot(path: str | Path) -> str | None:
     Raises:
         ConfigError: The file cannot be read, or ``robot`` is not a short text.
     """
-    data = read_toml(Path(path), "gait")
-    robot = data.get("robot") if "gait" in data else None
+    file = Table.read(path, "gait")
+    robot = file.data.get("robot") if "gait" in file else None
     if robot is not None and not (isinstance(robot, str) and 0 < len(robot) <= 200):
-        raise ConfigError(f"{path}: robot must be a robot's name (a short text), got {robot!r}")
+        raise file.error(f"robot must be a robot's name (a short text), got {robot!r}")
     return robot
 
 

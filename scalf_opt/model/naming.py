@@ -10,10 +10,10 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 from pathlib import Path
-from typing import Any, NamedTuple, Protocol
+from typing import NamedTuple, Protocol
 
 from scalf_opt.errors import ConfigError, ModelError
-from scalf_opt.files import read_toml
+from scalf_opt.tables import Table
 from scalf_opt.types import LEG_NAMES
 
 
@@ -122,33 +122,30 @@ def read_leg_map(path: Path) -> LegMap:
         ConfigError: Unreadable file, a missing leg or key, an unknown key, a name that is not
             text; the message names the file and the key.
     """
-    data = read_toml(path, "legs")
-    extra = sorted(set(data) - {"legs"})
+    file = Table.read(path, "legs")
+    extra = sorted(set(file.data) - {"legs"})
     if extra:
-        raise ConfigError(f"{path}: unknown table {extra[0]} (the file has one table, [legs])")
-    legs: Any = data.get("legs")
-    if not isinstance(legs, dict):
-        raise ConfigError(f"{path}: missing table [legs] (one [legs.RF], [legs.LH], ... per leg)")
-    unknown = sorted(set(legs) - set(LEG_NAMES))
+        raise file.error(f"unknown table {extra[0]} (the file has one table, [legs])")
+    if not isinstance(file.data.get("legs"), dict):
+        raise file.error("missing table [legs] (one [legs.RF], [legs.LH], ... per leg)")
+    legs = file.table("legs")
+    unknown = sorted(set(legs.data) - set(LEG_NAMES))
     if unknown:
-        raise ConfigError(f"{path}: unknown leg legs.{unknown[0]} (legs: {', '.join(LEG_NAMES)})")
+        raise file.error(f"unknown leg legs.{unknown[0]} (legs: {', '.join(LEG_NAMES)})")
     out = {}
     for leg in LEG_NAMES:
-        table = legs.get(leg)
-        if not isinstance(table, dict):
-            raise ConfigError(f"{path}: missing table [legs.{leg}]")
-        bad = sorted(set(table) - set(_LEG_KEYS))
-        if bad:
-            raise ConfigError(
-                f"{path}: unknown key legs.{leg}.{bad[0]} (allowed: {', '.join(_LEG_KEYS)})"
-            )
+        if not isinstance(legs.data.get(leg), dict):
+            raise file.error(f"missing table [legs.{leg}]")
+        table = legs.table(leg)
+        table.only(_LEG_KEYS)
         for key in _LEG_KEYS:
-            value = table.get(key)
+            value = table.data.get(key)
             if value is None and key == "roll":
                 continue
             if not isinstance(value, str) or not value:
-                raise ConfigError(f"{path}: legs.{leg}.{key} must be a URDF name, got {value!r}")
-        out[leg] = LegJoints(table.get("roll"), table["pitch"], table["knee"], table["foot"])
+                raise file.error(f"{table.key(key)} must be a URDF name, got {value!r}")
+        given = table.data
+        out[leg] = LegJoints(given.get("roll"), given["pitch"], given["knee"], given["foot"])
     seen: dict[str, str] = {}
     for leg, names in out.items():
         for key, name in zip(_LEG_KEYS, names, strict=True):

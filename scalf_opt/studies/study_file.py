@@ -44,7 +44,6 @@ from typing import Any
 from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.loads import DEFAULT_LOADS, stance_loads
 from scalf_opt.errors import ConfigError, did_you_mean
-from scalf_opt.files import read_toml
 from scalf_opt.io.study_columns import RESULT_COLUMNS
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
@@ -53,6 +52,7 @@ from scalf_opt.optimize.gait_search import check_speed
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, solver
 from scalf_opt.robots.catalog import robot_names
 from scalf_opt.robots.variants import VariantScales
+from scalf_opt.tables import Table, number_value
 from scalf_opt.types import LEG_NAMES
 
 SETTINGS = ("robot", "family", "method", "accounting", "loads")
@@ -140,12 +140,7 @@ class Study:
 
 
 def _text(path: Path, table: dict[str, Any], key: str, where: str) -> str | None:
-    value = table.get(key)
-    if value is None:
-        return None
-    if not isinstance(value, str) or not value:
-        raise ConfigError(f"{path}: {where}.{key} must be a text, got {value!r}")
-    return value
+    return Table(path, where, table).text(key)
 
 
 def _file(path: Path, table: dict[str, Any], key: str) -> str | None:
@@ -159,10 +154,7 @@ def _file(path: Path, table: dict[str, Any], key: str) -> str | None:
 
 
 def _number(path: Path, key: str, value: Any) -> float | int:
-    ok = isinstance(value, int | float) and not isinstance(value, bool)
-    if not ok or not math.isfinite(value):
-        raise ConfigError(f"{path}: {key} must be a number, got {value!r}")
-    return value
+    return number_value(path, key, value)
 
 
 def _check_setting(path: Path, key: str, value: Any, label: str | None = None) -> str:
@@ -312,7 +304,7 @@ def read_study(path: str | Path) -> Study:
             file and the key).
     """
     path = Path(path)
-    tables = _tables(path, read_toml(path, "study"))
+    tables = _tables(path, dict(Table.read(path, "study").data))
     study = tables["study"]
     urdf = _file(path, study, "urdf")
     if urdf is not None and "robot" in study:
