@@ -42,6 +42,15 @@ from scalf_opt.energy.physics import LegPhysics, trapezoid_weights
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.swing.family import AffinePath, SwingFamily
 from scalf_opt.locomotion.trot import SYMMETRIC_TWIN
+from scalf_opt.optimize.constraints import (
+    FEASIBILITY_TOLERANCE,
+    ConstraintFamily,
+    GroundClearance,
+    LeavesFromAbove,
+    LimitRows,
+    Reach,
+    SwingGrid,
+)
 from scalf_opt.optimize.kernels import (
     FOOT_Z,
     FOOT_Z_ACCEL,
@@ -51,9 +60,6 @@ from scalf_opt.optimize.kernels import (
     stance_limit_function,
     stance_limited_bounds,
 )
-
-FEASIBILITY_TOLERANCE = 1e-9
-"""Round-off allowed on a geometric constraint when judging a point feasible [m, rad]."""
 
 STANCE_LIMIT_RTOL = 1e-6
 """A loaded stance leg's torque or force may cross its limit by this share of the limit before
@@ -192,24 +198,29 @@ class SwingProblem:
         return -self.pipeline.gait.stance_height_m
 
     @cached_property
+    def grid(self) -> SwingGrid:
+        """What the constraint families need of the swing's samples."""
+        return SwingGrid(self.n_samples, self.mid_index, self.ground_z_m, self.clearance_z_m)
+
+    @cached_property
+    def constraints(self) -> tuple[ConstraintFamily, ...]:
+        """The constraint family of each kernel row, in row order (:mod:`.constraints`)."""
+        families: list[ConstraintFamily] = [LimitRows(b.name, b) for b in self.bounds]
+        families += [GroundClearance(FOOT_Z), LeavesFromAbove(FOOT_Z_ACCEL)]
+        if REACH in self.kernel.rows:
+            families.append(Reach(REACH))
+        assert tuple(f.row for f in families) == self.kernel.rows
+        return tuple(families)
+
+    @cached_property
     def constraint_bounds(self) -> tuple[np.ndarray, np.ndarray]:
         """Lower and upper bounds of the kernel's constraint rows at every sample, (m, n) each.
 
         ``-inf``/``inf`` where a row does not apply: the foot height at the two end samples
         (on the ground by construction), its acceleration at the interior samples.
         """
-        rows, n = self.kernel.rows, self.n_samples
-        lower = np.full((len(rows), n), -np.inf)
-        upper = np.full((len(rows), n), np.inf)
-        for i, b in enumerate(self.bounds):
-            lower[i], upper[i] = b.lower, b.upper
-        z = self.kernel.row(FOOT_Z)
-        lower[z, 1:-1] = self.ground_z_m
-        lower[z, self.mid_index] = self.clearance_z_m
-        lower[self.kernel.row(FOOT_Z_ACCEL), [0, -1]] = 0.0
-        if REACH in rows:
-            lower[self.kernel.row(REACH)], upper[self.kernel.row(REACH)] = -1.0, 1.0
-        return lower, upper
+        pairs = [family.bounds(self.grid) for family in self.constraints]
+        return np.array([lo for lo, _ in pairs]), np.array([hi for _, hi in pairs])
 
     @cached_property
     def input_rows(self) -> dict[int, int]:
@@ -255,10 +266,7 @@ class SwingProblem:
     @cached_property
     def constraint_tolerance(self) -> np.ndarray:
         """Round-off allowed per constraint row, (m, 1): bounds relative to their size."""
-        tol = np.full((len(self.kernel.rows), 1), FEASIBILITY_TOLERANCE)
-        for i, b in enumerate(self.bounds):
-            tol[i] = b.tolerance()
-        return tol
+        return np.array([[family.tolerance()] for family in self.constraints])
 
     def outputs(self, theta: np.ndarray) -> dict[str, np.ndarray]:
         """Exact per-sample outputs of a member: ``power``, ``p_mech`` (2, n), ``c`` (m, n)."""
@@ -397,15 +405,7 @@ class SwingProblem:
         return violation, self._reason(int(row), int(sample)), True
 
     def _reason(self, row: int, sample: int) -> str:
-        name = self.kernel.rows[row]
-        if row < len(self.bounds):
-            b = self.bounds[row]
-            return f"{b.name} beyond its {b.source}"
-        if name == FOOT_Z:
-            return "mid-swing clearance" if sample == self.mid_index else "foot below ground"
-        if name == FOOT_Z_ACCEL:
-            return "foot leaves or meets the ground from below"
-        return "foot target out of reach"
+        return self.constraints[row].reason(sample, self.grid)
 
 
 @dataclass(frozen=True)
