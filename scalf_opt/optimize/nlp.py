@@ -294,6 +294,7 @@ class BuiltNlp:
         coupled: The shapes of the stance terms under whole-body loads (one per stance window
             the swings load: :func:`coupled_shapes`), else empty.
         callback: Its iteration callback (kept alive with the solver).
+        problem: The CasADi problem the solver wraps (:func:`transcribe`).
     """
 
     solver: ca.Function
@@ -302,6 +303,7 @@ class BuiltNlp:
     build_time_s: float
     coupled: tuple[CoupledShape, ...] = ()
     callback: StopCallback | None = None
+    problem: CasadiNlp | None = None
 
     @property
     def lifted(self) -> bool:
@@ -648,11 +650,10 @@ def build_nlp(
 
         def build() -> BuiltNlp:
             start = time.perf_counter()
-            solver, callback = _build(
-                problem, legs, blocks, constants, accounting, options, stoppable, shapes
-            )
+            nlp = transcribe(problem, legs, blocks, constants, accounting, shapes)
+            solver, callback = ipopt_solver(nlp, options, stoppable)
             return BuiltNlp(
-                solver, blocks, accounting, time.perf_counter() - start, shapes, callback
+                solver, blocks, accounting, time.perf_counter() - start, shapes, callback, nlp
             )
 
         return kernel.nlps.get(key, build)
@@ -751,16 +752,63 @@ def _swing_part(
     return theta, variables, parameters, constraints, cost, _KernelUse(kernel, samples, out)
 
 
-def _build(
+@dataclass(frozen=True)
+class CasadiNlp:
+    """A swing problem transcribed: CasADi's ``{x, p, f, g}`` and how to differentiate it.
+
+    Attributes:
+        name: A name for the compiled functions (legs, space, accounting, samples, parameters).
+        x: The variables (parameters, lifted samples, slacks).
+        p: The parameters (samples at zero, basis, weights, stance terms, objective scale).
+        f: The objective.
+        g: The constraint rows.
+        derivatives: ``nlpsol`` options giving hand-built derivative functions (empty: CasADi's
+            own).
+    """
+
+    name: str
+    x: ca.MX
+    p: ca.MX
+    f: ca.MX
+    g: ca.MX
+    derivatives: dict[str, Any]
+
+
+def ipopt_solver(
+    nlp: CasadiNlp, options: dict[str, Any], stoppable: bool
+) -> tuple[ca.Function, StopCallback | None]:
+    """CasADi's Ipopt on ``nlp`` with Ipopt's ``options``.
+
+    ``stoppable``: with an iteration callback that stops it on a signal (a solve in a worker
+    thread, where the signal cannot interrupt the native solver).
+    """
+    callback = StopCallback(f"{nlp.name}_stop") if stoppable else None
+    solver = ca.nlpsol(
+        nlp.name,
+        "ipopt",
+        {"x": nlp.x, "p": nlp.p, "f": nlp.f, "g": nlp.g},
+        # a trial step outside a foot-space leg's reach evaluates to NaN: Ipopt backtracks, which
+        # is expected and needs no warning on the console
+        {
+            "ipopt": options,
+            "print_time": False,
+            "show_eval_warnings": False,
+            **nlp.derivatives,
+            **({"iteration_callback": callback} if callback is not None else {}),
+        },
+    )
+    return solver, callback
+
+
+def transcribe(
     problem: SwingProblem | PairProblem,
     legs: tuple[SwingProblem, ...],
     blocks: tuple[LegBlock, ...],
     constants: tuple[ca.DM | None, ...],
     accounting: Accounting,
-    options: dict[str, Any],
-    stoppable: bool,
     shapes: tuple[CoupledShape, ...] = (),
-) -> tuple[ca.Function, StopCallback | None]:
+) -> CasadiNlp:
+    """The CasADi problem of ``problem``'s legs in their blocks (and the pair's stance terms)."""
     thetas: list[ca.MX] = []
     variables: list[ca.MX] = []
     parameters: list[ca.MX] = []
@@ -802,27 +850,12 @@ def _build(
         f"n{first.n_samples}",
         f"p{first.n_theta}",
     )
-    callback = StopCallback(f"{name}_stop") if stoppable else None
     derivatives = (
         _sample_derivatives(name, x, p, cost_z, g_z, uses[0], first)
         if len(legs) == 1 and not shapes and first.lifted
         else {}
     )
-    solver = ca.nlpsol(
-        name,
-        "ipopt",
-        {"x": x, "p": p, "f": cost, "g": g},
-        # a trial step outside a foot-space leg's reach evaluates to NaN: Ipopt backtracks, which
-        # is expected and needs no warning on the console
-        {
-            "ipopt": options,
-            "print_time": False,
-            "show_eval_warnings": False,
-            **derivatives,
-            **({"iteration_callback": callback} if callback is not None else {}),
-        },
-    )
-    return solver, callback
+    return CasadiNlp(name, x, p, cost, g, derivatives)
 
 
 def _substitute_kernels(expressions: list[ca.MX], uses: Sequence[_KernelUse]) -> list[ca.MX]:
