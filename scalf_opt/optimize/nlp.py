@@ -8,8 +8,7 @@ affine path is a linear equality, ``Y = Y_0 + B theta``, so that everything nonl
 function of one sample's six inputs: the constraint Jacobian is block-sparse and the Lagrangian
 Hessian block-diagonal (6 x 6 per sample), which Ipopt's sparse linear algebra factorizes
 several times faster than the condensed problem, where every sample depends on every parameter
-(measured: ``joint-10`` at 500 Hz, 2.4 s instead of 7.0 s; ``joint-6`` at 300 Hz, 0.16 s instead
-of 0.63 s). Families with at most
+(measured: docs/speed-log.md, "Measurements behind choices"). Families with at most
 :data:`~scalf_opt.optimize.sampling.CONDENSED_MAX_PARAMS` parameters (the paper family) keep the
 condensed form, ``Y`` eliminated, which is faster for them (the transcription's
 :func:`~scalf_opt.optimize.sampling.scheme`).
