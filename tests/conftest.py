@@ -42,6 +42,8 @@ def cheapest_trot(scalf):
     from scalf_opt.energy.pipeline import EnergyPipeline
     from scalf_opt.locomotion.gait import Gait
     from scalf_opt.locomotion.swing.registry import make_family
-    from scalf_opt.optimize.gait_search import optimize_gait
+    from scalf_opt.optimize.gait_search import GaitGoal, optimize_gait
 
-    return optimize_gait(EnergyPipeline(scalf, Gait(), loads="trunk"), 1.0, make_family("paper"))
+    return optimize_gait(
+        EnergyPipeline(scalf, Gait(), loads="trunk"), GaitGoal(1.0, make_family("paper"))
+    )

@@ -30,7 +30,7 @@ from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family, optimizable_family
 from scalf_opt.model.robot import Robot
 from scalf_opt.optimize.driver import Settings
-from scalf_opt.optimize.gait_search import GaitSearch
+from scalf_opt.optimize.gait_search import GaitGoal, GaitSearch
 from scalf_opt.optimize.gait_search import optimize_gait as search_gait
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER
 from scalf_opt.studies.gait_case import gait_details, gait_row
@@ -191,7 +191,7 @@ def optimize_gait(
     robot = as_robot(robot)
     swing_family = optimizable_family(family)
     pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting, loads=loads)
-    search = search_gait(pipeline, speed, swing_family, Settings(method=method))
+    search = search_gait(pipeline, GaitGoal(speed, swing_family, Settings(method=method)))
     row = gait_row(search, robot.name)
     return GaitResult.from_row(robot, row, gait_details(search), search, command)
 

@@ -405,35 +405,44 @@ def search_progress(
     return f"{text}, about {left} left"
 
 
+@dataclass(frozen=True)
+class GaitGoal:
+    """What a gait search asks for: the cheapest trot at one speed.
+
+    Attributes:
+        speed_m_s: Target speed [m/s], in (0, 10].
+        family: The swing family every gait's swings are optimized in.
+        settings: How the swings are optimized (default: ``scalf-opt optimize``'s).
+        box: The search box (``None``: :meth:`GaitBox.around` the base gait).
+    """
+
+    speed_m_s: float
+    family: SwingFamily
+    settings: Settings = field(default_factory=Settings)
+    box: GaitBox | None = None
+
+    def __post_init__(self) -> None:
+        check_speed(self.speed_m_s)
+
+
 def optimize_gait(
     pipeline: EnergyPipeline,
-    speed_m_s: float,
-    family: SwingFamily | None = None,
-    settings: Settings | None = None,
-    box: GaitBox | None = None,
+    goal: GaitGoal,
     progress: Callable[[str], None] | None = None,
 ) -> GaitSearch:
-    """The cheapest trot at ``speed_m_s`` (see the module docstring).
+    """The cheapest trot at ``goal``'s speed (see the module docstring).
 
     Args:
         pipeline: Robot, accounting and the base gait: the robot's default trot (its period,
             duty, stance, clearance and rate are the grid's centre and the start).
-        speed_m_s: Target speed [m/s].
-        family: The swing family (default ``joint-6``).
-        settings: How the swings are optimized (default: ``scalf-opt optimize``'s).
-        box: The search box (default :meth:`GaitBox.around` the base gait).
+        goal: The speed, the swing family, the swings' settings and the search box.
         progress: Called with a label as each new gait's swings start being optimized
             (``0.5 m/s: gait 7 of about 145, about 4 min left, T = 0.550 s, duty 0.600``).
-
-    Raises:
-        ConfigError: A speed out of range, a family without parameters.
     """
-    speed_m_s = check_speed(speed_m_s)
-    family = family or make_family("joint-6")
-    settings = settings or Settings()
+    speed_m_s, family, settings = float(goal.speed_m_s), goal.family, goal.settings
     start = time.perf_counter()
     base = pipeline.gait
-    box = box or GaitBox.around(base)
+    box = goal.box or GaitBox.around(base)
     trials = GaitTrials(pipeline, family, settings, FIRST_PAIR, stance_at_swing_rate=True)
     mass = pipeline.robot.total_mass_kg
 

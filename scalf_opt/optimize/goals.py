@@ -10,7 +10,8 @@ goal's objects (the family, the settings, the margins), never with the names aga
 * :class:`BoundGoal`: the free-trajectory bound itself, reported as an optimum;
 * :class:`StanceGoal`: the stance height and x-offsets optimized with the diagonal pair's swings.
 
-The gait search has its own (:class:`~scalf_opt.optimize.gait_search.GaitSearch`).
+The gait search's goal, the cheapest trot at a speed, is
+:class:`~scalf_opt.optimize.gait_search.GaitGoal` (beside the search box it holds).
 """
 
 from __future__ import annotations

@@ -37,7 +37,7 @@ from scalf_opt.model.naming import legs_file_for
 from scalf_opt.model.robot import Robot
 from scalf_opt.model.urdf_file import MAX_URDF_BYTES
 from scalf_opt.optimize.driver import Settings, optimize_swings
-from scalf_opt.optimize.gait_search import optimize_gait
+from scalf_opt.optimize.gait_search import GaitGoal, optimize_gait
 from scalf_opt.robots.loading import load_robot
 from scalf_opt.robots.variants import VariantScales, derive_variant
 from scalf_opt.studies.gait_case import gait_details, gait_row
@@ -160,9 +160,8 @@ def _gait_case(
     swing, its ``optimized`` the cheapest gait with its optimized swings.
     """
     assert case.speed_m_s is not None
-    search = optimize_gait(
-        pipeline, case.speed_m_s, make_family(case.family), settings, progress=worker_progress
-    )
+    goal = GaitGoal(case.speed_m_s, make_family(case.family), settings)
+    search = optimize_gait(pipeline, goal, progress=worker_progress)
     gait = gait_row(search, row["robot"])
     row.update({k: v for k, v in gait.items() if k not in row or row[k] is None})
     row["status"], row["error"] = gait["status"], gait["error"]

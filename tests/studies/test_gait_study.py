@@ -54,8 +54,8 @@ def test_a_speed_case_s_row_has_the_cheapest_gait(tmp_path, monkeypatch, cheapes
     """The study engine's row of a speed case (the search itself: the session's, reused)."""
     calls = []
 
-    def search(pipeline, speed, family, settings, progress=None):
-        calls.append((speed, family.name))
+    def search(pipeline, goal, progress=None):
+        calls.append((goal.speed_m_s, goal.family.name))
         return cheapest_trot
 
     monkeypatch.setattr(case_module, "optimize_gait", search)
