@@ -27,10 +27,16 @@ from scalf_opt.energy.peaks import CycleViolation, Peak, cycle_peaks, cycle_viol
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
 from scalf_opt.files import write_atomic
+from scalf_opt.io.optimization_records import (
+    bound_records,
+    leg_record,
+    leg_records,
+    run_record,
+    stance_record,
+)
 from scalf_opt.io.provenance import provenance
 from scalf_opt.io.results import (
     checked_summary,
-    optimization_record,
     samples_csv_text,
     write_results_json,
 )
@@ -336,13 +342,13 @@ def _free_stance(
     run = stance.best.run
     records: dict[str, Any] = {
         "limit_margins": settings.margins.to_dict(),
-        "free_stance": stance.as_dict(),
+        "free_stance": stance_record(stance),
     }
     solved = run is not None and run.success
     if run is not None and run.success:
         records.update(
-            optimization={leg: r.as_dict() for leg, r in run.legs.items()},
-            optimization_run=optimization_record(run),
+            optimization=leg_records(run),
+            optimization_run=run_record(run),
         )
     return OptimizationResult(
         robot,
@@ -371,8 +377,8 @@ def _swings(
     run = optimize_swings(pipeline, legs, family, settings, progress=progress)
     records: dict[str, Any] = {
         "limit_margins": settings.margins.to_dict(),
-        "optimization": {leg: r.as_dict() for leg, r in run.legs.items()},
-        "optimization_run": optimization_record(run),
+        "optimization": leg_records(run),
+        "optimization_run": run_record(run),
     }
     bounds: dict[str, FreeBound] = {}
     if bound and run.success:
@@ -381,8 +387,8 @@ def _swings(
             pipeline, tuple(run.legs), seeds, progress=progress, margins=settings.margins
         )
         run = run.with_bound_checks({leg: b.check_energy_j for leg, b in bounds.items()})
-        records["optimization"] = {leg: r.as_dict() for leg, r in run.legs.items()}
-        records["free_bound"] = {leg: b.as_dict() for leg, b in bounds.items()}
+        records["optimization"] = leg_records(run)
+        records["free_bound"] = bound_records(bounds)
     return OptimizationResult(
         robot,
         run.pipeline,
@@ -439,7 +445,7 @@ def _free_method(
     bounds = bounds_for(pipeline, legs, progress=progress, margins=margins)
     records: dict[str, Any] = {
         "limit_margins": margins.to_dict(),
-        "free_bound": {leg: b.as_dict() for leg, b in bounds.items()},
+        "free_bound": bound_records(bounds),
     }
     if not all(b.result.success for b in bounds.values()):  # not even a level solved
         reference = pipeline.robot_cycle(make_family("reference"))
@@ -449,7 +455,7 @@ def _free_method(
     at_rate, family, thetas = bound_cycle_inputs(pipeline, bounds)
     records["optimization"] = {
         leg: {
-            **b.result.as_dict(),
+            **leg_record(b.result),
             "family": family.name,
             "method": DEFAULT_SOLVER,
             "parameters": dict(zip(family.parameter_names, map(float, thetas[leg]), strict=True)),

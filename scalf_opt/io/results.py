@@ -19,7 +19,6 @@ from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.peaks import cycle_peaks, cycle_violations, peaks_summary
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.files import number_text, write_atomic
-from scalf_opt.optimize.driver import SwingOptimization
 from scalf_opt.types import JOINT_ROLES
 
 _PAIRED: tuple[tuple[str, str, tuple[str, str]], ...] = (
@@ -122,26 +121,6 @@ def checked_summary(cycle: RobotCycle, pipeline: EnergyPipeline) -> dict[str, An
         **cycle_summary(cycle),
         "peaks": peaks_summary(cycle_peaks(cycle, physics)),
         "limit_violations": [v.message() for v in cycle_violations(cycle, physics)],
-    }
-
-
-def optimization_record(run: SwingOptimization) -> dict[str, Any]:
-    """The ``optimization_run`` record of ``summary.json``: the rate, the rates tried, settings."""
-    return {
-        "family": run.family.name,
-        "method": run.settings.method,
-        "starts": run.settings.starts,
-        "sample_rate_hz": run.rate_hz,
-        "rates_tried_hz": list(run.rates_hz),
-        "sampling_tolerance": run.settings.sampling_tolerance,
-        "converged_sampling": run.converged_sampling,
-        "success": run.success,
-        "any_worse_than_reference": any(r.worse_than_reference for r in run.legs.values()),
-        "wall_time_s": run.wall_time_s,
-        "loads": run.pipeline.loads,
-        "alternation_rounds": run.rounds,
-        "alternation_settled": run.alternation_settled,
-        "legs_solved_together": run.solved_together,
     }
 
 

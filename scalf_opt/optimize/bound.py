@@ -175,10 +175,6 @@ class BoundLevel:
     revisited: bool = False
     """Solved again from the finer level's optimum (its energy the lower of the two)."""
 
-    def as_dict(self) -> dict[str, Any]:
-        """Plain data for JSON."""
-        return dict(self.__dict__)
-
 
 @dataclass(frozen=True)
 class FreeBound:
@@ -253,22 +249,6 @@ class FreeBound:
     def gap_percent(self, check_energy_j: float) -> float:
         """How far above the bound a swing with this converged energy is [%]."""
         return 100.0 * (check_energy_j / self.check_energy_j - 1.0)
-
-    def as_dict(self) -> dict[str, Any]:
-        """Plain data for JSON."""
-        return {
-            "leg": self.leg,
-            "family": self.family.name,
-            "swing_energy_j": self.swing_energy_j,
-            "check_energy_j": self.check_energy_j,
-            "sample_rate_hz": self.sample_rate_hz,
-            "converged": self.converged,
-            "remaining_estimate_j": self.remaining_j,
-            "success": self.success,
-            "status": self.status_text(),
-            "levels": [level.as_dict() for level in self.levels],
-            "parameters_deg": [float(x) for x in self.result.best.theta],
-        }
 
 
 def bound_for(

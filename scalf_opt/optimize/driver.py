@@ -17,7 +17,7 @@ import math
 import time
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field, replace
-from functools import partial
+from functools import cached_property, partial
 from typing import Any
 
 import casadi as ca
@@ -36,7 +36,6 @@ from scalf_opt.optimize.pattern_search import PatternSearchOptions
 from scalf_opt.optimize.problem import PairProblem, SwingGoal
 from scalf_opt.optimize.sampling import (
     BETWEEN_SAMPLES_RTOL,
-    CHECK_FACTOR,
     SAMPLING_TOLERANCE,
     Transcription,
     on_check_grid,
@@ -112,19 +111,6 @@ class StartResult:
     check_energy_j: float
     converged: bool
 
-    def as_dict(self) -> dict[str, Any]:
-        """Plain data for JSON."""
-        return {
-            "start": self.label,
-            "swing_energy_j": self.optimum.swing_energy_j,
-            "check_energy_j": self.check_energy_j,
-            "success": self.optimum.success,
-            "converged": self.converged,
-            "status": self.optimum.status,
-            "iterations": self.optimum.iterations,
-            "wall_time_s": self.optimum.wall_time_s,
-        }
-
 
 @dataclass(frozen=True)
 class LegResult:
@@ -188,24 +174,6 @@ class LegResult:
         """Largest minus smallest swing energy of the converged starts [J] (0 for one)."""
         energies = [s.optimum.objective_j for s in self.starts if s.converged]
         return max(energies) - min(energies) if energies else math.nan
-
-    def as_dict(self) -> dict[str, Any]:
-        """Plain data for JSON (the best optimum's record, with the comparisons)."""
-        return {
-            **self.best.as_dict(),
-            "success": self.success,
-            "reference_swing_energy_j": self.reference_swing_energy_j,
-            "change_against_reference_pct": self.change_percent,
-            "worse_than_reference": self.worse_than_reference,
-            "check_energy_j": self.check_energy_j,
-            "check_rate_factor": CHECK_FACTOR,
-            "sampling_error": self.sampling_error,
-            "check_swing_energy_j": self.check_swing_energy_j,
-            "bound_check_energy_j": self.bound_check_energy_j,
-            "gap_to_bound_pct": self.gap_to_bound_percent,
-            "starts": [s.as_dict() for s in self.starts],
-            "spread_j": self.spread_j,
-        }
 
 
 @dataclass(frozen=True)
@@ -279,11 +247,22 @@ class SwingOptimization:
         return {leg: r.best.theta for leg, r in self.legs.items()}
 
     def cycle(self) -> RobotCycle:
-        """The robot's cycle with the optima (legs not optimized: their twin's, or reference)."""
-        return self.pipeline.robot_cycle(self.family, self.thetas)
+        """The robot's cycle with the optima (legs not optimized: their twin's, or reference).
+
+        Evaluated once (the result is frozen); every report reads the same cycle.
+        """
+        return self._optimized_cycle
 
     def reference_cycle(self) -> RobotCycle:
-        """The robot's cycle with the reference swing, at the same rate."""
+        """The robot's cycle with the reference swing, at the same rate (evaluated once)."""
+        return self._reference_cycle
+
+    @cached_property
+    def _optimized_cycle(self) -> RobotCycle:
+        return self.pipeline.robot_cycle(self.family, self.thetas)
+
+    @cached_property
+    def _reference_cycle(self) -> RobotCycle:
         return self.pipeline.robot_cycle(make_family("reference"))
 
     def with_bound_checks(self, check_energy_j: Mapping[str, float]) -> SwingOptimization:

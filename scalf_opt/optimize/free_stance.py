@@ -34,7 +34,6 @@ from __future__ import annotations
 import math
 import time
 from dataclasses import dataclass, field, replace
-from typing import Any
 
 import numpy as np
 
@@ -129,12 +128,12 @@ class FreeStance:
         return self.converged and self.best.run is not None and self.best.run.success
 
     def cycle(self) -> RobotCycle:
-        """The robot's cycle with the best stance and its optimized swings."""
+        """The robot's cycle with the best stance and its optimized swings (evaluated once)."""
         assert self.best.run is not None
         return self.best.run.cycle()
 
     def nominal_cycle(self) -> RobotCycle:
-        """The robot's cycle with the gait's stance and the optimized swings."""
+        """The robot's cycle with the gait's stance and the optimized swings (evaluated once)."""
         assert self.nominal.run is not None
         return self.nominal.run.cycle()
 
@@ -156,24 +155,6 @@ class FreeStance:
             "swing": phase_sum(ref, "swing") - phase_sum(best, "swing"),
             "swing_only": ref.energy_j - nominal.energy_j,
             "from_freeing_the_stance": nominal.energy_j - best.energy_j,
-        }
-
-    def as_dict(self) -> dict[str, Any]:
-        """Plain data for JSON."""
-        g = self.best.gait
-        return {
-            "stance": {name: getattr(g, name) for name in STANCE_VARIABLES},
-            "nominal_stance": {name: getattr(self.nominal.gait, name) for name in STANCE_VARIABLES},
-            "total_energy_per_cycle_j": self.cycle().energy_j,
-            "nominal_stance_total_energy_per_cycle_j": self.nominal_cycle().energy_j,
-            "reference_total_energy_per_cycle_j": self.reference.energy_j,
-            "saving_j": self.split_j(),
-            "evaluations": self.evaluations,
-            "iterations": self.iterations,
-            "converged": self.converged,
-            "success": self.success,
-            "history_cm_j": [list(map(float, row)) for row in self.history],
-            "wall_time_s": self.wall_time_s,
         }
 
 

@@ -46,7 +46,6 @@ import re
 import time
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
-from typing import Any
 
 import numpy as np
 
@@ -163,15 +162,6 @@ class GaitBox:
         if duty > self.duty_max + tol:
             return f"duty_cycle above the search box's {self.duty_max:g}"
         return None
-
-    def as_dict(self) -> dict[str, float]:
-        """Plain data for JSON."""
-        return {
-            "period_min_s": self.period_min_s,
-            "period_max_s": self.period_max_s,
-            "duty_min": self.duty_min,
-            "duty_max": self.duty_max,
-        }
 
 
 def check_speed(speed_m_s: float) -> float:
@@ -329,38 +319,6 @@ class GaitSearch:
         if self.default.run is None or not self.default.run.success:
             return None
         return self.default.run.cycle()
-
-    def as_dict(self) -> dict[str, Any]:
-        """Plain data for JSON."""
-
-        def record(e: StanceEvaluation) -> dict[str, Any]:
-            cot = self.cost_of_transport(e)
-            return {
-                **{name: getattr(e.gait, name) for name in (*SEARCH_VARIABLES, "step_length_m")},
-                "pair_energy_per_cycle_j": e.total_j if math.isfinite(e.total_j) else None,
-                "cost_of_transport": cot if math.isfinite(cot) else None,
-                "infeasible": e.reason,
-            }
-
-        return {
-            "speed_m_s": self.speed_m_s,
-            "family": self.family.name,
-            "method": self.settings.method,
-            "box": self.box.as_dict(),
-            "best": record(self.best),
-            "default_at_speed": record(self.default),
-            "reference_cost_of_transport": (
-                self.reference.cost_of_transport if self.reference is not None else None
-            ),
-            "grid": [record(e) for e in self.grid],
-            "pinned": self.pinned,
-            "iterations": self.iterations,
-            "evaluations": self.evaluations,
-            "converged": self.converged,
-            "success": self.success,
-            "history": [list(map(float, row)) for row in self.history],
-            "wall_time_s": self.wall_time_s,
-        }
 
 
 def _last_steps() -> np.ndarray:

@@ -36,7 +36,7 @@ class PatternSearchDetails:
     Attributes:
         evaluations: Objective evaluations (of both phases).
         history: Rows (iteration, *theta, energy) of accepted points; in
-            :meth:`SwingOptimum.as_dict` records with named parameters.
+            :func:`scalf_opt.io.optimization_records.optimum_record` records with named parameters.
         feasibility_history: From an infeasible start: rows (iteration, *theta, total
             constraint violation) of the feasibility phase's accepted points (empty when the
             start is feasible).
@@ -114,17 +114,6 @@ class SwingOptimum:
         """Objective evaluations (pattern search) or 0 (Ipopt evaluates its NLP, not these)."""
         return self.details.evaluations if isinstance(self.details, PatternSearchDetails) else 0
 
-    def _records(self, rows: History, value: str) -> list[dict[str, Any]]:
-        """History rows ``(iteration, *theta, value)`` as records with named parameters."""
-        return [
-            {
-                "iteration": int(row[0]),
-                "parameters": dict(zip(self.parameter_names, map(float, row[1:-1]), strict=True)),
-                value: float(row[-1]),
-            }
-            for row in rows
-        ]
-
     @property
     def pattern_details(self) -> PatternSearchDetails:
         """The pattern search's details (its history, for the paper's Fig. 8).
@@ -135,32 +124,6 @@ class SwingOptimum:
         if not isinstance(self.details, PatternSearchDetails):
             raise TypeError(f"the {self.method} answer of {self.leg} has no pattern-search details")
         return self.details
-
-    def as_dict(self) -> dict[str, Any]:
-        """Plain-data form for JSON."""
-        details = self.details
-        pattern = details if isinstance(details, PatternSearchDetails) else None
-        stats = details.stats if isinstance(details, IpoptDetails) else details.solver_stats()
-        return {
-            "leg": self.leg,
-            "family": self.family,
-            "method": self.method,
-            "parameters": dict(zip(self.parameter_names, map(float, self.theta), strict=True)),
-            "unit": self.unit,
-            "swing_energy_j": self.swing_energy_j,
-            "objective_j": self.objective_j,
-            "success": self.success,
-            "status": self.status,
-            "iterations": self.iterations,
-            "evaluations": self.evaluations,
-            "wall_time_s": self.wall_time_s,
-            "infeasible_evaluations": dict(pattern.infeasible) if pattern else {},
-            "solver_stats": dict(stats),
-            "history": self._records(pattern.history if pattern else (), "swing_energy_j"),
-            "feasibility_history": self._records(
-                pattern.feasibility_history if pattern else (), "violation"
-            ),
-        }
 
 
 def run_pattern_search(

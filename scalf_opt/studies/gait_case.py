@@ -17,7 +17,7 @@ from typing import Any
 
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.peaks import cycle_peaks
-from scalf_opt.io.results import optimization_record
+from scalf_opt.io.optimization_records import gait_search_record, leg_records, run_record
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.optimize.gait_search import GaitSearch, limit_name
 
@@ -122,7 +122,7 @@ def gait_details(search: GaitSearch) -> dict[str, Any]:
     ``summary.json``, and the search's own record ``cheapest_gait``.
     """
     run = search.best.run
-    details: dict[str, Any] = {"cheapest_gait": search.as_dict()}
+    details: dict[str, Any] = {"cheapest_gait": gait_search_record(search)}
     if run is None or not run.success:
         return details
     details.update(
@@ -130,7 +130,7 @@ def gait_details(search: GaitSearch) -> dict[str, Any]:
         accounting=run.pipeline.accounting,
         family=run.family.name,
         parameters={leg: [float(v) for v in theta] for leg, theta in run.thetas.items()},
-        optimization={leg: r.as_dict() for leg, r in run.legs.items()},
-        optimization_run=optimization_record(run),
+        optimization=leg_records(run),
+        optimization_run=run_record(run),
     )
     return details

@@ -27,6 +27,7 @@ from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.interrupts import results_in_order
+from scalf_opt.io.optimization_records import bound_records, leg_records, stance_record
 from scalf_opt.io.provenance import provenance
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.family import SwingFamily
@@ -106,7 +107,7 @@ class WholeBody:
             "reference_mean_stance_force_n": reference.mean_stance_force_n,
             "trunk_mean_stance_force_n": self.trunk_reference.mean_stance_force_n,
             "reference_peak_unbalanced_moment_nm": reference.peak_unbalanced_moment_nm,
-            "optima": {leg: r.as_dict() for leg, r in self.run.legs.items()},
+            "optima": leg_records(self.run),
         }
 
 
@@ -412,12 +413,10 @@ def summary(
         "reference_average_power_w": rep.reference.average_power_w,
         "table5": table5_rows(rep),
         "table6": table6_rows(rep),
-        "optima": {
-            k: {leg: r.as_dict() for leg, r in run.legs.items()} for k, run in rep.runs.items()
-        },
+        "optima": {k: leg_records(run) for k, run in rep.runs.items()},
         "sample_rate_hz": {k: run.rate_hz for k, run in rep.runs.items()},
-        "free_bound": {leg: b.as_dict() for leg, b in rep.bounds.items()},
-        "free_stance": rep.free_stance.as_dict() if rep.free_stance is not None else None,
+        "free_bound": bound_records(rep.bounds),
+        "free_stance": stance_record(rep.free_stance) if rep.free_stance is not None else None,
         "loads": rep.pipeline.loads,
         "whole_body": rep.whole_body.as_dict() if rep.whole_body is not None else None,
         "gap_to_bound_pct": {
