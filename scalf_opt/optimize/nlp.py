@@ -114,30 +114,22 @@ COUPLED_OPTIONS: dict[str, Any] = {"mumps_pivot_order": 5}
 """Ipopt options of an NLP with the pair's stance term (whole-body loads): MUMPS orders the KKT
 system by METIS's nested dissection instead of the approximate minimum degree. Every stance row
 depends on all of a leg's parameters (quasi-dense rows), on which the minimum degree ordering
-left large fronts: measured on SCalf's default pair, 59 iterations in 1.7 s instead of 4.9 s,
-and over five robots' default pairs 18 s instead of 30 s; the same on the lifted NLPs without a
-stance term is within the machine's noise of the minimum degree."""
+left large fronts (measured: docs/speed-log.md, "Measurements behind choices")."""
 
 PAIR_OPTIONS: dict[str, Any] = {"nlp_scaling_method": "none"}
 """Ipopt options of a pair's NLP (both legs in one problem): without Ipopt's gradient-based
-scaling of the rows. Measured from the same start on six robots' default ``joint-6`` pairs: as
-many or fewer iterations on each (ANYmal C 30 instead of 84, A1 25 instead of 45, HyQ 147
-instead of 212), the same optima or lower; SCalf's ``joint-12`` pair 177 iterations, where the
-scaled problem ran out of 1000 twice (adaptive and monotone barrier) before the unscaled retry
-solved it. Not fewer everywhere: SCalf's pair at its free stance (z0 0.79 m, feet 102.5 mm apart)
-took 82 iterations instead of 58, to the same optimum."""
+scaling of the rows: as many or fewer iterations on the six robots' default pairs, the same
+optima or lower, not fewer everywhere (measured: docs/speed-log.md, "Measurements behind
+choices")."""
 
 CONDITIONING_ABOVE = 1e6
 """A dense basis whose joint angles have a condition number above this is conditioned
 (:func:`parameter_map`): ``joint-8`` (1.2e6) and richer, ``joint-12`` at 3e9. The Fourier terms
 left after the end conditions cancel more with every order, and Ipopt's steps, its
-regularization and its barrier are not invariant to that. Measured, whole ``scalf-opt optimize``
-runs against the plain NLP: ``joint-12`` on SCalf in 12.1 s instead of 28.7 s and 0.38 % lower
-per cycle, on HyQ in 41.5 s where the plain NLP had not finished in 300 s, on Go1 in 8.7 s
-instead of 11.2 s and 0.014 % higher; ``joint-9`` under trunk loads on SCalf in 7.0 s instead of
-9.0 s and on ANYmal C in 5.6 s instead of 8.9 s, the same optima. Below it (``joint-6``, 1.8e4)
-Ipopt took as many iterations either way and conditioning only picked other local optima,
-within 0.08 % on the six robots' defaults: those families keep their parameters."""
+regularization and its barrier are not invariant to that: conditioned, the rich families solve
+faster to the same or lower optima; below the threshold conditioning only picked other local
+optima, and those families keep their parameters (measured: docs/speed-log.md, "Measurements
+behind choices")."""
 
 SPARSE_BASIS_DENSITY = 0.25
 """A family's basis with fewer nonzeros than this fraction is built into the NLP as a sparse
@@ -182,18 +174,12 @@ class BasisPattern:
 
     Given to CasADi as the structure of the parameter ``B``, the zeros leave the NLP: a Fourier
     family's joint (or foot coordinate) moves with its own parameters only, so half of ``B`` is
-    zero, and so is half of the Jacobian's and of Ipopt's KKT entries that couple the samples
-    to the parameters. Measured on SCalf's RF, ``joint-6`` from zero at 300 Hz: 52 iterations as
-    before, the same optimum to the last bit, in 0.137 s instead of 0.158 s. The other robots'
-    Ipopt paths follow the round-off and changed with the structure: ``scalf-opt optimize
-    --loads trunk`` on the six robots' default trots (old code against new, one after the
-    other), SCalf's, HyQ's and ANYmal C's cycles the same to the printed digit (RF and LH in
-    114 and 190 iterations instead of 158 and 185 on HyQ, 336 and 242 instead of 473 and 200 on
-    ANYmal C); Go1's 8.056 J instead of 8.062 J, A1's 8.499 J instead of 8.495 J and Solo12's
-    2.196 J instead of 2.213 J (their sampled Coulomb friction makes neighbouring local optima),
-    each leg in as many or fewer iterations. The pattern is every exact zero of ``B``: a zero
-    that only some gaits have gives those gaits their own NLP (the pattern is part of the NLP's
-    shape).
+    zero, and so is half of the Jacobian's and of Ipopt's KKT entries that couple the samples to
+    the parameters: fewer or as many iterations, the same optima, except where Ipopt's path follows
+    the round-off to a neighbouring optimum, where sampled Coulomb friction makes them (measured:
+    docs/speed-log.md, "Measurements behind choices"). The pattern is every exact zero of ``B``: a
+    zero that only some gaits have gives those gaits their own NLP (the pattern is part of the
+    NLP's shape).
 
     An NLP with a stance term (whole-body loads) keeps ``B`` whole (:meth:`full`): there the
     pattern changed the order MUMPS eliminates in (METIS's, on the quasi-dense stance rows) and

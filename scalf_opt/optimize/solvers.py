@@ -146,12 +146,9 @@ IPOPT_WARM_ATTEMPT: dict[str, Any] = {"max_iter": 1000, "mu_max": 0.1}
 """Ipopt's strategy for a warm solve: the adaptive barrier update, its parameter never above
 its initial 0.1. A warm start is a neighbouring problem's optimum: raising the barrier
 parameter only pushes it away from its active bounds. Near a limit a search's trials are
-often (nearly) infeasible, and there the uncapped update diverged: on SCalf's gait search at
-1.25 m/s one gait's swings at 1,098 Hz took it 149 s (1000 iterations, the parameter at 80,
-each factorization fighting a degenerate system) and the other strategies as long again;
-capped, the whole speed's search took 70 s. On the free stance the cap also saved 29 % of the
-iterations (4125 instead of 5814) for the same stance, to 1e-12 J. (A monotone barrier from
-1e-5, the bound's warm strategy, took twice the free stance's iterations.)"""
+often (nearly) infeasible, and there the uncapped update diverged; capped, a gait search's
+speed took half the time and the free stance fewer iterations for the same stance
+(measured: docs/speed-log.md, "Measurements behind choices")."""
 
 
 class IpoptSolver(SwingSolver):
