@@ -171,8 +171,8 @@ def analyze_log(
         measured = replace(measured, analysis=analysis)
     else:
         measured = analyze_measured(log, pipeline, period_s)
-    assert pipeline.drives is not None
-    metered = any(not drive.charges_joint_power for drive in pipeline.drives.values())
+    drives = pipeline.robot_physics.drives
+    metered = any(not drive.charges_joint_power for drive in drives.values())
     return LogResult(
         robot,
         measured.analysis,

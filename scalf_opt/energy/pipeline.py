@@ -40,6 +40,22 @@ from scalf_opt.model.robot import Robot
 from scalf_opt.types import LEG_NAMES, Accounting
 
 
+@dataclass
+class GaitCaches:
+    """What the pipelines of one gait compute once and share.
+
+    The pipelines derived from one another for the same gait (:meth:`EnergyPipeline.with_loads`,
+    :meth:`~EnergyPipeline.with_accounting`, :meth:`~EnergyPipeline.with_gait` with an equal
+    gait) hold the same instance: the data half's caches, apart from the robot's physics.
+
+    Attributes:
+        distributions: How the stance feet share a wrench, by (gait, loads, leg)
+            (:func:`~scalf_opt.energy.loads.stance_distribution`).
+    """
+
+    distributions: dict[tuple[Gait, str, str], StanceDistribution] = field(default_factory=dict)
+
+
 @dataclass(frozen=True)
 class EnergyPipeline:
     """Evaluates cycles of one robot for one gait and accounting (the data half of model/data).
@@ -54,8 +70,8 @@ class EnergyPipeline:
         accounting: Power accounting (a name in
             :data:`~scalf_opt.energy.accounting.ACCOUNTINGS`).
         drives: Drives keyed by joint name; ``None`` reads the sidecar beside the URDF, ``{}``
-            gives every joint an ideal drive.
-        model: The robot's physics; ``None`` builds it from ``robot`` and ``drives``.
+            gives every joint an ideal drive (the drives in use: ``robot_physics.drives``).
+        model: The robot's physics to share; ``None`` builds it from ``robot`` and ``drives``.
         loads: What the stance feet carry (a name in
             :data:`~scalf_opt.energy.loads.LOAD_MODELS`): the whole robot's dynamics (default)
             or the trunk's weight only (the paper's).
@@ -67,6 +83,7 @@ class EnergyPipeline:
     drives: Mapping[str, Drive] | None = None
     model: RobotPhysics | None = field(default=None, repr=False, compare=False)
     loads: str = DEFAULT_LOADS
+    caches: GaitCaches = field(default_factory=GaitCaches, repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not isinstance(self.gait, Gait):  # a user's dict of fields, say: name the remedy
@@ -77,16 +94,12 @@ class EnergyPipeline:
             )
         power_accounting(self.accounting)
         stance_loads(self.loads)
-        if self.model is None:
-            object.__setattr__(self, "model", RobotPhysics(self.robot, self.drives))
-        assert self.model is not None
-        object.__setattr__(self, "drives", self.model.drives)
+        self.robot_physics  # noqa: B018 (an invalid actuator file is told here, not on first use)
 
-    @property
+    @cached_property
     def robot_physics(self) -> RobotPhysics:
         """The robot's physics, shared by every gait and accounting."""
-        assert self.model is not None
-        return self.model
+        return self.model or RobotPhysics.build(self.robot, self.drives)
 
     def __reduce__(self) -> tuple[type[EnergyPipeline], tuple[Any, ...]]:
         """Pickled as its inputs.
@@ -94,22 +107,30 @@ class EnergyPipeline:
         Where it is unpickled (a worker process) the robot's physics is built again, its
         compiled functions loaded from the compile cache.
         """
-        assert self.drives is not None
-        return (
-            EnergyPipeline,
-            (self.robot, self.gait, self.accounting, dict(self.drives), None, self.loads),
-        )
+        drives = dict(self.robot_physics.drives)
+        return (EnergyPipeline, (self.robot, self.gait, self.accounting, drives, None, self.loads))
 
     def with_gait(self, gait: Gait) -> EnergyPipeline:
         """The same robot physics and accounting with another gait (or rate)."""
+        caches = self.caches if gait == self.gait else GaitCaches()
         return EnergyPipeline(
-            self.robot, gait, self.accounting, model=self.robot_physics, loads=self.loads
+            self.robot,
+            gait,
+            self.accounting,
+            model=self.robot_physics,
+            loads=self.loads,
+            caches=caches,
         )
 
     def with_loads(self, loads: str) -> EnergyPipeline:
         """The same robot physics, gait and accounting with another load model."""
         return EnergyPipeline(
-            self.robot, self.gait, self.accounting, model=self.robot_physics, loads=loads
+            self.robot,
+            self.gait,
+            self.accounting,
+            model=self.robot_physics,
+            loads=loads,
+            caches=self.caches,
         )
 
     @property
@@ -120,7 +141,12 @@ class EnergyPipeline:
     def with_accounting(self, accounting: Accounting) -> EnergyPipeline:
         """The same robot physics and gait with another accounting."""
         return EnergyPipeline(
-            self.robot, self.gait, accounting, model=self.robot_physics, loads=self.loads
+            self.robot,
+            self.gait,
+            accounting,
+            model=self.robot_physics,
+            loads=self.loads,
+            caches=self.caches,
         )
 
     def physics(self, leg: str) -> LegPhysics:
@@ -182,8 +208,8 @@ class EnergyPipeline:
 
     def stance_distribution(self, leg: str) -> StanceDistribution:
         """How ``leg``'s stance feet share a wrench, per sample (built once per gait)."""
-        cache = self.robot_physics.distributions
-        key = (self.gait, self.loads, leg)
+        cache = self.caches.distributions
+        key = (self.gait, self.loads, leg)  # the gait too: a copy by replace() shares the caches
         if key not in cache:
             cache[key] = stance_distribution(self, leg)
         return cache[key]

@@ -12,41 +12,59 @@ per-accounting evaluation on top of it, and owns that gait's caches.
 from __future__ import annotations
 
 from collections.abc import Mapping
+from dataclasses import dataclass
 from types import MappingProxyType
 
 from scalf_opt.actuators.drive import Drive
 from scalf_opt.actuators.sidecar import drives_for, leg_drives
-from scalf_opt.energy.loads import StanceDistribution
 from scalf_opt.energy.physics import LegPhysics
-from scalf_opt.locomotion.gait import Gait
 from scalf_opt.model.kinematics import LegKinematics
 from scalf_opt.model.robot import Robot
+from scalf_opt.types import LEG_NAMES
 
 
+@dataclass(frozen=True)
 class RobotPhysics:
-    """A robot's legs' physics over their drives; each leg's built on first use, then kept.
+    """A robot's legs' physics over their drives (build it with :meth:`build`).
 
-    Args:
+    Attributes:
         robot: The robot.
-        drives: Drives keyed by joint name; ``None`` reads the actuator file beside the URDF,
-            ``{}`` gives every joint an ideal drive.
+        drives: Drives keyed by joint name (a joint not named has an ideal drive).
+        legs: Each leg's physics, by leg name; each compiles its kernels on first use
+            (:class:`~scalf_opt.energy.built_once.BuiltOnce`) and keeps them.
     """
 
-    def __init__(self, robot: Robot, drives: Mapping[str, Drive] | None = None) -> None:
-        self.robot = robot
-        self.drives: Mapping[str, Drive] = MappingProxyType(
-            dict(drives_for(robot) if drives is None else drives)
-        )
-        self._legs: dict[str, LegPhysics] = {}
-        self.distributions: dict[tuple[Gait, str, str], StanceDistribution] = {}
-        """How each gait's stance feet share a wrench (:mod:`scalf_opt.energy.loads`), kept
-        across the pipelines of one gait (the optimizers make many)."""
+    robot: Robot
+    drives: Mapping[str, Drive]
+    legs: Mapping[str, LegPhysics]
+
+    @classmethod
+    def build(cls, robot: Robot, drives: Mapping[str, Drive] | None = None) -> RobotPhysics:
+        """The physics of ``robot``'s legs.
+
+        Args:
+            robot: The robot.
+            drives: Drives keyed by joint name; ``None`` reads the robot's actuator file, ``{}``
+                gives every joint an ideal drive.
+
+        Raises:
+            ConfigError: The actuator file is invalid or names a joint the robot lacks.
+        """
+        chosen = dict(drives_for(robot) if drives is None else drives)
+        legs = {
+            name: LegPhysics(
+                LegKinematics(robot.leg(name)), leg_drives(chosen, robot.leg(name).joint_names)
+            )
+            for name in LEG_NAMES
+        }
+        return cls(robot, MappingProxyType(chosen), MappingProxyType(legs))
 
     def leg(self, name: str) -> LegPhysics:
-        """The leg's :class:`LegPhysics` (built once: the one cache of this object)."""
-        if name not in self._legs:
-            model_leg = self.robot.leg(name)
-            self._legs[name] = LegPhysics(
-                LegKinematics(model_leg), leg_drives(dict(self.drives), model_leg.joint_names)
-            )
-        return self._legs[name]
+        """The leg's :class:`LegPhysics`.
+
+        Raises:
+            ModelError: No such leg (the message lists the legs).
+        """
+        if name not in self.legs:
+            self.robot.leg(name)  # raises the robot's one-line error for an unknown leg
+        return self.legs[name]

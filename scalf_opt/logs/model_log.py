@@ -35,7 +35,7 @@ def model_log(
         LogError: A leg has no hydraulic cylinders.
     """
     gait = replace(pipeline.gait, sample_rate_hz=rate_hz)
-    cycle: RobotCycle = planned_cycle(replace(pipeline, gait=gait), swings)
+    cycle: RobotCycle = planned_cycle(pipeline.with_gait(gait), swings)
     motions = {}
     for leg, leg_cycle in cycle.legs.items():
         stance, swing = leg_cycle.stance, leg_cycle.swing

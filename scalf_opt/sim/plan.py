@@ -41,7 +41,7 @@ class TrotPlan:
         cls, pipeline: EnergyPipeline, swings: Mapping[str, SwingChoice], rate_hz: float
     ) -> TrotPlan:
         """Sample the plan at (at least) ``rate_hz`` [Hz] through the pipeline."""
-        dense = replace(pipeline, gait=replace(pipeline.gait, sample_rate_hz=rate_hz))
+        dense = pipeline.with_gait(replace(pipeline.gait, sample_rate_hz=rate_hz))
         return cls(planned_cycle(dense, swings))
 
     def in_stance(self, leg: str, t_s: np.ndarray) -> np.ndarray:

@@ -92,9 +92,12 @@ def paper_markdown(rep: Reproduction, robot: Robot) -> str:
         if compare
         else f"# The paper's comparison (Tables 5 and 6) on {robot.name}"
     )
-    assert rep.pipeline.drives is not None
     metered = sorted(
-        {d.power_text for d in rep.pipeline.drives.values() if not d.charges_joint_power}
+        {
+            d.power_text
+            for d in rep.pipeline.robot_physics.drives.values()
+            if not d.charges_joint_power
+        }
     )
     if compare:
         power = "`|tau qd| + |F_f v|`"

@@ -93,7 +93,7 @@ def test_a_new_drive_is_one_registration_end_to_end(toy_robot, capsys):
     toy, ideal = toy_robot
     with_toy = so.evaluate(load_robot(urdf=toy), loads="trunk")
     lossless = so.evaluate(load_robot(urdf=ideal), loads="trunk")
-    assert {type(d) for d in with_toy.pipeline.model.drives.values()} == {EfficiencyDrive}
+    assert {type(d) for d in with_toy.pipeline.robot_physics.drives.values()} == {EfficiencyDrive}
     # |tau qd| charged (the paper's accounting) plus as much again: twice the ideal drives'
     assert with_toy.cycle.energy_j == pytest.approx(2 * lossless.cycle.energy_j, 1e-9)
     result = so.optimize_swing(load_robot(urdf=toy), family="paper", loads="trunk")

@@ -44,7 +44,7 @@ def floating_model(robot):
 @pytest.mark.parametrize("name", robot_names())
 def test_whole_body_torques_are_a_floating_base_rnea_with_the_contact_forces(name):
     robot = load_robot(name)
-    physics = RobotPhysics(robot, {})
+    physics = RobotPhysics.build(robot, {})
     fb = floating_model(robot)
     data = fb.createData()
     rng = np.random.default_rng(21)
@@ -142,7 +142,7 @@ def test_the_registry_names_its_models_and_refuses_others():
 
 
 def test_the_leg_wrench_is_one_casadi_function_for_numbers_and_symbols(scalf):
-    physics = RobotPhysics(scalf, {}).leg("RF")
+    physics = RobotPhysics.build(scalf, {}).leg("RF")
     fn = physics.wrench_function("joint")
     y = ca.SX.sym("y", 2)
     symbolic = ca.Function("w", [y], [fn(y, ca.DM([1.0, -2.0]), ca.DM([3.0, 4.0]))])

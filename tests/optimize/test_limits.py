@@ -80,7 +80,7 @@ def test_an_optimum_never_exceeds_a_limit_and_the_reference_neither(model):
 def test_a_tighter_limit_binds_and_the_optimum_respects_it(scalf):
     # the free joint-6 optimum pulls up to ~6 kN in the hip cylinders; allow 4 kN
     tight = {}
-    for joint, drive in EnergyPipeline(scalf, Gait(), loads="trunk").drives.items():
+    for joint, drive in EnergyPipeline(scalf, Gait(), loads="trunk").robot_physics.drives.items():
         tight[joint] = dataclasses.replace(drive, max_force_n=4000.0)
     pipeline = EnergyPipeline(scalf, Gait(), drives=tight, loads="trunk")
     free = optimize_swings(
@@ -99,7 +99,7 @@ def test_a_tighter_limit_binds_and_the_optimum_respects_it(scalf):
 def weak_cycle(scalf):
     """The reference cycle of SCalf with cylinders of 3000 N (beyond it in stance): its physics."""
     weak = {}
-    for joint, drive in EnergyPipeline(scalf, Gait(), loads="trunk").drives.items():
+    for joint, drive in EnergyPipeline(scalf, Gait(), loads="trunk").robot_physics.drives.items():
         weak[joint] = dataclasses.replace(drive, max_force_n=3000.0)
     pipeline = EnergyPipeline(scalf, Gait(), drives=weak, loads="trunk")
     cycle = pipeline.robot_cycle(make_family("reference"))

@@ -32,7 +32,7 @@ def test_on_samples_the_same_physics_at_its_rate(scalf):
     pipeline = EnergyPipeline(scalf, Gait(), loads="trunk")
     fine = Transcription(400.0).on(pipeline)
     assert fine.gait.sample_rate_hz == 400.0 and pipeline.gait.sample_rate_hz == 200.0
-    assert fine.model is pipeline.model  # the robot's compiled physics is shared
+    assert fine.robot_physics is pipeline.robot_physics  # the robot's compiled physics is shared
     assert Transcription.of(fine) == Transcription(400.0)
 
 
