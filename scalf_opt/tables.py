@@ -15,7 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-from scalf_opt.errors import ConfigError
+from scalf_opt.errors import ConfigError, did_you_mean
 from scalf_opt.files import read_toml
 
 MAX_MAGNITUDE = 1e6
@@ -87,7 +87,10 @@ class Table:
         allowed = tuple(allowed)
         extra = sorted(set(self.data) - set(allowed))
         if extra:
-            raise self.error(f"unknown key {self.key(extra[0])} (allowed: {', '.join(allowed)})")
+            near = did_you_mean(extra[0], allowed)
+            raise self.error(
+                f"unknown key {self.key(extra[0])}{near} (allowed: {', '.join(allowed)})"
+            )
 
     def require(self, keys: Iterable[str]) -> None:
         """Refuse the table when one of ``keys`` is missing (the first is named)."""

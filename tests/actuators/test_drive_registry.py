@@ -123,3 +123,10 @@ def test_a_table_of_no_kind_is_refused(tmp_path):
     path.write_text("[toy.all]\nefficiency = 0.5\njoints = ['A']\n")
     with pytest.raises(ConfigError, match=r"unknown key toy \(allowed: friction, cylinders"):
         read_sidecar(path)
+
+
+def test_a_mistyped_table_is_told_the_nearest_name(tmp_path):
+    path = tmp_path / "x_actuators.toml"
+    path.write_text("[electrik.motor]\njoints = ['A']\n")
+    with pytest.raises(ConfigError, match=r"unknown key electrik; did you mean 'electric'\?"):
+        read_sidecar(path)
