@@ -11,6 +11,9 @@ family, the default family, a family that needs a finer rate than its first); th
 ``slow`` checks every family the command line offers, on SCalf and HyQ, RF and LH.
 """
 
+import math
+
+import numpy as np
 import pytest
 
 from scalf_opt.energy.limits import violations
@@ -19,7 +22,7 @@ from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import MAX_ORDER, MIN_ORDER
 from scalf_opt.locomotion.swing.registry import make_family
-from scalf_opt.optimize.driver import optimize_swings
+from scalf_opt.optimize.driver import FAILED_CHECK, Check, optimize_swings
 from scalf_opt.optimize.problem import SwingProblem
 from scalf_opt.optimize.sampling import (
     BETWEEN_SAMPLES_RTOL,
@@ -28,6 +31,7 @@ from scalf_opt.optimize.sampling import (
     initial_rate_hz,
     with_rate,
 )
+from scalf_opt.optimize.solve import IpoptDetails, SwingOptimum
 
 OFFERED = [
     "paper",
@@ -58,6 +62,12 @@ def check_converged(robot, family_name, legs=("RF", "LH"), loads="trunk"):
         energy = SwingProblem(fine, leg, family, others).energy_j(result.best.theta)
         assert abs(result.best.objective_j - energy) <= SAMPLING_TOLERANCE * energy
         assert energy == pytest.approx(result.check_energy_j, rel=1e-9)
+        # what is printed of it converged too: its swing energy alone, and the stance part
+        swing_j = float(swing.energy_j.sum())
+        assert abs(result.best.swing_energy_j - swing_j) <= SAMPLING_TOLERANCE * swing_j
+        assert result.check_swing_energy_j == pytest.approx(swing_j, rel=1e-9)
+        stance, fine_stance = result.best.objective_j - result.best.swing_energy_j, energy - swing_j
+        assert abs(stance - fine_stance) <= SAMPLING_TOLERANCE * max(abs(fine_stance), 1e-12)
         # the optimum is feasible on the fine samples too: every limit, the ground, clearance
         problem = SwingProblem(fine, leg, family)
         for v in violations(swing.values, problem.bounds):
@@ -161,3 +171,28 @@ def test_an_optimum_crossing_a_limit_between_samples_is_refined(hyq):
     )
     assert share == pytest.approx(worst, rel=1e-9)
     assert energy == pytest.approx(float(swing.energy_j.sum()), rel=1e-9)
+
+
+def _optimum(swing_j: float, objective_j: float) -> SwingOptimum:
+    return SwingOptimum(
+        "RF", "joint-6", "ipopt", np.zeros(1), ["a"], "deg", swing_j, True, "", 1, 0.0,
+        IpoptDetails({}), objective_j,
+    )  # fmt: skip
+
+
+def test_the_check_asks_every_printed_energy_to_agree():
+    # a whole-body objective 0.2 % off whose swing is 1.1 % off (the joint-12 case of the issue)
+    optimum = _optimum(14.205, 139.086)
+    check = Check(139.322, 14.364)
+    assert abs(optimum.objective_j / check.objective_j - 1) < SAMPLING_TOLERANCE
+    assert check.error(optimum) == pytest.approx(abs(14.205 / 14.364 - 1), rel=1e-12)
+    # the stance part alone off: the swing and the objective within, the stance not
+    stance_off = Check(100.0 + 10.0 * (1 + 2 * SAMPLING_TOLERANCE), 100.0)
+    assert abs(110.0 / stance_off.objective_j - 1) < SAMPLING_TOLERANCE
+    assert stance_off.error(_optimum(100.0, 110.0)) == pytest.approx(
+        1 - 1 / (1 + 2 * SAMPLING_TOLERANCE), rel=1e-9
+    )
+    # under trunk loads the objective is the swing energy: one number, no stance part
+    assert Check(10.01, 10.01).error(_optimum(10.0, 10.0)) == pytest.approx(0.01 / 10.01, rel=1e-9)
+    assert math.isinf(FAILED_CHECK.error(_optimum(10.0, 10.0)))
+    assert math.isinf(Check(10.0, 10.0).error(_optimum(math.inf, math.inf)))
