@@ -62,15 +62,16 @@ def initial_rate_hz(gait: Gait, family: SwingFamily) -> float:
     return max(gait.sample_rate_hz, float(needed))
 
 
-def check_rate_hz(gait: Gait) -> float:
-    """The rate an optimum at ``gait``'s rate is checked at [Hz].
+def check_rate_hz(gait: Gait, rate_hz: float | None = None) -> float:
+    """The rate an optimum at ``rate_hz`` (default: ``gait``'s rate) is checked at [Hz].
 
     :data:`CHECK_FACTOR` times the rate, but no finer than the finest grid a gait may have
     (:data:`~scalf_opt.locomotion.gait.MAX_SAMPLES_PER_PHASE` intervals in its longer phase):
     at the free-trajectory bound's finest level (8,192 Hz) that is 9.8 times the rate.
     """
     longest_s = max(gait.phase_duration_s(phase) for phase in PHASES)
-    return min(gait.sample_rate_hz * CHECK_FACTOR, MAX_SAMPLES_PER_PHASE / longest_s)
+    rate = gait.sample_rate_hz if rate_hz is None else rate_hz
+    return min(rate * CHECK_FACTOR, MAX_SAMPLES_PER_PHASE / longest_s)
 
 
 def with_rate(gait: Gait, rate_hz: float) -> Gait:
@@ -127,7 +128,7 @@ class Transcription:
 
     def check(self, gait: Gait) -> Transcription:
         """The grid an optimum at this rate is checked on (:func:`check_rate_hz`)."""
-        return Transcription(check_rate_hz(with_rate(gait, self.rate_hz)))
+        return Transcription(check_rate_hz(gait, self.rate_hz))
 
     def on(self, pipeline: EnergyPipeline) -> EnergyPipeline:
         """The same robot, gait and models, sampled at this rate."""
