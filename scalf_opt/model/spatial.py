@@ -35,9 +35,20 @@ def joint_kind(joint: Any, name: str) -> tuple[str, np.ndarray]:
         return "revolute", np.array(joint.extract().axis, dtype=float)
     if short == "JointModelPrismaticUnaligned":
         return "prismatic", np.array(joint.extract().axis, dtype=float)
+    if short == "JointModelFreeFlyer":
+        return "freeflyer", np.zeros(3)
     raise ModelError(
-        f"joint {name!r} is a {short}: the symbolic twin supports revolute (any axis), prismatic "
-        "and fixed joints only"
+        f"joint {name!r} is a {short}: the symbolic twin supports revolute (any axis), prismatic, "
+        "free-flyer and fixed joints only"
+    )
+
+
+def quaternion_rotation(x: Expr, y: Expr, z: Expr, w: Expr) -> Expr:
+    """The rotation matrix of a unit quaternion ``(x, y, z, w)`` (Eigen's, Pinocchio's order)."""
+    return ca.vertcat(
+        ca.horzcat(1 - 2 * (y * y + z * z), 2 * (x * y - z * w), 2 * (x * z + y * w)),
+        ca.horzcat(2 * (x * y + z * w), 1 - 2 * (x * x + z * z), 2 * (y * z - x * w)),
+        ca.horzcat(2 * (x * z - y * w), 2 * (y * z + x * w), 1 - 2 * (x * x + y * y)),
     )
 
 

@@ -36,13 +36,20 @@ from scalf_opt.model.spatial import (
     act_force,
     act_inv_motion,
     joint_kind,
+    quaternion_rotation,
     skew,
 )
 from scalf_opt.types import Expr, casadi_name
 
 
 class SymbolicChain:
-    """CasADi twin of a fixed-base Pinocchio model with revolute and prismatic joints.
+    """CasADi twin of a Pinocchio model with revolute and prismatic joints, fixed or floating.
+
+    A floating model's root is Pinocchio's free-flyer: ``q`` starts with the base's position and
+    unit quaternion ``(x, y, z, w)`` (7), ``v`` and ``a`` with its linear and angular velocity in
+    the base frame (6), and the first six entries of :meth:`rnea` are the wrench the base needs
+    (force, then moment about the base origin, base axes), zero when the contact forces given to
+    :meth:`contact_rnea` carry the robot.
 
     Every method accepts ``q`` (and ``v``, ``a``) as CasADi SX, MX or numeric (DM, numpy)
     column vectors of length ``nq`` and returns the same kind: internally each quantity is one
@@ -50,17 +57,22 @@ class SymbolicChain:
     """
 
     def __init__(self, model: pin.Model) -> None:
-        self._joints: list[tuple[str, np.ndarray, int]] = [("root", np.zeros(3), -1)]
+        self._joints: list[tuple[str, np.ndarray, int, int]] = [("root", np.zeros(3), -1, -1)]
         for i in range(1, model.njoints):
             kind, axis = joint_kind(model.joints[i], model.names[i])
-            self._joints.append((kind, axis, int(model.joints[i].idx_q)))
+            if kind == "freeflyer" and model.parents[i] != 0:
+                raise ModelError(f"joint {model.names[i]!r}: a free-flyer must be the root joint")
+            joint = model.joints[i]
+            self._joints.append((kind, axis, int(joint.idx_q), int(joint.idx_v)))
         self.model = model
         self.nq = int(model.nq)
         self.nv = int(model.nv)
 
     # --- building blocks on SX ---------------------------------------------------------------
     def _joint_motion(self, i: int, q: Expr) -> Placement:
-        kind, axis, iq = self._joints[i]
+        kind, axis, iq, _ = self._joints[i]
+        if kind == "freeflyer":
+            return quaternion_rotation(*(q[iq + k] for k in range(3, 7))), q[iq : iq + 3]
         if kind == "revolute":
             k = skew(ca.DM(axis))
             rot = ca.DM.eye(3) + ca.sin(q[iq]) * k + (1 - ca.cos(q[iq])) * ca.mtimes(k, k)
@@ -85,10 +97,25 @@ class SymbolicChain:
             world.append((ca.mtimes(r_par, r), p_par + ca.mtimes(r_par, p)))
         return world
 
-    def _subspace(self, i: int) -> tuple[ca.DM, ca.DM]:
-        kind, axis, _ = self._joints[i]
+    def _subspace(self, i: int) -> list[tuple[ca.DM, ca.DM]]:
+        """The joint's motion subspace: (linear, angular) in its frame, per degree of freedom."""
+        kind, axis, _, _ = self._joints[i]
         zero = ca.DM.zeros(3, 1)
-        return (zero, ca.DM(axis)) if kind == "revolute" else (ca.DM(axis), zero)
+        if kind == "freeflyer":
+            eye = np.eye(3)
+            return [(ca.DM(eye[k]), zero) for k in range(3)] + [
+                (zero, ca.DM(eye[k])) for k in range(3)
+            ]
+        return [(zero, ca.DM(axis)) if kind == "revolute" else (ca.DM(axis), zero)]
+
+    def _joint_rate(self, i: int, x: Expr) -> tuple[Expr, Expr]:
+        """``S_i x_i``: the joint's motion (linear, angular) for its entries of ``v`` or ``a``."""
+        iv = self._joints[i][3]
+        lin: Expr = ca.DM.zeros(3, 1)
+        ang: Expr = ca.DM.zeros(3, 1)
+        for k, (s_lin, s_ang) in enumerate(self._subspace(i)):
+            lin, ang = lin + s_lin * x[iv + k], ang + s_ang * x[iv + k]
+        return lin, ang
 
     def _frame_index(self, frame: str | int) -> int:
         if isinstance(frame, str):
@@ -100,12 +127,21 @@ class SymbolicChain:
     def _rnea_sx(self, q: Expr, v: Expr, a: Expr, gravity: bool) -> Expr:
         return self._rnea_parts(q, v, a, gravity)[0]
 
-    def _rnea_parts(self, q: Expr, v: Expr, a: Expr, gravity: bool) -> tuple[Expr, Expr]:
+    def _rnea_parts(
+        self,
+        q: Expr,
+        v: Expr,
+        a: Expr,
+        gravity: bool,
+        external: dict[int, tuple[Expr, Expr]] | None = None,
+    ) -> tuple[Expr, Expr]:
         """Joint forces (nv x 1) and the spatial force (6 x 1) the root supplies to the chain.
 
         The second output is the sum, over the root's children, of the force transmitted
         through their joints, expressed in the root frame about its origin (linear part first):
         what a floating root would have to add for the chain's motion and weight.
+        ``external``: forces from outside on joint ``i``'s body, (linear, angular) in its frame
+        about its origin, as Pinocchio's ``fext``.
         """
         model = self.model
         local = self._local_placements(q)
@@ -116,15 +152,14 @@ class SymbolicChain:
         for i in range(1, model.njoints):
             rot, pos = local[i]
             parent = model.parents[i]
-            s_lin, s_ang = self._subspace(i)
-            iq = self._joints[i][2]
             vl, va = act_inv_motion(rot, pos, *vel[parent])
-            vj_lin, vj_ang = s_lin * v[iq], s_ang * v[iq]
+            vj_lin, vj_ang = self._joint_rate(i, v)
             vl, va = vl + vj_lin, va + vj_ang
             al, aa = act_inv_motion(rot, pos, *acc[parent])
+            aj_lin, aj_ang = self._joint_rate(i, a)
             # a += S qdd + v x (S qd);  (v, w) x (u, z) = (w x u + v x z, w x z)
-            al = al + s_lin * a[iq] + ca.cross(va, vj_lin) + ca.cross(vl, vj_ang)
-            aa = aa + s_ang * a[iq] + ca.cross(va, vj_ang)
+            al = al + aj_lin + ca.cross(va, vj_lin) + ca.cross(vl, vj_ang)
+            aa = aa + aj_ang + ca.cross(va, vj_ang)
             vel.append((vl, va))
             acc.append((al, aa))
             inertia = model.inertias[i]
@@ -139,12 +174,16 @@ class SymbolicChain:
             fl, fa = momentum(al, aa)
             hl, ha = momentum(vl, va)
             # v x* h = (w x h_lin, w x h_ang + v x h_lin)
-            forces.append([fl + ca.cross(va, hl), fa + ca.cross(va, ha) + ca.cross(vl, hl)])
+            body = [fl + ca.cross(va, hl), fa + ca.cross(va, ha) + ca.cross(vl, hl)]
+            if external and i in external:
+                body = [body[0] - external[i][0], body[1] - external[i][1]]
+            forces.append(body)
         tau: list[Expr] = [ca.SX(0)] * self.nv
         for i in range(model.njoints - 1, 0, -1):
-            s_lin, s_ang = self._subspace(i)
             fl, fa = forces[i]
-            tau[self._joints[i][2]] = ca.dot(s_lin, fl) + ca.dot(s_ang, fa)
+            iv = self._joints[i][3]
+            for k, (s_lin, s_ang) in enumerate(self._subspace(i)):
+                tau[iv + k] = ca.dot(s_lin, fl) + ca.dot(s_ang, fa)
             parent = model.parents[i]
             pl, pa = act_force(*local[i], fl, fa)
             forces[parent][0] = forces[parent][0] + pl
@@ -194,23 +233,19 @@ class SymbolicChain:
             rot = ca.mtimes(r_j, ca.DM(f.placement.rotation))
             pos = p_j + ca.mtimes(r_j, ca.DM(f.placement.translation))
             # Jacobian in LOCAL_WORLD_ALIGNED: motion of the frame origin per unit joint rate
-            cols = []
             support = set()
             j = int(f.parentJoint)
             while j > 0:
                 support.add(j)
                 j = int(self.model.parents[j])
-            for i in range(1, self.model.njoints):
-                if i not in support:
-                    cols.append(ca.DM.zeros(6, 1))
-                    continue
+            columns: list[Expr] = [ca.DM.zeros(6, 1)] * self.nv
+            for i in support:
                 r_i, p_i = world[i]
-                s_lin, s_ang = self._subspace(i)
-                w = ca.mtimes(r_i, s_ang)
-                lin = ca.mtimes(r_i, s_lin) + ca.cross(w, pos - p_i)
-                cols.append(ca.vertcat(lin, w))
-            order = [self._joints[i][2] for i in range(1, self.model.njoints)]
-            jac = ca.horzcat(*[cols[order.index(k)] for k in range(self.nv)])
+                for k, (s_lin, s_ang) in enumerate(self._subspace(i)):
+                    w = ca.mtimes(r_i, s_ang)
+                    lin = ca.mtimes(r_i, s_lin) + ca.cross(w, pos - p_i)
+                    columns[self._joints[i][3] + k] = ca.vertcat(lin, w)
+            jac = ca.horzcat(*columns)
             self._placement_fns[index] = ca.Function(
                 casadi_name("frame", f.name), [q], [rot, pos, jac], ["q"], ["R", "p", "J"]
             )
@@ -260,6 +295,32 @@ class SymbolicChain:
         floating-base RNEA): the rate of change of the chain's momentum minus its weight.
         """
         return self._root_wrench_fn(q, v, a)
+
+    def contact_rnea(self, frames: tuple[str, ...]) -> ca.Function:
+        """The joint forces ``RNEA(q, v, a) - sum_k J_k(q)^T f_k`` with point forces at ``frames``.
+
+        On a floating model its first six entries are the base wrench. The function's inputs are
+        ``q``, ``v``, ``a`` and ``f`` (3 per frame, stacked: each force on the robot in world axes
+        [N]); its output ``tau`` (nv). What ``pin.rnea`` gives with the same forces as ``fext`` on
+        the frames' parent joints.
+
+        Raises:
+            ModelError: A frame the model lacks.
+        """
+        q, v, a = self._sym
+        forces = ca.SX.sym("f", 3 * len(frames))
+        world = self._world_placements(q)
+        external: dict[int, tuple[Expr, Expr]] = {}
+        for k, frame in enumerate(frames):
+            f = self.model.frames[self._frame_index(frame)]
+            joint = int(f.parentJoint)
+            local = ca.mtimes(world[joint][0].T, forces[3 * k : 3 * k + 3])
+            moment = ca.cross(ca.DM(f.placement.translation), local)
+            lin, ang = external.get(joint, (ca.DM.zeros(3, 1), ca.DM.zeros(3, 1)))
+            external[joint] = (lin + local, ang + moment)
+        tau = self._rnea_parts(q, v, a, True, external)[0]
+        name = casadi_name("contact_rnea", *frames)
+        return ca.Function(name, [q, v, a, forces], [tau], ["q", "v", "a", "f"], ["tau"])
 
     def crba(self, q: Any) -> Any:
         """Joint-space mass matrix M(q) (nv x nv), like ``pin.crba`` (full, symmetric)."""

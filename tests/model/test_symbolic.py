@@ -127,6 +127,6 @@ def test_works_on_mx_symbols():
 
 def test_unsupported_joint_is_named():
     path = load_robot("solo12").urdf_path
-    model = pin.buildModelFromUrdf(str(path), pin.JointModelFreeFlyer())
-    with pytest.raises(ModelError, match="root_joint"):
+    model = pin.buildModelFromUrdf(str(path), pin.JointModelPlanar())
+    with pytest.raises(ModelError, match=r"root_joint.*JointModelPlanar"):
         SymbolicChain(model)
