@@ -98,16 +98,29 @@ def add_robot(parser: argparse.ArgumentParser) -> None:
     )
 
 
-def add_gait(parser: argparse.ArgumentParser, accounting: bool = True) -> None:
-    """``--gait FILE``, one option per gait field, and unless told otherwise ``--accounting``."""
+SPEED_HELP = (
+    "walk at this forward speed [m/s], in (0, 10]: the step length follows, S = v d T, from the "
+    "gait's duty and period (instead of --step-length)"
+)
+
+
+def add_gait(parser: argparse.ArgumentParser, accounting: bool = True, speed: bool = False) -> None:
+    """``--gait FILE``, one option per gait field, unless told otherwise ``--accounting``.
+
+    With ``speed``: ``--speed``, which sets the step length (instead of ``--step-length``).
+    """
     group = parser.add_argument_group(
         "gait",
         "the robot's default trot (the paper's, scaled to its legs), then the gait file's fields, "
         "then these options",
     )
     group.add_argument("--gait", type=Path, metavar="FILE", help="gait file (TOML, a [gait] table)")
+    step = group.add_mutually_exclusive_group() if speed else group
     for field, (option, kind, text) in GAIT_OPTIONS.items():
-        group.add_argument(option, dest=field, type=kind, metavar="X", help=text)
+        home = step if field == "step_length_m" else group
+        home.add_argument(option, dest=field, type=kind, metavar="X", help=text)
+    if speed:
+        step.add_argument("--speed", type=float, metavar="X", help=SPEED_HELP)
     if accounting:
         parser.add_argument(
             "--accounting",
@@ -230,12 +243,21 @@ def load_gait(args: argparse.Namespace, robot: Robot, base: Gait | None = None) 
     if args.gait is not None:
         _warn_other_robot(args, robot)
     try:
-        return read_gait(args.gait, robot, base, **overrides)
+        gait = read_gait(args.gait, robot, base, **overrides)
     except GaitError as exc:
         if exc.field in overrides:
             option = GAIT_OPTIONS[exc.field][0]
             raise GaitError(f"{option} {overrides[exc.field]:g}: {exc}", field=exc.field) from exc
         raise
+    speed = getattr(args, "speed", None)
+    if speed is None:
+        return gait
+    from scalf_opt.optimize.gait_search import check_speed
+
+    try:
+        return gait.with_speed(check_speed(speed))
+    except (ConfigError, GaitError) as exc:
+        raise ConfigError(f"--speed {speed:g}: {exc}", field="speed") from exc
 
 
 def _warn_other_robot(args: argparse.Namespace, robot: Robot) -> None:
@@ -264,6 +286,8 @@ def gait_origin(args: argparse.Namespace, robot: Robot, base: str | None = None)
     if getattr(args, "gait", None) is not None:
         parts.append(f"under the gait file {args.gait}")
     given = [GAIT_OPTIONS[f][0] for f in gait_overrides(args)]
+    if getattr(args, "speed", None) is not None:
+        given.append(f"--speed {args.speed:g} (step length S = v d T)")
     if given:
         parts.append("under " + ", ".join(given))
     return "gait: " + ", ".join(parts)

@@ -8,7 +8,7 @@ diagonal pairing of the trot is in :mod:`scalf_opt.locomotion.trot`.
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, fields
+from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
@@ -166,6 +166,14 @@ class Gait:
     def speed_m_s(self) -> float:
         """Forward speed of the trunk [m/s]: S / T_stance (the paper: 1.0 m/s)."""
         return self.step_length_m / self.stance_duration_s
+
+    def with_speed(self, speed_m_s: float) -> Gait:
+        """The same gait with the step length that walks it at ``speed_m_s``: ``S = v d T``.
+
+        Raises:
+            GaitError: That step length is out of range (the message names ``step_length_m``).
+        """
+        return replace(self, step_length_m=speed_m_s * self.stance_duration_s)
 
     @property
     def distance_per_cycle_m(self) -> float:

@@ -181,7 +181,7 @@ def check_speed(speed_m_s: float) -> float:
 
 def at_speed(gait: Gait, speed_m_s: float) -> Gait:
     """``gait`` with the step length that makes it walk at ``speed_m_s``: ``S = v d T``."""
-    return replace(gait, step_length_m=speed_m_s * gait.duty_cycle * gait.period_s)
+    return gait.with_speed(speed_m_s)
 
 
 def search_vector(gait: Gait) -> np.ndarray:

@@ -61,6 +61,8 @@ def test_an_option_means_the_same_in_every_command():
                 continue  # the rate of the exported samples, not of the gait's grid
             if (name, option) == ("analyze-log", "--speed"):
                 continue  # the speed the log was recorded at, not speeds to search
+            if name in ("evaluate", "optimize") and option == "--speed":
+                continue  # the one speed to walk (the step length follows), the same in both
             if (name, option) == ("gait", "--family"):
                 continue  # a gait's trials take swing families only (the next test)
             key = (action.help, action.metavar)
@@ -69,6 +71,11 @@ def test_an_option_means_the_same_in_every_command():
             else:
                 seen[option] = (name, *key)
     assert {"--urdf", "--robot", "-q", "--debug"} <= set(seen)
+    walk = [
+        (options(n)["--speed"].help, options(n)["--speed"].metavar)
+        for n in ("evaluate", "optimize")
+    ]
+    assert walk[0] == walk[1]
 
 
 def test_a_help_offers_only_what_its_command_accepts(capsys):

@@ -28,7 +28,7 @@ JSON = True
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_robot(parser)
-    add_gait(parser)
+    add_gait(parser, speed=True)
     add_loads(parser, saved=True)
     parser.add_argument(
         "--swing",

@@ -57,7 +57,7 @@ VERBOSE = True
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_robot(parser)
-    add_gait(parser)
+    add_gait(parser, speed=True)
     add_loads(parser)
     parser.add_argument(
         "--leg",
