@@ -28,9 +28,10 @@ MIN_POSITIVE = 1e-6
 1e-300 would divide the energy into infinity)."""
 
 
-def is_number(value: Any) -> bool:
-    """A finite TOML integer or float (``true`` is not a number)."""
-    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
+def is_number(value: Any, finite: bool = True) -> bool:
+    """An integer or a float, finite unless ``finite`` is false (``true`` is not a number)."""
+    typed = isinstance(value, int | float) and not isinstance(value, bool)
+    return typed and (not finite or math.isfinite(value))
 
 
 def number_value(path: Path, label: str, value: Any, finite: bool = True) -> float | int:
@@ -42,8 +43,7 @@ def number_value(path: Path, label: str, value: Any, finite: bool = True) -> flo
         value: The value as parsed.
         finite: Refuse ``nan`` and ``inf`` too (else the caller's range check names them).
     """
-    typed = isinstance(value, int | float) and not isinstance(value, bool)
-    if not typed or (finite and not math.isfinite(value)):
+    if not is_number(value, finite):
         raise ConfigError(f"{path}: {label} must be a number, got {value!r}")
     return value
 

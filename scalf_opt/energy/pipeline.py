@@ -7,7 +7,7 @@ symmetry argument (LF repeats RF, RH repeats LH half a cycle later) is then a ch
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from functools import cached_property
 from typing import Any
 
@@ -110,28 +110,19 @@ class EnergyPipeline:
         drives = dict(self.robot_physics.drives)
         return (EnergyPipeline, (self.robot, self.gait, self.accounting, drives, None, self.loads))
 
+    def _derived(self, **changes: Any) -> EnergyPipeline:
+        """``changes`` applied; the robot's physics shared, the caches too if the gait stays."""
+        same_gait = changes.get("gait", self.gait) == self.gait
+        caches = self.caches if same_gait else GaitCaches()
+        return replace(self, model=self.robot_physics, caches=caches, **changes)
+
     def with_gait(self, gait: Gait) -> EnergyPipeline:
         """The same robot physics and accounting with another gait (or rate)."""
-        caches = self.caches if gait == self.gait else GaitCaches()
-        return EnergyPipeline(
-            self.robot,
-            gait,
-            self.accounting,
-            model=self.robot_physics,
-            loads=self.loads,
-            caches=caches,
-        )
+        return self._derived(gait=gait)
 
     def with_loads(self, loads: str) -> EnergyPipeline:
         """The same robot physics, gait and accounting with another load model."""
-        return EnergyPipeline(
-            self.robot,
-            self.gait,
-            self.accounting,
-            model=self.robot_physics,
-            loads=loads,
-            caches=self.caches,
-        )
+        return self._derived(loads=loads)
 
     @property
     def load_model(self) -> StanceLoads:
@@ -140,14 +131,7 @@ class EnergyPipeline:
 
     def with_accounting(self, accounting: Accounting) -> EnergyPipeline:
         """The same robot physics and gait with another accounting."""
-        return EnergyPipeline(
-            self.robot,
-            self.gait,
-            accounting,
-            model=self.robot_physics,
-            loads=self.loads,
-            caches=self.caches,
-        )
+        return self._derived(accounting=accounting)
 
     def physics(self, leg: str) -> LegPhysics:
         """The leg's :class:`LegPhysics` (built once per robot)."""

@@ -51,12 +51,10 @@ class RobotPhysics:
             ConfigError: The actuator file is invalid or names a joint the robot lacks.
         """
         chosen = dict(drives_for(robot) if drives is None else drives)
-        legs = {
-            name: LegPhysics(
-                LegKinematics(robot.leg(name)), leg_drives(chosen, robot.leg(name).joint_names)
-            )
-            for name in LEG_NAMES
-        }
+        legs = {}
+        for name in LEG_NAMES:
+            leg = robot.leg(name)
+            legs[name] = LegPhysics(LegKinematics(leg), leg_drives(chosen, leg.joint_names))
         return cls(robot, MappingProxyType(chosen), MappingProxyType(legs))
 
     def leg(self, name: str) -> LegPhysics:

@@ -7,12 +7,12 @@ diagonal pairing of the trot is in :mod:`scalf_opt.locomotion.trot`.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, fields, replace
 
 import numpy as np
 
 from scalf_opt.errors import GaitError, did_you_mean
+from scalf_opt.tables import is_number
 from scalf_opt.types import Phase, check_choice
 
 FRONT_LEGS: tuple[str, ...] = ("RF", "LF")
@@ -85,8 +85,7 @@ class Gait:
         _positive("sample_rate_hz", self.sample_rate_hz)
         for name in ("stance_x_offset_front_m", "stance_x_offset_hind_m"):
             value = getattr(self, name)
-            ok = isinstance(value, int | float) and not isinstance(value, bool)
-            if not (ok and math.isfinite(value)):
+            if not is_number(value):
                 raise GaitError(f"gait field {name} = {value!r} must be a finite number")
         if not (isinstance(self.duty_cycle, int | float) and 0.5 <= self.duty_cycle < 1.0):
             raise GaitError(
@@ -229,8 +228,7 @@ class Gait:
 
 
 def _positive(name: str, value: object) -> None:
-    ok = isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
-    if not (ok and value > 0):  # type: ignore[operator]
+    if not (is_number(value) and value > 0):  # type: ignore[operator]
         raise GaitError(f"gait field {name} = {value!r} must be a finite number > 0", field=name)
     if name in _MAXIMA and value > _MAXIMA[name]:  # type: ignore[operator]
         raise GaitError(

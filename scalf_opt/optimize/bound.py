@@ -63,7 +63,7 @@ from scalf_opt.locomotion.swing.bspline import BSplineFamily
 from scalf_opt.locomotion.swing.family import SwingFamily
 from scalf_opt.optimize.driver import LegResult, Settings, optimize_swings
 from scalf_opt.optimize.problem import SwingGoal
-from scalf_opt.optimize.sampling import resampled
+from scalf_opt.optimize.sampling import Transcription
 from scalf_opt.optimize.starts import closest_member, reference_path
 from scalf_opt.workers import map_in_processes, worker_progress
 
@@ -286,7 +286,7 @@ def bound_for(
         raise_if_stopped()
         if progress is not None:
             progress(f"{leg}: free-trajectory bound, {count} spans")
-        level = resampled(pipeline, level_rate_hz(pipeline.gait, count))
+        level = Transcription(level_rate_hz(pipeline.gait, count)).on(pipeline)
         if previous is None:
             candidates = _seed_starts(level, leg, family, seeds or [])
         else:
@@ -379,7 +379,7 @@ def _revisit(
     """
     start = time.perf_counter()
     family = BSplineFamily(coarse.spans)
-    level = resampled(pipeline, coarse.sample_rate_hz)
+    level = Transcription(coarse.sample_rate_hz).on(pipeline)
     theta0 = _projection(level, leg, family, fine_family, fine_theta)
     found, rate = _solve_level(level, leg, family, theta0, True, margins, REVISIT_OPTIONS)
     spent = coarse.wall_time_s + time.perf_counter() - start
@@ -512,7 +512,7 @@ def bound_cycle_inputs(
     """
     spans = max(b.spans for b in bounds.values())
     rate = max(b.sample_rate_hz for b in bounds.values())
-    at_rate = resampled(pipeline, rate)
+    at_rate = Transcription(rate).on(pipeline)
     family = BSplineFamily(spans)
     thetas = {
         leg: _projection(at_rate, leg, family, b.family, b.result.best.theta)

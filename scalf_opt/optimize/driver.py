@@ -153,6 +153,18 @@ class StartResult:
     converged: bool
     check_swing_energy_j: float = math.nan
 
+    @classmethod
+    def checked(
+        cls, label: str, optimum: SwingOptimum, check: Check, tolerance: float
+    ) -> StartResult:
+        """The start's answer with its check.
+
+        Converged when solved and every printed energy agrees with its check within
+        ``tolerance`` (:meth:`Check.error`).
+        """
+        converged = optimum.success and check.error(optimum) <= tolerance
+        return cls(label, optimum, check.objective_j, converged, check.swing_j)
+
 
 @dataclass(frozen=True)
 class LegResult:
@@ -644,28 +656,16 @@ def _leg_result(
     progress: Callable[[str], None] | None,
 ) -> LegResult:
     """One leg's result at the converged rate: its first answer, the extra starts', the best."""
-    optimum, check = answer
     tolerance = settings.sampling_tolerance
-    runs = [
-        StartResult(
-            first_label,
-            optimum,
-            check.objective_j,
-            optimum.success and check.error(optimum) <= tolerance,
-            check.swing_j,
-        )
-    ]
+    runs = [StartResult.checked(first_label, *answer, tolerance)]
     others = coupled_others(at_rate, legs, leg, final)
     problem = SwingGoal(family, settings.margins).on(at_rate, leg, others)
     extra = 1 if trial else settings.starts  # a trial is one warm solve: no extra start
     for label, theta in starts(problem, solver(settings.method), extra)[1:]:
         if progress is not None:
             progress(f"{leg}: start {label}")
-        other, other_check = _solve_leg(at_rate, leg, family, settings, theta, others)
-        other_ok = other.success and other_check.error(other) <= tolerance
-        runs.append(
-            StartResult(label, other, other_check.objective_j, other_ok, other_check.swing_j)
-        )
+        other = _solve_leg(at_rate, leg, family, settings, theta, others)
+        runs.append(StartResult.checked(label, *other, tolerance))
     good = [r for r in runs if r.converged]
     best = min(good, key=lambda r: r.optimum.objective_j) if good else runs[0]
     check_energy, check_swing = best.check_energy_j, best.check_swing_energy_j

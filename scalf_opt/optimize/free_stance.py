@@ -53,7 +53,7 @@ from scalf_opt.optimize.driver import (
     optimize_swings,
 )
 from scalf_opt.optimize.pattern_search import PatternSearchOptions, pattern_search
-from scalf_opt.optimize.sampling import resampled
+from scalf_opt.optimize.sampling import Transcription
 from scalf_opt.types import FIRST_PAIR
 
 STANCE_STEP_CM = 2.0
@@ -282,7 +282,7 @@ class GaitTrials:
         todo = tuple(leg for leg in legs if leg not in kept)
         if not todo:
             first = next(iter(kept.values()))
-            at_rate = resampled(trial, first.rate_hz)
+            at_rate = Transcription(first.rate_hz).on(trial)
             run = replace(first, pipeline=at_rate, legs={}, wall_time_s=0.0)
         else:
             run = optimize_swings(trial, todo, self.family, self.settings, warm, trial=True)
@@ -375,7 +375,7 @@ def optimize_stance(
     nominal_run = optimize_swings(pipeline, legs, family, settings)
     # the whole search at the rate the nominal optimization converged at, so that every stance
     # is compared on the same grid (a stance that needs a finer one is refined by the driver)
-    at_rate = resampled(pipeline, nominal_run.rate_hz)
+    at_rate = Transcription(nominal_run.rate_hz).on(pipeline)
     _, reason = _stance_feasible(at_rate, legs, settings.margins)
     if reason is not None:
         raise ScalfError(reason)
@@ -407,7 +407,7 @@ def optimize_stance(
     best = trials.from_every_start(evaluate(result.x))
     # every cycle the report compares, at the rate of the best stance's swings
     final = best.run.rate_hz if best.run is not None else nominal_run.rate_hz
-    at_final = resampled(pipeline, final)
+    at_final = Transcription(final).on(pipeline)
     if final != nominal_run.rate_hz:
         thetas = {leg: r.best.theta for leg, r in nominal_run.legs.items()}
         nominal_run = replace(nominal_run, pipeline=at_final)

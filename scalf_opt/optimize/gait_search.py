@@ -60,6 +60,7 @@ from scalf_opt.optimize.driver import Settings
 from scalf_opt.optimize.free_stance import GaitTrials, StanceEvaluation
 from scalf_opt.optimize.pattern_search import PatternSearchOptions, pattern_search
 from scalf_opt.optimize.sampling import on_check_grid
+from scalf_opt.tables import is_number
 from scalf_opt.types import FIRST_PAIR
 
 SEARCH_VARIABLES = (
@@ -170,8 +171,7 @@ def check_speed(speed_m_s: float) -> float:
     Raises:
         ConfigError: Not a finite number in (0, :data:`MAX_SPEED_M_S`].
     """
-    ok = isinstance(speed_m_s, int | float) and not isinstance(speed_m_s, bool)
-    if not (ok and math.isfinite(speed_m_s) and 0 < speed_m_s <= MAX_SPEED_M_S):
+    if not (is_number(speed_m_s) and 0 < speed_m_s <= MAX_SPEED_M_S):
         raise ConfigError(
             f"the speed must be a number in (0, {MAX_SPEED_M_S:g}] m/s, got {speed_m_s!r}",
             field="speed",

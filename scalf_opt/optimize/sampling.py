@@ -135,11 +135,6 @@ class Transcription:
         return pipeline.with_gait(with_rate(pipeline.gait, self.rate_hz))
 
 
-def resampled(pipeline: EnergyPipeline, rate_hz: float) -> EnergyPipeline:
-    """The same robot, gait and models, sampled at ``rate_hz`` (:meth:`Transcription.on`)."""
-    return Transcription(rate_hz).on(pipeline)
-
-
 def on_check_grid(pipeline: EnergyPipeline) -> EnergyPipeline:
     """The pipeline on the check grid of an optimum found at its rate (:func:`check_rate_hz`)."""
     return Transcription.of(pipeline).check(pipeline.gait).on(pipeline)

@@ -8,7 +8,6 @@ did not succeed is left out of the lines and marked ``x`` on the x axis.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Sequence
 from typing import Any
 
@@ -22,6 +21,7 @@ from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 from scalf_opt.io.study_columns import RESULT_COLUMNS
+from scalf_opt.tables import is_number
 from scalf_opt.viz.plotting import fitted_title
 
 _RESULT_KEYS = frozenset({"case", *RESULT_COLUMNS})
@@ -91,10 +91,6 @@ def _value_label(column: str, value: Any) -> str:
     return f"{label} {value}"
 
 
-def _is_number(value: Any) -> bool:
-    return isinstance(value, int | float) and not isinstance(value, bool) and math.isfinite(value)
-
-
 def _groups(rows: Sequence[dict[str, Any]], x: str) -> dict[str, list[dict[str, Any]]]:
     """Rows grouped by the swept values other than ``x`` (label -> rows, in order)."""
     swept = [
@@ -126,7 +122,7 @@ def study_figure(rows: Sequence[dict[str, Any]], x: str, title: str) -> Figure:
         ax_e.text(0.5, 0.5, "no cases", ha="center", transform=ax_e.transAxes)
         return fig
     ok = [r for r in rows if r.get("status") == "ok"]
-    numeric = all(_is_number(r.get(x)) for r in rows)
+    numeric = all(is_number(r.get(x)) for r in rows)
     if numeric:
         _study_lines(axes, rows, x)
     else:
