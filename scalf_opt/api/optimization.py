@@ -341,7 +341,7 @@ def _free_stance(
     stance = optimize_stance(pipeline, family, settings)
     run = stance.best.run
     records: dict[str, Any] = {
-        "limit_margins": settings.margins.to_dict(),
+        "limit_margins": settings.margins.to_dict(pipeline.gait),
         "free_stance": stance_record(stance),
     }
     solved = run is not None and run.success
@@ -376,7 +376,7 @@ def _swings(
     """The legs' swings optimized on the pipeline's gait; with ``bound``, the bound beside."""
     run = optimize_swings(pipeline, legs, family, settings, progress=progress)
     records: dict[str, Any] = {
-        "limit_margins": settings.margins.to_dict(),
+        "limit_margins": settings.margins.to_dict(pipeline.gait),
         "optimization": leg_records(run),
         "optimization_run": run_record(run),
     }
@@ -413,12 +413,13 @@ def _check_stance_margins(
     """
     for leg in legs:
         phase = pipeline.stance(leg)
-        # only what a margin moves: a stance beyond a rate, torque or force limit is the gait's
-        # (reported with the peaks), and under whole-body loads it depends on the swings
+        # only the range and the stroke: a stance beyond a rate, torque or force limit (or its
+        # effort margin) is the gait's (reported with the peaks), and under whole-body loads it
+        # depends on the swings, whose optimizer keeps the loaded stance in its effort margin
         beyond = [
             v
             for v in violations(phase.values, margins.apply(leg_bounds(pipeline.physics(leg))))
-            if margins.margin(v.bound) > 0
+            if margins.margin(v.bound) > 0 and margins.field_of(v.bound) != "effort_share"
         ]
         if beyond:
             bound = beyond[0].bound
@@ -444,7 +445,7 @@ def _free_method(
     check_bounded(pipeline, legs)
     bounds = bounds_for(pipeline, legs, progress=progress, margins=margins)
     records: dict[str, Any] = {
-        "limit_margins": margins.to_dict(),
+        "limit_margins": margins.to_dict(pipeline.gait),
         "free_bound": bound_records(bounds),
     }
     if not all(b.result.success for b in bounds.values()):  # not even a level solved

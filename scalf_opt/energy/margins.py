@@ -1,11 +1,18 @@
-"""The margins an optimized plan keeps inside the joint range and the cylinder stroke.
+"""The margins an optimized plan keeps inside its limits and above the ground.
 
 A plan that rides an end stop is one no servo can follow: the smallest tracking error puts the
 joint on its stop, whose reaction the energy model does not have (a free-stance optimum planned
 1.5 mrad from SCalf's knee stop went 3 mrad beyond it in the simulation, where the stop and the
 contacts dissipated 13 J per cycle). Every optimizer (the NLP, the pattern search, the bound, the
-free stance) applies :meth:`LimitMargins.apply` to the bounds of
+free stance, the gait search) applies :meth:`LimitMargins.apply` to the bounds of
 :func:`~scalf_opt.energy.limits.leg_bounds`; the reports check the limits themselves.
+
+The same holds for effort: a plan on its torque or force limit leaves the servo nothing to
+correct with (ANYmal C's optimum rode its 80 N m limit and was saturated 5-9 % of the time in
+the simulation), so torques and drive forces keep a share of the limit in reserve. And for the
+ground: a swing foot that leaves the ground at a grazing angle skims it in any servo's lag
+(SCalf's optimum's hind feet were 0.1 mm up 5 ms after lift-off), so the swing follows a
+:class:`LiftProfile`.
 
 This module imports nothing heavy, so the command line reads its defaults at start-up.
 """
@@ -13,13 +20,14 @@ This module imports nothing heavy, so the command line reads its defaults at sta
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 from typing import TYPE_CHECKING
 
 from scalf_opt.errors import ConfigError
 
 if TYPE_CHECKING:
     from scalf_opt.energy.box_bound import Bound
+    from scalf_opt.locomotion.gait import Gait
 
 DEFAULT_STOP_MARGIN_RAD = math.radians(2.0)
 """Default margin of a planned joint angle to either end of the joint range [rad]: 2 degrees.
@@ -35,37 +43,142 @@ DEFAULT_STROKE_MARGIN_M = 0.002
 """Default margin of a planned cylinder length to either end of its stroke [m]: 2 mm (about
 2 degrees of SCalf's knee)."""
 
+DEFAULT_EFFORT_SHARE = 0.05
+"""Default share of each effort and force limit (a joint's torque, a cylinder's force) a plan
+keeps in reserve for the servo: it stays within 95 % of the limit."""
+
+DEFAULT_LIFT_SHARE = 0.2
+"""Default lift height as a share of the gait's mid-swing clearance H: H/5 (16 mm on SCalf's
+H = 80 mm; H itself is Froude-scaled to each robot's leg length)."""
+
+DEFAULT_LIFT_FRACTION = 0.15
+"""Default share of the swing over which the foot lifts to, and comes down from, the lift height.
+SCalf's reference swing is 17.3 mm up at 15 % of its swing (its H/5 is 16 mm)."""
+
+DEFAULT_TOUCHDOWN_FACTOR = 3.0
+"""Default touch-down speed as a multiple of H / swing duration: the foot comes down no faster
+than 3 H / T_sw over the last lift fraction of the swing (0.96 m/s on SCalf's default trot; its
+reference swing comes down at up to 0.81 m/s there, 2.5 H / T_sw, on every robot)."""
+
+EFFORT_UNITS = ("nm", "n")
+"""Bound units that are an effort or a force: a joint torque [N m], a drive's force [N]."""
+
+
+def _number(value: object) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
+
+@dataclass(frozen=True)
+class LiftProfile:
+    """How a swing foot leaves and meets the ground: a lower bound on its height, a speed bound.
+
+    Over the first ``fraction`` of the swing the foot rises at least as fast as a constant
+    acceleration that takes it to ``height_m``: its height above the ground at swing phase
+    ``s`` (0 at lift-off, 1 at touch-down) is at least ``height_m * (s / fraction)**2``; it stays
+    at least ``height_m`` up until the last ``fraction``, which mirrors the first. Over that last
+    fraction it comes down no faster than ``touchdown_speed_m_s``.
+
+    Attributes:
+        height_m: The lift height [m]; ``None``: a fifth of the gait's clearance H
+            (:data:`DEFAULT_LIFT_SHARE`); 0 turns the height profile off.
+        fraction: The share of the swing the lift and the landing take, in (0, 0.5].
+        touchdown_speed_m_s: The largest downward foot speed over the landing [m/s]; ``None``:
+            3 H / swing duration (:data:`DEFAULT_TOUCHDOWN_FACTOR`); ``inf`` turns it off.
+    """
+
+    height_m: float | None = None
+    fraction: float = DEFAULT_LIFT_FRACTION
+    touchdown_speed_m_s: float | None = None
+
+    def __post_init__(self) -> None:
+        checks = {
+            "lift_height_m": (self.height_m, lambda v: v is None or (math.isfinite(v) and v >= 0)),
+            "lift_fraction": (self.fraction, lambda v: 0 < v <= 0.5),
+            "touchdown_speed_m_s": (self.touchdown_speed_m_s, lambda v: v is None or v > 0),
+        }
+        for name, (value, ok) in checks.items():
+            if not ((value is None or _number(value)) and ok(value)):
+                rule = (
+                    "in (0, 0.5]"
+                    if name == "lift_fraction"
+                    else ">= 0"
+                    if "height" in name
+                    else "> 0"
+                )
+                raise ConfigError(f"lift profile {name} = {value!r} must be {rule}", field=name)
+
+    def height_for(self, clearance_m: float) -> float:
+        """The lift height [m] on a gait of mid-swing clearance ``clearance_m``."""
+        return DEFAULT_LIFT_SHARE * clearance_m if self.height_m is None else self.height_m
+
+    def touchdown_speed_for(self, clearance_m: float, swing_duration_s: float) -> float:
+        """The largest downward landing speed [m/s] on a gait of this clearance and swing time."""
+        if self.touchdown_speed_m_s is not None:
+            return self.touchdown_speed_m_s
+        return DEFAULT_TOUCHDOWN_FACTOR * clearance_m / swing_duration_s
+
+
+NO_LIFT_PROFILE = LiftProfile(height_m=0.0, touchdown_speed_m_s=math.inf)
+"""No lift height and no landing speed bound: the foot at or above the ground, nothing more."""
+
 
 @dataclass(frozen=True)
 class LimitMargins:
-    """How far inside the joint range and the cylinder stroke an optimized plan stays.
+    """How far inside its limits and above the ground an optimized plan stays.
 
     Attributes:
         stop_rad: Margin of every joint angle to either end of its range [rad].
         stroke_m: Margin of every drive length (a cylinder's) to either end of its stroke [m].
+        effort_share: Share of every effort and force limit kept in reserve (each finite end
+            moves inwards by this share of its own magnitude), in [0, 0.5].
+        lift: How the swing foot leaves and meets the ground.
     """
 
     stop_rad: float = DEFAULT_STOP_MARGIN_RAD
     stroke_m: float = DEFAULT_STROKE_MARGIN_M
+    effort_share: float = DEFAULT_EFFORT_SHARE
+    lift: LiftProfile = field(default_factory=LiftProfile)
 
     def __post_init__(self) -> None:
-        for name in ("stop_rad", "stroke_m"):
+        for name in ("stop_rad", "stroke_m", "effort_share"):
             value = getattr(self, name)
-            ok = isinstance(value, int | float) and not isinstance(value, bool)
-            if not (ok and math.isfinite(value) and value >= 0):
+            if not (_number(value) and math.isfinite(value) and value >= 0):
                 raise ConfigError(f"limit margin {name} = {value!r} must be >= 0", field=name)
+        if self.effort_share > 0.5:
+            raise ConfigError(
+                f"limit margin effort_share = {self.effort_share!r} must be at most 0.5",
+                field="effort_share",
+            )
 
     def margin(self, bound: Bound) -> float:
-        """The margin this bound gets (SI, the bound's unit).
+        """The largest margin this bound gets (SI, the bound's unit).
 
-        0 for a rate, torque or force, and for a joint range of a full turn or more: that is no
-        end stop a joint can ride but a URDF's placeholder (Solo12's and ANYmal C's +-10 rad).
+        For an effort or force limit, the effort share of its larger end (each end moves by its
+        own share, :meth:`apply`); 0 for a rate, and for a joint range of a full turn or more:
+        that is no end stop a joint can ride but a URDF's placeholder (Solo12's and ANYmal C's
+        +-10 rad).
         """
         if bound.output == "q":
             return self.stop_rad if bound.upper - bound.lower < FULL_TURN_RAD else 0.0
         if bound.row is None and bound.unit == "m":  # a drive's length: the stroke
             return self.stroke_m
+        if bound.unit in EFFORT_UNITS:
+            return self.effort_share * bound.size
         return 0.0
+
+    def field_of(self, bound: Bound) -> str:
+        """The name of the margin that moves ``bound`` (for messages)."""
+        if bound.output == "q":
+            return "stop_rad"
+        return "effort_share" if bound.unit in EFFORT_UNITS else "stroke_m"
+
+    def _insets(self, bound: Bound) -> tuple[float, float]:
+        """How far the lower and the upper end move inwards (SI)."""
+        if bound.unit in EFFORT_UNITS and bound.output != "q":
+            share = self.effort_share
+            return share * abs(bound.lower), share * abs(bound.upper)
+        m = self.margin(bound)
+        return m, m
 
     def apply(self, bounds: tuple[Bound, ...]) -> tuple[Bound, ...]:
         """The bounds moved inwards by their margins (a finite end only).
@@ -79,28 +192,39 @@ class LimitMargins:
             if m == 0.0:
                 out.append(b)
                 continue
-            lower = b.lower + m if math.isfinite(b.lower) else b.lower
-            upper = b.upper - m if math.isfinite(b.upper) else b.upper
+            low, high = self._insets(b)
+            lower = b.lower + low if math.isfinite(b.lower) else b.lower
+            upper = b.upper - high if math.isfinite(b.upper) else b.upper
             if lower >= upper:
-                field = "stop_rad" if b.output == "q" else "stroke_m"
+                name = self.field_of(b)
                 raise ConfigError(
-                    f"limit margin {field} = {m:g} leaves no room in {b.name}'s {b.source} "
-                    f"[{b.lower:g}, {b.upper:g}] {b.unit}",
-                    field=field,
+                    f"limit margin {name} = {getattr(self, name):g} leaves no room in "
+                    f"{b.name}'s {b.source} [{b.lower:g}, {b.upper:g}] {b.unit}",
+                    field=name,
                 )
             out.append(replace(b, lower=lower, upper=upper, source=f"{b.source}, less margin"))
         return tuple(out)
 
-    def to_dict(self) -> dict[str, float]:
-        """The margins at the edges' units: ``stop_margin_deg``, ``stroke_margin_mm``."""
+    def to_dict(self, gait: Gait) -> dict[str, float]:
+        """The margins at the edges' units, the lift profile's resolved on ``gait``.
+
+        ``stop_margin_deg``, ``stroke_margin_mm``, ``effort_margin_pct``, ``lift_height_mm``,
+        ``lift_fraction``, ``touchdown_speed_m_s`` (``inf``: no bound).
+        """
+        clearance_m, swing_duration_s = gait.clearance_m, gait.swing_duration_s
+        lift = self.lift
         return {
             "stop_margin_deg": math.degrees(self.stop_rad),
             "stroke_margin_mm": 1e3 * self.stroke_m,
+            "effort_margin_pct": 100 * self.effort_share,
+            "lift_height_mm": 1e3 * lift.height_for(clearance_m),
+            "lift_fraction": lift.fraction,
+            "touchdown_speed_m_s": lift.touchdown_speed_for(clearance_m, swing_duration_s),
         }
 
 
 DEFAULT_MARGINS = LimitMargins()
 """The margins every optimizer keeps unless told otherwise."""
 
-NO_MARGINS = LimitMargins(0.0, 0.0)
-"""The limits themselves."""
+NO_MARGINS = LimitMargins(0.0, 0.0, 0.0, NO_LIFT_PROFILE)
+"""The limits themselves, and the foot at or above the ground."""

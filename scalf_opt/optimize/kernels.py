@@ -13,8 +13,8 @@ of the two coordinates of the family's space) to what the optimization needs at 
 
 The constraint quantities, in :attr:`Kernel.rows` order: every bound of the leg
 (:func:`~scalf_opt.energy.limits.leg_bounds`: joint range, URDF velocity and effort limits,
-drive bounds), the foot height ``z``, the foot's vertical acceleration ``z''`` and, in foot
-space, the reach cosine of the IK (reachable iff in [-1, 1]).
+drive bounds), the foot height ``z``, its vertical velocity ``z'`` and acceleration ``z''``
+and, in foot space, the reach cosine of the IK (reachable iff in [-1, 1]).
 
 Every expression comes from :class:`~scalf_opt.energy.physics.LegPhysics` and
 :class:`~scalf_opt.model.kinematics.LegKinematics`: no physics is written here. A kernel depends
@@ -55,6 +55,7 @@ cylinder: far below the energies compared (the exact energy is what every report
 """
 
 FOOT_Z = "foot_z"
+FOOT_Z_VEL = "foot_z_vel"
 FOOT_Z_ACCEL = "foot_z_accel"
 REACH = "reach"
 
@@ -67,7 +68,7 @@ class Kernel:
         physics: The leg's physics.
         space: ``joint`` or ``foot``: what the sample's coordinates are.
         bounds: The leg's bounds; the first rows of ``c``.
-        rows: Names of the rows of ``c``: each bound's name, then ``foot_z``,
+        rows: Names of the rows of ``c``: each bound's name, then ``foot_z``, ``foot_z_vel``,
             ``foot_z_accel`` and (foot space) ``reach``.
         compiled: The functions run as native code (else in CasADi's virtual machine).
     """
@@ -109,11 +110,12 @@ class Kernel:
             accel = ca.mtimes(kin.jacobian_expr(q), qdd) + ca.mtimes(
                 kin.jacobian_dot_expr(q, qd), qd
             )
+            foot_z_vel = ca.mtimes(kin.jacobian_expr(q), qd)[1]
             foot_z_accel = accel[1]
         else:
-            foot_z_accel = y[5]
+            foot_z_vel, foot_z_accel = y[3], y[5]
         c = [b.select(out) for b in self.bounds]
-        c += [out["foot"][1], foot_z_accel]
+        c += [out["foot"][1], foot_z_vel, foot_z_accel]
         if self.space == "foot":
             c.append(kin.reach_cosine_expr(y[0:2]))
         out["c"] = ca.vertcat(*c)
@@ -177,7 +179,7 @@ def kernel_for(physics: LegPhysics, space: Space) -> Kernel:
 
     def build() -> Kernel:
         bounds = leg_bounds(physics)
-        rows = (*(b.name for b in bounds), FOOT_Z, FOOT_Z_ACCEL)
+        rows = (*(b.name for b in bounds), FOOT_Z, FOOT_Z_VEL, FOOT_Z_ACCEL)
         if space == "foot":
             rows = (*rows, REACH)
         return Kernel(physics, space, bounds, rows)
@@ -260,7 +262,7 @@ def stance_limited_bounds(physics: LegPhysics) -> tuple[Bound, ...]:
     A drive bound counts when its quantity depends on the torque (a cylinder's force; not its
     length or speed). Under whole-body loads the swinging legs change the stance legs'
     torques, so the swing NLP keeps these inside their limits on the stance samples it loads
-    (no margin: a margin is for end stops and stroke ends).
+    (less the problem's effort margin, :class:`~scalf_opt.energy.margins.LimitMargins`).
     """
 
     def build() -> tuple[Bound, ...]:  # symbolic, so once per leg (a search asks often)

@@ -392,7 +392,9 @@ def _stance_limits(
 ) -> tuple[np.ndarray, np.ndarray]:
     """Lower and upper bounds of a stance window's limited quantities at one sample."""
     bounds = [
-        b for t in coupling.terms for b in stance_limited_bounds(problem.pipeline.physics(t.leg))
+        b
+        for t in coupling.terms
+        for b in problem.margins.apply(stance_limited_bounds(problem.pipeline.physics(t.leg)))
     ]
     return np.array([b.lower for b in bounds]), np.array([b.upper for b in bounds])
 

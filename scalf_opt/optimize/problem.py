@@ -14,12 +14,14 @@ alone.
 Constraints at every swing sample (decision 14 and the actuators' limits): every bound
 of the leg (:func:`~scalf_opt.energy.limits.leg_bounds`: the joint range, the URDF's velocity
 and effort limits, the drives' bounds such as SCalf's cylinder stroke, force and speed), the
-foot at or above the ground at every interior sample and at least H above it at mid-swing, the
-foot leaving and meeting the ground from above (vertical acceleration >= 0 at lift-off and
-touch-down, where the foot is on the ground at rest vertically: without it the foot could dip
-below the ground between the first samples), and in foot space the target inside the reach.
-The joint range and the cylinder stroke keep the problem's margins
-(:class:`~scalf_opt.energy.limits.LimitMargins`).
+foot on or above its lift profile at every interior sample and at least H above the ground at
+mid-swing, coming down no faster than the touch-down speed over the landing, the foot leaving
+and meeting the ground from above (vertical acceleration >= 0 at lift-off and touch-down, where
+the foot is on the ground at rest vertically: without it the foot could dip below the ground
+between the first samples), and in foot space the target inside the reach. The joint range,
+the cylinder stroke and the effort and force limits (the swing's own, and the loaded stance
+legs') keep the problem's margins, and the lift profile is the margins' too
+(:class:`~scalf_opt.energy.limits.LimitMargins`, :mod:`scalf_opt.optimize.constraints`).
 
 The samples are the pipeline's gait's swing grid: the caller chooses the rate
 (:mod:`scalf_opt.optimize.sampling`). The per-sample physics is the leg's kernel
@@ -46,6 +48,7 @@ from scalf_opt.optimize.constraints import (
     FEASIBILITY_TOLERANCE,
     ConstraintFamily,
     GroundClearance,
+    LandingSpeed,
     LeavesFromAbove,
     LimitRows,
     Reach,
@@ -54,6 +57,7 @@ from scalf_opt.optimize.constraints import (
 from scalf_opt.optimize.kernels import (
     FOOT_Z,
     FOOT_Z_ACCEL,
+    FOOT_Z_VEL,
     REACH,
     Kernel,
     kernel_for,
@@ -200,13 +204,21 @@ class SwingProblem:
     @cached_property
     def grid(self) -> SwingGrid:
         """What the constraint families need of the swing's samples."""
-        return SwingGrid(self.n_samples, self.mid_index, self.ground_z_m, self.clearance_z_m)
+        grid = SwingGrid.on(
+            self.path.t_s, self.ground_z_m, self.pipeline.gait.clearance_m, self.margins.lift
+        )
+        assert grid.mid_index == self.mid_index and grid.clearance_z_m == self.clearance_z_m
+        return grid
 
     @cached_property
     def constraints(self) -> tuple[ConstraintFamily, ...]:
         """The constraint family of each kernel row, in row order (:mod:`.constraints`)."""
         families: list[ConstraintFamily] = [LimitRows(b.name, b) for b in self.bounds]
-        families += [GroundClearance(FOOT_Z), LeavesFromAbove(FOOT_Z_ACCEL)]
+        families += [
+            GroundClearance(FOOT_Z),
+            LandingSpeed(FOOT_Z_VEL),
+            LeavesFromAbove(FOOT_Z_ACCEL),
+        ]
         if REACH in self.kernel.rows:
             families.append(Reach(REACH))
         assert tuple(f.row for f in families) == self.kernel.rows
@@ -298,7 +310,7 @@ class SwingProblem:
         ]
         for term, tau in loaded:
             physics = self.pipeline.physics(term.leg)
-            bounds = stance_limited_bounds(physics)
+            bounds = self.margins.apply(stance_limited_bounds(physics))
             if not bounds:
                 continue
             fn = stance_limit_function(physics).map(tau.shape[1])
@@ -357,18 +369,26 @@ class SwingProblem:
         The second value is the largest excess of any box bound of the leg (joint range,
         velocity, effort, drive limits) over the samples, as a share of the bound's size (the
         larger of its finite ends' magnitudes): 0 when every sample is inside, ``inf`` when the
-        motion is not finite. The ground and clearance rows are not included.
+        motion is not finite. The ground counts too: the foot's depth below the ground at an
+        interior sample as a share of the clearance H (the lift profile and the clearance are the
+        optimizer's own margins, met at its samples; between them the foot must not touch).
         """
         out = self.outputs(theta)
         energy = self._energy_j(out) + self.stance_energy_j(theta)
         k = len(self.bounds)
         c = out["c"][:k]
-        if not np.all(np.isfinite(c)):
+        foot_z = out["c"][self.kernel.row(FOOT_Z), 1:-1]
+        if not (np.all(np.isfinite(c)) and np.all(np.isfinite(foot_z))):
             return energy, math.inf
         lower, upper = (b[:k] for b in self.constraint_bounds)
         excess = np.maximum(np.maximum(lower - c, c - upper), 0.0)
         share = excess / np.array([[b.size] for b in self.bounds])
-        return energy, max(float(share.max(initial=0.0)), self.stance_excess(theta)[0])
+        depth = max(float(np.max(self.ground_z_m - foot_z, initial=0.0)), 0.0)
+        return energy, max(
+            float(share.max(initial=0.0)),
+            depth / self.pipeline.gait.clearance_m,
+            self.stance_excess(theta)[0],
+        )
 
     def evaluate(self, theta: np.ndarray) -> Evaluation:
         """Exact swing energy and feasibility of ``theta`` (family units)."""

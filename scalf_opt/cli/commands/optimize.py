@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from scalf_opt.cli.options import (
     add_accept_unconverged,
@@ -20,9 +21,17 @@ from scalf_opt.cli.options import (
     load_robot,
     warn_without_effect,
 )
-from scalf_opt.energy.margins import DEFAULT_STOP_MARGIN_RAD, DEFAULT_STROKE_MARGIN_M
+from scalf_opt.energy.margins import (
+    DEFAULT_EFFORT_SHARE,
+    DEFAULT_LIFT_FRACTION,
+    DEFAULT_STOP_MARGIN_RAD,
+    DEFAULT_STROKE_MARGIN_M,
+)
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
+
+if TYPE_CHECKING:
+    from scalf_opt.energy.margins import LimitMargins
 
 MAX_STARTS = 100
 """Most starts per leg (each is a full solve)."""
@@ -32,6 +41,13 @@ MAX_STOP_MARGIN_DEG = 30.0
 
 MAX_STROKE_MARGIN_MM = 50.0
 """Largest stroke margin an option accepts [mm]."""
+
+MAX_EFFORT_MARGIN_PCT = 50.0
+"""Largest effort margin an option accepts [%]."""
+
+MAX_LIFT_HEIGHT_MM = 1000.0
+"""Largest lift height an option accepts [mm] (the clearance H bounds it in practice)."""
+
 
 SWING_FAMILY_HELP = (
     f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 (default {DEFAULT_FAMILY})"
@@ -120,10 +136,60 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         help="every cylinder length stays X mm inside its stroke, 0..50 (default "
         f"{1e3 * DEFAULT_STROKE_MARGIN_M:g})",
     )
+    add_ground_margin_options(parser)
     parser.add_argument(
         "--out", type=Path, metavar="DIR", help="write summary.json and samples.csv in DIR"
     )
     add_accept_unconverged(parser)
+
+
+def add_ground_margin_options(parser: argparse.ArgumentParser) -> None:
+    """``--effort-margin``, ``--lift-height``, ``--lift-fraction``, ``--touchdown-speed``."""
+    parser.add_argument(
+        "--effort-margin",
+        type=bounded(float, MAX_EFFORT_MARGIN_PCT, 0.0),
+        default=100 * DEFAULT_EFFORT_SHARE,
+        metavar="PCT",
+        help="every torque and drive force (the swing's and the loaded stance legs') stays PCT "
+        f"%% under its limit, 0..50 (default {100 * DEFAULT_EFFORT_SHARE:g}: room for the "
+        "servo's feedback)",
+    )
+    parser.add_argument(
+        "--lift-height",
+        type=bounded(float, MAX_LIFT_HEIGHT_MM, 0.0),
+        default=None,
+        metavar="MM",
+        help="the swing foot rises at least as fast as a constant acceleration that takes it "
+        "MM mm up by the lift fraction of the swing, stays that high until the landing, and "
+        "lands mirrored (default: a fifth of the clearance H; 0: only above the ground)",
+    )
+    parser.add_argument(
+        "--lift-fraction",
+        type=bounded(float, 0.5),
+        default=DEFAULT_LIFT_FRACTION,
+        metavar="X",
+        help="the share of the swing the lift and the landing take, in (0, 0.5] (default "
+        f"{DEFAULT_LIFT_FRACTION:g})",
+    )
+    parser.add_argument(
+        "--touchdown-speed",
+        type=float,
+        default=None,
+        metavar="M_S",
+        help="over the landing the foot comes down no faster than M_S m/s (default: 3 H / "
+        "swing duration; inf: no bound)",
+    )
+
+
+def margins_from(args: argparse.Namespace) -> LimitMargins:
+    """The margins the options give."""
+    from scalf_opt.energy.margins import LiftProfile, LimitMargins
+
+    height = None if args.lift_height is None else 1e-3 * args.lift_height
+    lift = LiftProfile(height, args.lift_fraction, args.touchdown_speed)
+    return LimitMargins(
+        math.radians(args.stop_margin), 1e-3 * args.stroke_margin, args.effort_margin / 100, lift
+    )
 
 
 def check_family(name: str) -> None:
@@ -142,7 +208,6 @@ def run(args: argparse.Namespace) -> int:
     """Exit 0 when everything converged, 3 when something did not (unless accepted)."""
     from scalf_opt.api.optimization import goal_from, optimize_goal
     from scalf_opt.cli.progress import ProgressBar
-    from scalf_opt.energy.margins import LimitMargins
     from scalf_opt.energy.pipeline import EnergyPipeline
     from scalf_opt.optimize.goals import BoundGoal, StanceGoal
     from scalf_opt.viz.optimization_report import (
@@ -167,7 +232,7 @@ def run(args: argparse.Namespace) -> int:
         bound=args.bound,
         free_stance=args.free_stance,
         verbose=args.verbose,
-        margins=LimitMargins(math.radians(args.stop_margin), 1e-3 * args.stroke_margin),
+        margins=margins_from(args),
     )
     robot = load_robot(args)
     warn_without_effect(args, robot)
