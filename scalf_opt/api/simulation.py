@@ -162,6 +162,7 @@ def simulate(
     accounting: Accounting = "paper",
     servo_bandwidth_hz: float | None = None,
     loads: str | None = None,
+    ensemble: bool = True,
     command: Sequence[str] | None = None,
 ) -> SimulationResult:
     """Simulate the planned trot in MuJoCo (needs the ``sim`` extra).
@@ -178,6 +179,9 @@ def simulate(
             derived from the leg length, 30 Hz on SCalf; :mod:`scalf_opt.sim.settings`).
         loads: The energy model's stance loads (the model's side and the plan's feed-forward):
             ``None`` gives the saved swings' own, else ``whole-body``.
+        ensemble: The verdict is the median over the referee ensemble, with its spread
+            (:mod:`scalf_opt.sim.ensemble`: ten referees, each simulating plan and reference);
+            ``False``: the nominal referee alone.
         command: The command line, recorded in the result's provenance.
 
     Raises:
@@ -213,7 +217,7 @@ def simulate(
         gait, swings = gait or read_gait(robot=robot), dict(REFERENCE_SWINGS)
     pipeline = EnergyPipeline(robot, gait, accounting, loads=loads or DEFAULT_LOADS)
     source = str(swings_from) if swings_from is not None else None
-    data, run = simulation_file(robot, pipeline, swings, settings, cycles, source)
+    data, run = simulation_file(robot, pipeline, swings, settings, cycles, source, ensemble)
     data = {"provenance": provenance(robot, command), **data}
     families = ", ".join(sorted({family for family, _ in swings.values()}))
     title = (

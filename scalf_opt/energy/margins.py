@@ -51,14 +51,17 @@ DEFAULT_LIFT_SHARE = 0.2
 """Default lift height as a share of the gait's mid-swing clearance H: H/5 (16 mm on SCalf's
 H = 80 mm; H itself is Froude-scaled to each robot's leg length)."""
 
-DEFAULT_LIFT_FRACTION = 0.15
+DEFAULT_LIFT_FRACTION = 0.1
 """Default share of the swing over which the foot lifts to, and comes down from, the lift height.
-SCalf's reference swing is 17.3 mm up at 15 % of its swing (its H/5 is 16 mm)."""
+Measured on SCalf's default optimum in the referee ensemble (:mod:`scalf_opt.sim.ensemble`): with
+0.15 its hind legs' verdict spread 5.8 points (the softer contact cost them +5.8 %); with 0.1,
+2.7 points, for a saving of 20.2 % instead of 22.5 % (``docs/speed-log.md``)."""
 
 DEFAULT_TOUCHDOWN_FACTOR = 3.0
 """Default touch-down speed as a multiple of H / swing duration: the foot comes down no faster
 than 3 H / T_sw over the last lift fraction of the swing (0.96 m/s on SCalf's default trot; its
-reference swing comes down at up to 0.81 m/s there, 2.5 H / T_sw, on every robot)."""
+reference swing comes down at up to 0.61 m/s over its last tenth, 1.9 H / T_sw, on every
+robot)."""
 
 EFFORT_UNITS = ("nm", "n")
 """Bound units that are an effort or a force: a joint torque [N m], a drive's force [N]."""

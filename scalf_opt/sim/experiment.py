@@ -12,6 +12,7 @@ from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import GaitError, InfeasibleError
 from scalf_opt.model.robot import Robot
 from scalf_opt.sim.control import servo_gains, trunk_gains
+from scalf_opt.sim.ensemble import ensemble_verdict, run_members
 from scalf_opt.sim.inverse import plan_inverse_dynamics
 from scalf_opt.sim.metrics import saving_comparison, summarize
 from scalf_opt.sim.mujoco_model import build_sim_model
@@ -53,7 +54,7 @@ def run_trot(
     sim = build_sim_model(robot, settings)
     gains = servo_gains(robot, plan, settings)
     trunk = trunk_gains(settings) if settings.stance_control == "trunk" else None
-    record = simulate(sim, plan, gains, cycles, trunk)
+    record = simulate(sim, plan, gains, cycles, trunk, settings.schedule_shift_s)
     result = summarize(sim, record, plan, model_cycle, pipeline)
     result["plan_inverse_dynamics"] = plan_inverse_dynamics(
         sim, plan, pipeline, record.timestep_s, record.start_trunk_height_m
@@ -79,6 +80,7 @@ def simulation_file(
     settings: SimSettings,
     cycles: int,
     source: str | None = None,
+    ensemble: bool = True,
 ) -> tuple[dict[str, Any], TrotRun]:
     """The content of ``simulation.json``, and the run it describes.
 
@@ -87,8 +89,34 @@ def simulation_file(
     holds the reference's figures (``reference``) and the saving, simulated and modelled
     (``saving_vs_reference``); when the reference swing is impossible at that gait (a free
     stance that puts its path outside the joint range), the reference is not simulated and
-    ``reference_skipped`` says why.
+    ``reference_skipped`` says why. With ``ensemble`` every member of
+    :data:`~scalf_opt.sim.ensemble.ENSEMBLE` referees plan and reference alike and the verdict
+    is their median (:func:`~scalf_opt.sim.ensemble.ensemble_verdict`); the run returned is
+    the nominal referee's.
     """
+
+    def referee(at: SimSettings) -> tuple[dict[str, Any], TrotRun]:
+        return _refereed(robot, pipeline, swings, at, cycles, source)
+
+    data, run = referee(settings)
+    if not ensemble:
+        return data, run
+    derived, _ = settings.for_leg_length(robot.leg_length_m)
+    members = run_members(lambda at: referee(at)[0], data, settings, derived)
+    return ensemble_verdict(
+        data, members, float(data["goals"]["joint_energy_relative_difference_at_most"])
+    ), run
+
+
+def _refereed(
+    robot: Robot,
+    pipeline: EnergyPipeline,
+    swings: Mapping[str, SwingChoice],
+    settings: SimSettings,
+    cycles: int,
+    source: str | None,
+) -> tuple[dict[str, Any], TrotRun]:
+    """One referee's ``simulation.json`` content: the plan, and the reference beside it."""
     run = run_trot(robot, pipeline, swings, settings, cycles)
     gait = pipeline.gait
     data: dict[str, Any] = {

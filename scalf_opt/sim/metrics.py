@@ -310,11 +310,16 @@ def saving_comparison(optimum: dict[str, Any], reference: dict[str, Any]) -> dic
     opt, ref = optimum["total_energy_per_cycle_j"], reference["total_energy_per_cycle_j"]
     model = change_percent(opt["model"], ref["model"])
     simulated = change_percent(opt["simulated"], ref["simulated"])
-    met = bool(
-        np.sign(model) == np.sign(simulated) and abs(simulated - model) <= SAVING_GOAL * abs(model)
-    )
     return {
         "model_percent": model,
         "simulated_percent": simulated,
-        "same_sign_within_a_third_met": met,
+        "same_sign_within_a_third_met": saving_met(model, simulated),
     }
+
+
+def saving_met(model_percent: float, simulated_percent: float) -> bool:
+    """Whether a simulated saving has the model's sign and lies within a third of it."""
+    return bool(
+        np.sign(model_percent) == np.sign(simulated_percent)
+        and abs(simulated_percent - model_percent) <= SAVING_GOAL * abs(model_percent)
+    )

@@ -44,11 +44,28 @@ class TrotPlan:
         dense = pipeline.with_gait(replace(pipeline.gait, sample_rate_hz=rate_hz))
         return cls(planned_cycle(dense, swings))
 
+    def since_touchdown_s(self, leg: str, t_s: np.ndarray) -> np.ndarray:
+        """Time since ``leg``'s last planned touch-down at times ``t_s``, in [0, T) [s]."""
+        gait = self.cycle.gait
+        return np.mod(np.asarray(t_s, dtype=float) - stance_start_s(gait, leg), gait.period_s)
+
     def in_stance(self, leg: str, t_s: np.ndarray) -> np.ndarray:
         """Whether ``leg`` is planned on the ground at times ``t_s`` [s] (boolean, shape (n,))."""
-        gait = self.cycle.gait
-        local = np.mod(np.asarray(t_s, dtype=float) - stance_start_s(gait, leg), gait.period_s)
-        return local < gait.stance_duration_s - PHASE_EDGE_S
+        return self.since_touchdown_s(leg, t_s) < self.cycle.gait.stance_duration_s - PHASE_EDGE_S
+
+    def scheduled_stance(self, leg: str, t_s: np.ndarray, touchdown_shift_s: float) -> np.ndarray:
+        """Whether the controller calls ``leg`` in stance at times ``t_s`` (boolean, (n,)).
+
+        Its touch-down runs ``touchdown_shift_s`` [s] late against the plan (negative: early);
+        its lift-off is the plan's.
+        """
+        planned = self.in_stance(leg, t_s)
+        if touchdown_shift_s == 0.0:
+            return planned
+        since = self.since_touchdown_s(leg, t_s)
+        if touchdown_shift_s > 0:
+            return planned & (since >= touchdown_shift_s)
+        return planned | (since >= self.cycle.gait.period_s + touchdown_shift_s)
 
     def sample(
         self, leg: str, t_s: np.ndarray, names: tuple[str, ...] = ("q", "qd", "tau")

@@ -43,6 +43,7 @@ def simulation_report(result: dict[str, Any], title: str, details: bool = True) 
     ``details``: also :data:`DETAILS` (the summary leaves them out).
     """
     goals = result["goals"]
+    ensemble = "ensemble" in result
     basis = energy_basis(result["loads"], result["accounting"], result["gait"]["sample_rate_hz"])
     lines = [
         title,
@@ -57,38 +58,82 @@ def simulation_report(result: dict[str, Any], title: str, details: bool = True) 
         f"(planned {result['planned_speed_m_s']:.4f} m/s)",
         "",
         "leg   force peak [N]  mean [N]  model mean [N]  slip [mm]  "
-        "energy sim [J]  model [J]  difference   stance / swing difference",
+        "energy sim [J]  model [J]  difference"
+        + (
+            " spread [pts]   nominal: stance / swing"
+            if ensemble
+            else "   stance / swing difference"
+        ),
     ]
     energy = result["joint_energy_per_cycle_j"]
     phases = result["joint_energy_per_phase_j"]
     for leg in LEG_NAMES:
         e, p = energy[leg], phases[leg]
+        spread = f"{100 * e['relative_difference_spread']:11.2f}  " if ensemble else ""
         lines.append(
             f"{leg:4s}  {result['stance_force_peak_n'][leg]:14.1f}  "
             f"{result['stance_force_mean_n'][leg]:8.1f}  "
             f"{result['model_stance_force_mean_n'][leg]:14.1f}  "
             f"{1e3 * result['foot_slip_m'][leg]:9.3f}  {e['simulated']:14.3f}  "
-            f"{e['model']:9.3f}  {100 * e['relative_difference']:+9.2f} %   "
+            f"{e['model']:9.3f}  {100 * e['relative_difference']:+9.2f} %   {spread}"
             f"{100 * p['stance']['relative_difference']:+7.2f} % / "
             f"{100 * p['swing']['relative_difference']:+7.2f} %"
         )
     total, power = result["total_energy_per_cycle_j"], result["average_total_power_w"]
     lines += [
         f"total {'':62s}{total['simulated']:14.3f}  {total['model']:9.3f}  "
-        f"{100 * total['relative_difference']:+9.2f} %",
+        f"{100 * total['relative_difference']:+9.2f} %"
+        + (f"   {100 * total['relative_difference_spread']:11.2f}" if ensemble else ""),
         f"average total power       {power['simulated']:8.2f} W simulated, "
         f"{power['model']:.2f} W model (mean of {result['cycles_averaged']} cycles after the "
-        "first)",
+        "first" + ("; the nominal referee's)" if ensemble else ")"),
         "touch-down vs plan (negative: early) "
         + ", ".join(
             f"{leg} {1e3 * result['touchdown_timing_s'][leg]:+.1f} ms" for leg in LEG_NAMES
         ),
-        f"goal: joint energy within {100 * goals['joint_energy_relative_difference_at_most']:.0f}"
-        f" % of the model's on every leg: {_met(goals['joint_energy_met'])}",
+        _energy_goal_line(result),
     ]
     if details:
         lines += _details(result)
+        if ensemble:
+            lines += _members(result)
     return "\n".join(lines + _checks_and_saving(result))
+
+
+def _energy_goal_line(result: dict[str, Any]) -> str:
+    """The joint-energy verdict: the nominal referee's, or the ensemble's median and spread."""
+    goals = result["goals"]
+    goal = goals["joint_energy_relative_difference_at_most"]
+    line = f"goal: joint energy within {100 * goal:.0f} % of the model's on every leg"
+    if "ensemble" not in result:
+        return f"{line}: {_met(goals['joint_energy_met'])}"
+    n = len(result["ensemble"]["members"])
+    line += f" in the median of {n} referees, spread at most {100 * goal:.0f} points: "
+    if not goals["refereeable"]:
+        spread = result["ensemble"]["largest_spread"]
+        return line + f"NOT refereeable (the referees disagree by up to {100 * spread:.2f} points)"
+    return line + _met(goals["joint_energy_met"])
+
+
+def _members(result: dict[str, Any]) -> list[str]:
+    """The ensemble's members: each one's differences and saving."""
+    lines = [
+        "",
+        "referee ensemble (each member changes one setting of the nominal referee; the verdict "
+        "is their median):",
+        f"{'member':30s} {'RF':>8s} {'LH':>8s} {'LF':>8s} {'RH':>8s} {'total':>8s}  saving   "
+        "saturated",
+    ]
+    for m in result["ensemble"]["members"]:
+        saving = m["saving_simulated_percent"]
+        lines.append(
+            f"{m['name']:30s} "
+            + " ".join(f"{100 * m['relative_difference'][leg]:+7.2f}%" for leg in LEG_NAMES)
+            + f" {100 * m['total_relative_difference']:+7.2f}%  "
+            + ("    n/a" if saving is None else f"{saving:+6.2f}%")
+            + f"  {100 * m['torque_saturation_fraction']:6.2f} %"
+        )
+    return lines
 
 
 def _details(result: dict[str, Any]) -> list[str]:
@@ -157,7 +202,12 @@ def _checks_and_saving(result: dict[str, Any]) -> list[str]:
             f"reference swing, simulated the same way: {reference['simulated']:.3f} J per cycle "
             f"(model {reference['model']:.3f} J)",
             f"saving over the reference: model {saving['model_percent']:+.2f} %, simulated "
-            f"{saving['simulated_percent']:+.2f} %; goal same sign, within a third: "
-            f"{_met(saving['same_sign_within_a_third_met'])}",
+            f"{saving['simulated_percent']:+.2f} %"
+            + (
+                f" (the ensemble's median; spread {saving['simulated_percent_spread']:.2f} points)"
+                if "simulated_percent_spread" in saving
+                else ""
+            )
+            + f"; goal same sign, within a third: {_met(saving['same_sign_within_a_third_met'])}",
         ]
     return lines

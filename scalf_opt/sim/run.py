@@ -153,12 +153,32 @@ def _record_contacts(
         slip[leg][k] = abs(float(jacp[0] @ data.qvel))
 
 
+def _stance_loop_legs(
+    scheduled: np.ndarray, planned: np.ndarray, grf: dict[str, np.ndarray], k: int
+) -> list[int]:
+    """The legs (indices into :data:`LEG_NAMES`) in the stance loop at step ``k``.
+
+    The legs the controller's schedule puts in stance; where that schedule runs off the plan (a
+    shifted schedule), a leg it calls in stance joins the loop only once its foot touched at the
+    last step: a foot still (or already) in the air keeps its own joint loop, as a controller
+    that sees its contacts does. With the plan's own schedule, exactly the planned stance legs.
+    """
+    out = []
+    for i, leg in enumerate(LEG_NAMES):
+        if not scheduled[i]:
+            continue
+        if planned[i] or (k > 0 and grf[leg][1, k - 1] > 0):
+            out.append(i)
+    return out
+
+
 def simulate(
     sim: SimModel,
     plan: TrotPlan,
     gains: dict[str, JointGains],
     cycles: int,
     trunk: TrunkGains | None = None,
+    schedule_shift_s: float = 0.0,
 ) -> SimRecord:
     """Simulate ``cycles`` gait cycles of the plan with the servo ``gains``.
 
@@ -169,6 +189,9 @@ def simulate(
         cycles: Gait cycles to simulate.
         trunk: The stance legs' loop on the trunk, or ``None``: the joint loops in stance too
             (:mod:`~scalf_opt.sim.control`).
+        schedule_shift_s: How late the controller switches a leg from its swing feedback to the
+            stance feedback against the planned touch-down [s]
+            (:class:`~scalf_opt.sim.settings.SimSettings`).
     """
     model = sim.model
     data = mujoco.MjData(model)
@@ -185,7 +208,9 @@ def simulate(
         {leg: g.kd_nms_per_rad for leg, g in gains.items()},
     )
     foot_leg = {geom: leg for leg, geom in sim.foot_geom.items()}
-    stance = np.array([plan.in_stance(leg, t) for leg in LEG_NAMES])  # (4, n)
+    planned = np.array([plan.in_stance(leg, t) for leg in LEG_NAMES])  # (4, n)
+    # the controller's contact schedule: the plan's, its touch-downs shifted
+    stance = np.array([plan.scheduled_stance(leg, t, schedule_shift_s) for leg in LEG_NAMES])
     mass = np.zeros((model.nv, model.nv))
     speed = plan.cycle.gait.speed_m_s
 
@@ -204,8 +229,8 @@ def simulate(
         q[:, k] = data.qpos[qpos_i]
         v_start = data.qvel.copy()
         feedback = kp * (q_ref[:, k] - q[:, k]) + kd * (qd_ref[:, k] - v_start[dof_i])
-        if trunk is not None and stance[:, k].any():
-            on_ground = [i for i in range(len(LEG_NAMES)) if stance[i, k]]
+        on_ground = _stance_loop_legs(stance[:, k], planned[:, k], grf, k)
+        if trunk is not None and on_ground:
             rows = np.concatenate([np.arange(2 * i, 2 * i + 2) for i in on_ground])
             feedback[rows] = _stance_feedback(
                 sim,

@@ -38,6 +38,13 @@ from scalf_opt.locomotion.forces import GRAVITY_M_S2
 MAX_SERVO_STEP_PHASE = 0.2
 """Largest ``2 pi f dt`` allowed: the explicit PD loop stays well inside its stability limit."""
 
+MAX_SCHEDULE_SHIFT_S = 0.05
+"""Largest shift of the controller's contact schedule against the plan [s]."""
+
+
+def _number(value: object) -> bool:
+    return isinstance(value, int | float) and not isinstance(value, bool)
+
 
 @dataclass(frozen=True)
 class SimSettings:
@@ -54,6 +61,10 @@ class SimSettings:
             :data:`DEFAULT_FOOT_RADIUS_FRACTION` of the leg's length.
         stance_control: ``trunk``: the stance legs' feedback is a loop on the trunk's plan;
             ``joint``: every joint's own loop, in stance too (:mod:`scalf_opt.sim.control`).
+        schedule_shift_s: How late the controller detects a touch-down against the plan [s]
+            (negative: early): it switches a leg from its swing loop to the stance loop this
+            much after the planned touch-down (early: once the foot touches, from this much
+            before); lift-off, the feed-forward and the measurements keep the plan's times.
     """
 
     timestep_s: float | None = None
@@ -64,6 +75,7 @@ class SimSettings:
     contact_damping_ratio: float = 1.0
     foot_radius_m: float | None = None
     stance_control: str = "trunk"
+    schedule_shift_s: float = 0.0
 
     def __post_init__(self) -> None:
         if self.stance_control not in STANCE_CONTROLS:
@@ -75,8 +87,14 @@ class SimSettings:
             value = getattr(self, field.name)
             if field.name == "stance_control" or (value is None and field.name in DERIVED_FIELDS):
                 continue
-            ok = isinstance(value, int | float) and not isinstance(value, bool)
-            if not (ok and math.isfinite(value) and value > 0):
+            if field.name == "schedule_shift_s":
+                if not (_number(value) and abs(value) <= MAX_SCHEDULE_SHIFT_S):
+                    raise ConfigError(
+                        f"simulation setting schedule_shift_s = {value!r} must be within "
+                        f"+-{MAX_SCHEDULE_SHIFT_S} s"
+                    )
+                continue
+            if not (_number(value) and math.isfinite(value) and value > 0):
                 raise ConfigError(f"simulation setting {field.name} = {value!r} must be > 0")
         dt, f, tc = self.timestep_s, self.servo_bandwidth_hz, self.contact_time_constant_s
         if dt is not None and f is not None and 2 * math.pi * f * dt > MAX_SERVO_STEP_PHASE:
@@ -160,10 +178,10 @@ STANCE_CONTROLS = ("trunk", "joint")
 """The stance legs' feedback: on the trunk's plan, or each joint's own."""
 
 DERIVED_FIELDS = ("timestep_s", "servo_bandwidth_hz", "contact_time_constant_s", "foot_radius_m")
+"""Settings that, left ``None``, are derived from the robot (:meth:`SimSettings.for_leg_length`)."""
 
 DEFAULT_TIMESTEP_S = 0.0005
 """The time step when nothing asks for a finer one [s]."""
-"""Settings that, left ``None``, are derived from the robot (:meth:`SimSettings.for_leg_length`)."""
 
 SERVO_FREQUENCY_OVER_PENDULUM = 55.7
 """The servo's natural frequency over the leg's pendulum frequency ``sqrt(g / L) / (2 pi)``:

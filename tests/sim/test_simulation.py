@@ -194,7 +194,9 @@ def test_a_reference_impossible_at_the_saved_stance_is_skipped_with_a_note(
 
     monkeypatch.setattr(experiment, "run_trot", run_trot_at_free_stance)
     swings = {leg: ("joint-6", np.zeros(18)) for leg in LEG_NAMES}
-    data, run = experiment.simulation_file(robot, pipeline, swings, SimSettings(), 2)
+    data, run = experiment.simulation_file(
+        robot, pipeline, swings, SimSettings(), 2, ensemble=False
+    )
     assert refused and "reference" not in data and "saving_vs_reference" not in data
     assert data["reference_skipped"].startswith(
         "the reference swing is impossible at this gait: gait fields"

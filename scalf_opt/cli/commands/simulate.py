@@ -90,6 +90,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "leg length L, 55.7 sqrt(g/L)/(2 pi): 30 Hz on SCalf; the time step follows)",
     )
     parser.add_argument(
+        "--ensemble",
+        choices=("on", "off"),
+        default="on",
+        help="on: the verdict is the median over the referee ensemble (servo gains x0.5 and x2, "
+        "contact time constant x0.5 and x2, foot radius x0.5 and x3, friction 0.6, touch-down "
+        "detected 5 ms early and late), with its spread; off: the nominal referee alone, ten "
+        "times faster (default on)",
+    )
+    parser.add_argument(
         "--details",
         action="store_true",
         help="print the whole report (report.txt): also the plan followed exactly, the servo's "
@@ -126,6 +135,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         accounting=args.accounting,
         servo_bandwidth_hz=args.servo_bandwidth,
         loads=args.loads,
+        ensemble=args.ensemble == "on",
         command=args.argv,
     )
     # the files first: a reader that closes the pipe early (`| head`) loses no result

@@ -1,0 +1,217 @@
+"""The referee ensemble: one verdict over a stated set of perturbed referees.
+
+A referee's settings are chosen, not measured (:mod:`scalf_opt.sim.settings`): a servo bandwidth
+scaled from one robot, a contact time constant, a foot radius, a friction coefficient, a contact
+schedule that switches exactly on time. A plan that only agrees with the model at one such
+point has not been refereed: SCalf's first default optimum moved 10.6 points between half and
+one and a half times the servo bandwidth. So every verdict is the median over
+:data:`ENSEMBLE`, the nominal referee and one member per perturbation, each simulating the plan
+and the reference swing alike, and the verdict states its spread (largest minus smallest member)
+beside it. A plan whose spread exceeds the agreement goal is *not refereeable*: its verdict
+depends on the referee's settings, and it is never reported as agreeing.
+
+The perturbations (each one alone, the others nominal):
+
+* servo gains x0.5 and x2: the servo's natural frequency x1/sqrt(2) and x sqrt(2) (its
+  stiffness scales with the square), the time step re-derived;
+* the contact's time constant x0.5 and x2;
+* the feet's radius x0.5 and x3;
+* friction 0.6 (the nominal is 1.0);
+* a touch-down detected 5 ms early and 5 ms late: the controller switches a leg from its swing
+  loop to the stance loop that much off the planned touch-down (early: as soon as the foot
+  touches within those 5 ms).
+"""
+
+from __future__ import annotations
+
+import math
+import statistics
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, replace
+from typing import Any
+
+from scalf_opt.sim.metrics import saving_met
+from scalf_opt.sim.settings import SimSettings
+from scalf_opt.types import LEG_NAMES
+
+
+@dataclass(frozen=True)
+class Perturbation:
+    """One member of the ensemble: one setting of the nominal referee changed.
+
+    Attributes:
+        name: What is changed, for reports (``servo gains x0.5``).
+        field: The :class:`~scalf_opt.sim.settings.SimSettings` field it changes (``None``: the
+            nominal referee).
+        factor: The nominal (derived) value times this, when not ``None``.
+        value: Else the field's new value.
+    """
+
+    name: str
+    field: str | None = None
+    factor: float | None = None
+    value: float | None = None
+
+    def applied(self, nominal: SimSettings, derived: SimSettings) -> SimSettings:
+        """The member's settings: ``nominal`` (as given) with this field changed.
+
+        ``derived`` is ``nominal`` with its derived fields set for the robot
+        (:meth:`~scalf_opt.sim.settings.SimSettings.for_leg_length`): a factor scales the
+        derived value. The time step stays the nominal's own (given or derived anew), so a
+        faster servo or a stiffer contact gets the finer step it needs.
+        """
+        if self.field is None:
+            return nominal
+        value = self.value if self.factor is None else self.factor * derived.value(self.field)
+        changes: dict[str, Any] = {self.field: value}
+        return replace(nominal, **changes)
+
+
+NOMINAL = Perturbation("nominal")
+"""The referee at its own settings."""
+
+ENSEMBLE: tuple[Perturbation, ...] = (
+    NOMINAL,
+    Perturbation("servo gains x0.5", "servo_bandwidth_hz", factor=math.sqrt(0.5)),
+    Perturbation("servo gains x2", "servo_bandwidth_hz", factor=math.sqrt(2.0)),
+    Perturbation("contact time constant x0.5", "contact_time_constant_s", factor=0.5),
+    Perturbation("contact time constant x2", "contact_time_constant_s", factor=2.0),
+    Perturbation("foot radius x0.5", "foot_radius_m", factor=0.5),
+    Perturbation("foot radius x3", "foot_radius_m", factor=3.0),
+    Perturbation("friction 0.6", "foot_friction", value=0.6),
+    Perturbation("touch-down 5 ms early", "schedule_shift_s", value=-0.005),
+    Perturbation("touch-down 5 ms late", "schedule_shift_s", value=0.005),
+)
+"""The members, the nominal referee first (module docstring)."""
+
+
+@dataclass(frozen=True)
+class MemberResult:
+    """What one member measured: per leg and in total the joint energy, and the saving.
+
+    Attributes:
+        perturbation: The member.
+        relative_difference: Per leg, simulated over model joint energy per cycle, minus 1.
+        simulated_j: Per leg, the simulated joint energy per cycle [J].
+        total_relative_difference: The same of the whole robot's.
+        saving_percent: The plan's simulated change against the reference [%], when the
+            reference was simulated.
+        torque_saturation: The largest share of steps any joint asked beyond its effort limit.
+    """
+
+    perturbation: Perturbation
+    relative_difference: dict[str, float]
+    simulated_j: dict[str, float]
+    total_relative_difference: float
+    saving_percent: float | None
+    torque_saturation: float
+
+    @classmethod
+    def of(cls, perturbation: Perturbation, data: dict[str, Any]) -> MemberResult:
+        """The member's figures from its run's data (plan, and ``saving_vs_reference``)."""
+        energy = data["joint_energy_per_cycle_j"]
+        saving = data.get("saving_vs_reference")
+        return cls(
+            perturbation,
+            {leg: float(energy[leg]["relative_difference"]) for leg in LEG_NAMES},
+            {leg: float(energy[leg]["simulated"]) for leg in LEG_NAMES},
+            float(data["total_energy_per_cycle_j"]["relative_difference"]),
+            None if saving is None else float(saving["simulated_percent"]),
+            float(max(data["torque_saturation_fraction"].values())),
+        )
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data for ``simulation.json``'s ``ensemble.members``."""
+        p = self.perturbation
+        return {
+            "name": p.name,
+            "setting": p.field,
+            "factor": p.factor,
+            "value": p.value,
+            "relative_difference": self.relative_difference,
+            "total_relative_difference": self.total_relative_difference,
+            "saving_simulated_percent": self.saving_percent,
+            "torque_saturation_fraction": self.torque_saturation,
+        }
+
+
+def _spread(values: Sequence[float]) -> float:
+    return max(values) - min(values)
+
+
+def ensemble_verdict(
+    nominal: dict[str, Any], members: Sequence[MemberResult], goal: float
+) -> dict[str, Any]:
+    """``nominal``'s data with the ensemble's verdict in place of the nominal referee's.
+
+    Per leg under ``joint_energy_per_cycle_j``: ``relative_difference`` and ``simulated`` become
+    the members' medians, ``relative_difference_spread`` their largest minus smallest;
+    ``total_energy_per_cycle_j`` likewise; ``saving_vs_reference.simulated_percent`` the median
+    saving with its spread in points. ``goals``: ``refereeable`` (every spread within ``goal``)
+    and ``joint_energy_met`` (refereeable, and every median within ``goal``). ``ensemble`` lists
+    the members. The rest (trunk, forces, the phase split, the servo's work) stays the nominal
+    referee's.
+    """
+    data = dict(nominal)
+    energy = {}
+    for leg in LEG_NAMES:
+        diffs = [m.relative_difference[leg] for m in members]
+        energy[leg] = {
+            **nominal["joint_energy_per_cycle_j"][leg],
+            "simulated": statistics.median(m.simulated_j[leg] for m in members),
+            "relative_difference": statistics.median(diffs),
+            "relative_difference_spread": _spread(diffs),
+        }
+    totals = [m.total_relative_difference for m in members]
+    total = dict(nominal["total_energy_per_cycle_j"])
+    total["relative_difference"] = statistics.median(totals)
+    total["relative_difference_spread"] = _spread(totals)
+    total["simulated"] = total["model"] * (1.0 + total["relative_difference"])
+    data["joint_energy_per_cycle_j"] = energy
+    data["total_energy_per_cycle_j"] = total
+    spread = max(e["relative_difference_spread"] for e in energy.values())
+    largest = max(abs(e["relative_difference"]) for e in energy.values())
+    refereeable = spread <= goal
+    data["goals"] = {
+        **nominal["goals"],
+        "ensemble_spread_at_most": goal,
+        "refereeable": refereeable,
+        "joint_energy_met": refereeable and largest <= goal,
+    }
+    if "saving_vs_reference" in nominal and all(m.saving_percent is not None for m in members):
+        savings = [float(m.saving_percent) for m in members]  # type: ignore[arg-type]
+        data["saving_vs_reference"] = _saving(nominal["saving_vs_reference"], savings)
+    data["ensemble"] = {
+        "members": [m.to_dict() for m in members],
+        "largest_spread": spread,
+    }
+    return data
+
+
+def _saving(nominal: dict[str, Any], savings: list[float]) -> dict[str, Any]:
+    """The saving's verdict on the members' median (the nominal's goal: same sign, a third)."""
+    model, simulated = float(nominal["model_percent"]), statistics.median(savings)
+    return {
+        **nominal,
+        "simulated_percent": simulated,
+        "simulated_percent_spread": _spread(savings),
+        "same_sign_within_a_third_met": saving_met(model, simulated),
+    }
+
+
+def run_members(
+    run: Callable[[SimSettings], dict[str, Any]],
+    nominal_data: dict[str, Any],
+    settings: SimSettings,
+    derived: SimSettings,
+    members: Sequence[Perturbation] = ENSEMBLE,
+) -> list[MemberResult]:
+    """Every member's figures, the nominal referee's from ``nominal_data`` (not run again).
+
+    ``run(settings)`` simulates plan and reference at a member's settings.
+    """
+    out = []
+    for p in members:
+        data = nominal_data if p.field is None else run(p.applied(settings, derived))
+        out.append(MemberResult.of(p, data))
+    return out
