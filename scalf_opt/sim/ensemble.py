@@ -205,13 +205,22 @@ def run_members(
     settings: SimSettings,
     derived: SimSettings,
     members: Sequence[Perturbation] = ENSEMBLE,
-) -> list[MemberResult]:
-    """Every member's figures, the nominal referee's from ``nominal_data`` (not run again).
+) -> list[tuple[Perturbation, dict[str, Any]]]:
+    """Every member's run data, the nominal referee's ``nominal_data`` (not run again).
 
     ``run(settings)`` simulates plan and reference at a member's settings.
     """
-    out = []
-    for p in members:
-        data = nominal_data if p.field is None else run(p.applied(settings, derived))
-        out.append(MemberResult.of(p, data))
-    return out
+    return [
+        (p, nominal_data if p.field is None else run(p.applied(settings, derived))) for p in members
+    ]
+
+
+def with_ensemble_verdicts(
+    nominal: dict[str, Any], runs: Sequence[tuple[Perturbation, dict[str, Any]]], goal: float
+) -> dict[str, Any]:
+    """The plan's verdict (:func:`ensemble_verdict`) and, when simulated, the reference's."""
+    data = ensemble_verdict(nominal, [MemberResult.of(p, d) for p, d in runs], goal)
+    if "reference" in nominal and all("reference" in d for _, d in runs):
+        references = [MemberResult.of(p, d["reference"]) for p, d in runs]
+        data["reference"] = ensemble_verdict(nominal["reference"], references, goal)
+    return data

@@ -12,7 +12,7 @@ from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import GaitError, InfeasibleError
 from scalf_opt.model.robot import Robot
 from scalf_opt.sim.control import servo_gains, trunk_gains
-from scalf_opt.sim.ensemble import ensemble_verdict, run_members
+from scalf_opt.sim.ensemble import run_members, with_ensemble_verdicts
 from scalf_opt.sim.inverse import plan_inverse_dynamics
 from scalf_opt.sim.metrics import saving_comparison, summarize
 from scalf_opt.sim.mujoco_model import build_sim_model
@@ -91,8 +91,9 @@ def simulation_file(
     stance that puts its path outside the joint range), the reference is not simulated and
     ``reference_skipped`` says why. With ``ensemble`` every member of
     :data:`~scalf_opt.sim.ensemble.ENSEMBLE` referees plan and reference alike and the verdict
-    is their median (:func:`~scalf_opt.sim.ensemble.ensemble_verdict`); the run returned is
-    the nominal referee's.
+    is their median, the plan's and the reference's
+    (:func:`~scalf_opt.sim.ensemble.with_ensemble_verdicts`); the run returned is the nominal
+    referee's.
     """
 
     def referee(at: SimSettings) -> tuple[dict[str, Any], TrotRun]:
@@ -102,10 +103,9 @@ def simulation_file(
     if not ensemble:
         return data, run
     derived, _ = settings.for_leg_length(robot.leg_length_m)
-    members = run_members(lambda at: referee(at)[0], data, settings, derived)
-    return ensemble_verdict(
-        data, members, float(data["goals"]["joint_energy_relative_difference_at_most"])
-    ), run
+    runs = run_members(lambda at: referee(at)[0], data, settings, derived)
+    goal = float(data["goals"]["joint_energy_relative_difference_at_most"])
+    return with_ensemble_verdicts(data, runs, goal), run
 
 
 def _refereed(

@@ -197,10 +197,18 @@ def _checks_and_saving(result: dict[str, Any]) -> list[str]:
     saving = result.get("saving_vs_reference")
     if saving is not None:
         reference = result["reference"]["total_energy_per_cycle_j"]
+        legs = result["reference"]["joint_energy_per_cycle_j"].values()
+        worst = max(legs, key=lambda e: abs(e["relative_difference"]))
+        spread = (
+            f", spread {100 * max(e['relative_difference_spread'] for e in legs):.2f} points"
+            if "relative_difference_spread" in worst
+            else ""
+        )
         lines += [
             "",
             f"reference swing, simulated the same way: {reference['simulated']:.3f} J per cycle "
-            f"(model {reference['model']:.3f} J)",
+            f"(model {reference['model']:.3f} J; its worst leg "
+            f"{100 * worst['relative_difference']:+.2f} %{spread})",
             f"saving over the reference: model {saving['model_percent']:+.2f} %, simulated "
             f"{saving['simulated_percent']:+.2f} %"
             + (
