@@ -229,5 +229,11 @@ class LimitMargins:
 DEFAULT_MARGINS = LimitMargins()
 """The margins every optimizer keeps unless told otherwise."""
 
+PAPER_MARGINS = LimitMargins(effort_share=0.0, lift=NO_LIFT_PROFILE)
+"""The paper's constraints (the joint range, the actuators' limits, the mid-swing clearance) with
+the stop and stroke margins: no effort margin and no lift profile, which go beyond the paper.
+``scalf-opt paper`` and the paper's studies optimize with these, so its tables stay the paper's
+problem (a two-parameter paper-family swing cannot keep the default lift profile at all)."""
+
 NO_MARGINS = LimitMargins(0.0, 0.0, 0.0, NO_LIFT_PROFILE)
 """The limits themselves, and the foot at or above the ground."""

@@ -4,10 +4,13 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.energy.limits import printed_unit
 from scalf_opt.energy.peaks import CycleViolation, Peak, cycle_violations
 from scalf_opt.optimize.bound import FreeBound
+from scalf_opt.optimize.constraints import FEASIBILITY_TOLERANCE, SwingGrid
 from scalf_opt.optimize.driver import ALTERNATION_RTOL, LegResult, SwingOptimization
 from scalf_opt.optimize.free_stance import FreeStance
 from scalf_opt.optimize.sampling import CHECK_FACTOR, relative_difference
@@ -246,16 +249,41 @@ def _reference_beyond(run: SwingOptimization, optimized: RobotCycle, reference: 
         for v in cycle_violations(reference, physics)
         if (v.leg, v.violation.bound.name) not in crossed
     ]
+    low = _reference_below_lift(run, reference)
     if not beyond:
-        return ""
+        return low
     worst = max(beyond, key=lambda v: v.violation.share)
     b = worst.violation.bound
     over = 100.0 * worst.violation.share
     others = f" and {len(beyond) - 1} more" if len(beyond) > 1 else ""
     return (
         f"; the reference crosses limits the optimum keeps: {worst.leg} "
-        f"{JOINT_ROLES[b.joint]} {b.quantity} by {over:.2g} % in {worst.phase}{others}"
+        f"{JOINT_ROLES[b.joint]} {b.quantity} by {over:.2g} % in {worst.phase}{others}" + low
     )
+
+
+def _reference_below_lift(run: SwingOptimization, reference: RobotCycle) -> str:
+    """``; the reference swing lifts its feet slower than the lift profile ...`` or ``""``.
+
+    The optimum keeps the lift profile of its margins (:class:`~scalf_opt.energy.margins.
+    LiftProfile`); the reference swing was not made to, and where it lifts slower it may cost
+    less than any swing that does.
+    """
+    gait = run.pipeline.gait
+    lift = run.settings.margins.lift
+    for leg, cycle in reference.legs.items():
+        swing = cycle.swing
+        t = swing.t_phase_s
+        grid = SwingGrid.on(t, -gait.stance_height_m, gait.clearance_m, lift)
+        z = swing.values["foot"][1]
+        if np.any(z[1:-1] < grid.lift_z_m()[1:-1] - FEASIBILITY_TOLERANCE):
+            return (
+                f"; the reference swing lifts its feet slower than the lift profile the optimum "
+                f"keeps ({leg}: {1e3 * grid.lift_height_m:.3g} mm up by "
+                f"{100 * grid.lift_fraction:g} % of the swing; optimize --lift-height, "
+                "--lift-fraction)"
+            )
+    return ""
 
 
 def bound_report(bounds: dict[str, FreeBound]) -> str:

@@ -48,6 +48,9 @@ MAX_EFFORT_MARGIN_PCT = 50.0
 MAX_LIFT_HEIGHT_MM = 1000.0
 """Largest lift height an option accepts [mm] (the clearance H bounds it in practice)."""
 
+MAX_TOUCHDOWN_SPEED_M_S = 100.0
+"""Largest touch-down speed an option accepts [m/s] (no swing comes near it: no bound)."""
+
 
 SWING_FAMILY_HELP = (
     f"paper, fourier-N (foot space) or joint-N (joint space), N in 2..12 (default {DEFAULT_FAMILY})"
@@ -161,7 +164,8 @@ def add_ground_margin_options(parser: argparse.ArgumentParser) -> None:
         metavar="MM",
         help="the swing foot rises at least as fast as a constant acceleration that takes it "
         "MM mm up by the lift fraction of the swing, stays that high until the landing, and "
-        "lands mirrored (default: a fifth of the clearance H; 0: only above the ground)",
+        "lands mirrored, 0..1000 (default: a fifth of the clearance H; 0: only above the "
+        "ground)",
     )
     parser.add_argument(
         "--lift-fraction",
@@ -173,11 +177,11 @@ def add_ground_margin_options(parser: argparse.ArgumentParser) -> None:
     )
     parser.add_argument(
         "--touchdown-speed",
-        type=float,
+        type=bounded(float, MAX_TOUCHDOWN_SPEED_M_S),
         default=None,
         metavar="M_S",
-        help="over the landing the foot comes down no faster than M_S m/s (default: 3 H / "
-        "swing duration; inf: no bound)",
+        help="over the landing (the last lift fraction of the swing) the foot comes down no "
+        "faster than M_S m/s, at most 100 (default: 3 H / swing duration; 100: no bound)",
     )
 
 
