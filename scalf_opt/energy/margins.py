@@ -63,6 +63,10 @@ than 3 H / T_sw over the last lift fraction of the swing (0.96 m/s on SCalf's de
 reference swing comes down at up to 0.61 m/s over its last tenth, 1.9 H / T_sw, on every
 robot)."""
 
+PAPER_FAMILY_NAME = "paper"
+"""The paper's swing family (:mod:`scalf_opt.locomotion.swing.names`), which keeps the paper's
+constraints (:meth:`LimitMargins.for_family`)."""
+
 EFFORT_UNITS = ("nm", "n")
 """Bound units that are an effort or a force: a joint torque [N m], a drive's force [N]."""
 
@@ -207,6 +211,18 @@ class LimitMargins:
                 )
             out.append(replace(b, lower=lower, upper=upper, source=f"{b.source}, less margin"))
         return tuple(out)
+
+    def for_family(self, family_name: str) -> LimitMargins:
+        """The margins a swing of this family keeps: the paper family keeps the paper's.
+
+        The paper's two-parameter family cannot hold a lift profile at all (both its legs'
+        problems are infeasible under the default one), and it is the paper's problem: it keeps
+        the stop and stroke margins and no effort margin or lift profile
+        (:data:`PAPER_MARGINS`); every other family keeps these margins.
+        """
+        if family_name != PAPER_FAMILY_NAME:
+            return self
+        return replace(self, effort_share=0.0, lift=NO_LIFT_PROFILE)
 
     def to_dict(self, gait: Gait) -> dict[str, float]:
         """The margins at the edges' units, the lift profile's resolved on ``gait``.

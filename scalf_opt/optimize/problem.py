@@ -113,6 +113,11 @@ class SwingProblem:
     margins: LimitMargins = DEFAULT_MARGINS
     stance_term: bool = True
 
+    @property
+    def kept_margins(self) -> LimitMargins:
+        """The margins this family's swing keeps (:meth:`LimitMargins.for_family`)."""
+        return self.margins.for_family(self.family.name)
+
     @cached_property
     def couplings(self) -> tuple[StanceCoupling, ...]:
         """The stances this leg's swing loads, as functions of it (none under trunk loads).
@@ -155,7 +160,7 @@ class SwingProblem:
     @cached_property
     def bounds(self) -> tuple[Bound, ...]:
         """The leg's bounds on per-sample quantities, the range and stroke less the margins."""
-        return self.margins.apply(self.kernel.bounds)
+        return self.kept_margins.apply(self.kernel.bounds)
 
     @property
     def n_params(self) -> int:
@@ -205,7 +210,7 @@ class SwingProblem:
     def grid(self) -> SwingGrid:
         """What the constraint families need of the swing's samples."""
         grid = SwingGrid.on(
-            self.path.t_s, self.ground_z_m, self.pipeline.gait.clearance_m, self.margins.lift
+            self.path.t_s, self.ground_z_m, self.pipeline.gait.clearance_m, self.kept_margins.lift
         )
         assert grid.mid_index == self.mid_index and grid.clearance_z_m == self.clearance_z_m
         return grid
@@ -310,7 +315,7 @@ class SwingProblem:
         ]
         for term, tau in loaded:
             physics = self.pipeline.physics(term.leg)
-            bounds = self.margins.apply(stance_limited_bounds(physics))
+            bounds = self.kept_margins.apply(stance_limited_bounds(physics))
             if not bounds:
                 continue
             fn = stance_limit_function(physics).map(tau.shape[1])
@@ -473,6 +478,11 @@ class PairProblem:
     legs: tuple[str, ...]
     family: SwingFamily
     margins: LimitMargins = DEFAULT_MARGINS
+
+    @property
+    def kept_margins(self) -> LimitMargins:
+        """The margins this family's swings keep (:meth:`LimitMargins.for_family`)."""
+        return self.margins.for_family(self.family.name)
 
     @cached_property
     def problems(self) -> tuple[SwingProblem, ...]:

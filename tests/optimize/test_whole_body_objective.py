@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 from scalf_opt.api.gaits import read_gait
+from scalf_opt.energy.margins import NO_LIFT_PROFILE, LimitMargins
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.registry import make_family
@@ -178,7 +179,9 @@ def test_the_feasibility_phase_counts_every_crossed_limit(hyq):
 
     pipeline = EnergyPipeline(hyq, read_gait(robot=hyq), loads="whole-body")
     family = make_family("joint-6")
-    problem = SwingProblem(pipeline, "RF", family)
+    # the ground and effort rows as they were: the case needs the clearance crossed first
+    margins = LimitMargins(effort_share=0.0, lift=NO_LIFT_PROFILE)
+    problem = SwingProblem(pipeline, "RF", family, margins=margins)
     start = closest_member(problem, reference_path(problem))
     found = problem.evaluate(start)
     assert found.reason == "mid-swing clearance" and 0.0 < found.violation < 1e-3
