@@ -25,7 +25,6 @@ import numpy as np
 
 from scalf_opt.energy.cycle import RobotCycle, change_percent
 from scalf_opt.energy.loads import DEFAULT_LOADS
-from scalf_opt.energy.margins import PAPER_MARGINS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.interrupts import results_in_order
 from scalf_opt.io.optimization_records import bound_records, leg_records, stance_record
@@ -54,26 +53,18 @@ RUNS: dict[str, tuple[str, str, Settings]] = {
     "pattern": (
         "paper",
         "pattern search, paper family (precision 0.1)",
-        Settings(PatternSearchSolver.name, margins=PAPER_MARGINS),
+        Settings(PatternSearchSolver.name),
     ),
     "pattern_fine": (
         "paper",
         f"pattern search, paper family (precision {FINE_PRECISION:g})",
-        Settings(
-            PatternSearchSolver.name,
-            pattern=PatternSearchOptions(precision=FINE_PRECISION),
-            margins=PAPER_MARGINS,
-        ),
+        Settings(PatternSearchSolver.name, pattern=PatternSearchOptions(precision=FINE_PRECISION)),
     ),
-    "ipopt": ("paper", "Ipopt, paper family", Settings(margins=PAPER_MARGINS)),
-    "ipopt_rich": (
-        DEFAULT_FAMILY,
-        f"Ipopt, {DEFAULT_FAMILY} family",
-        Settings(margins=PAPER_MARGINS),
-    ),
+    "ipopt": ("paper", "Ipopt, paper family", Settings()),
+    "ipopt_rich": (DEFAULT_FAMILY, f"Ipopt, {DEFAULT_FAMILY} family", Settings()),
 }
-"""Run key -> (family, label, settings); ``scalf-opt optimize``'s settings with the paper's
-constraints (:data:`~scalf_opt.energy.margins.PAPER_MARGINS`)."""
+"""Run key -> (family, label, settings); the settings are ``scalf-opt optimize``'s (the paper
+family keeps the paper's constraints: :meth:`~scalf_opt.energy.margins.LimitMargins.for_family`)."""
 
 
 @dataclass(frozen=True)
@@ -215,7 +206,7 @@ def reproduce(
     # no optimum of the tables from the start. The whole-body line, the shortest, runs behind
     # the others in priority; the free stance beside the bounds: behind them it was the last to
     # finish, alone on one core (measured: docs/speed-log.md, "Measurements behind choices")
-    settings = Settings(ipopt=ipopt_options, margins=PAPER_MARGINS)
+    settings = Settings(ipopt=ipopt_options)
     early: list[tuple[str, Any]] = []
     if not pipeline.load_model.couples_legs:
         early.append(
@@ -234,7 +225,7 @@ def reproduce(
         if not bounded:  # nothing beyond the tables to compare with: the free stance is dropped
             jobs = [(job, future) for job, future in jobs if job[0] != FREE_STANCE_JOB]
         else:
-            for leg_job in bound_jobs(pipeline, PAIR, _bound_seeds(out), margins=PAPER_MARGINS):
+            for leg_job in bound_jobs(pipeline, PAIR, _bound_seeds(out)):
                 job = (BOUND_JOB, leg_job)
                 jobs.append((job, processes.submit(independent_solve, job)))
         if jobs:

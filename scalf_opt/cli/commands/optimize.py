@@ -152,8 +152,8 @@ def add_ground_margin_options(parser: argparse.ArgumentParser) -> None:
         "--effort-margin",
         type=bounded(float, MAX_EFFORT_MARGIN_PCT, 0.0),
         default=100 * DEFAULT_EFFORT_SHARE,
-        metavar="PCT",
-        help="every torque and drive force (the swing's and the loaded stance legs') stays PCT "
+        metavar="X",
+        help="every torque and drive force (the swing's and the loaded stance legs') stays X "
         f"%% under its limit, 0..50 (default {100 * DEFAULT_EFFORT_SHARE:g}: room for the "
         "servo's feedback)",
     )
@@ -161,9 +161,9 @@ def add_ground_margin_options(parser: argparse.ArgumentParser) -> None:
         "--lift-height",
         type=bounded(float, MAX_LIFT_HEIGHT_MM, 0.0),
         default=None,
-        metavar="MM",
+        metavar="X",
         help="the swing foot rises at least as fast as a constant acceleration that takes it "
-        "MM mm up by the lift fraction of the swing, stays that high until the landing, and "
+        "X mm up by the lift fraction of the swing, stays that high until the landing, and "
         "lands mirrored, 0..1000 (default: a fifth of the clearance H; 0: only above the "
         "ground)",
     )
@@ -179,9 +179,9 @@ def add_ground_margin_options(parser: argparse.ArgumentParser) -> None:
         "--touchdown-speed",
         type=bounded(float, MAX_TOUCHDOWN_SPEED_M_S),
         default=None,
-        metavar="M_S",
+        metavar="X",
         help="over the landing (the last lift fraction of the swing) the foot comes down no "
-        "faster than M_S m/s, at most 100 (default: 3 H / swing duration; 100: no bound)",
+        "faster than X m/s, at most 100 (default: 3 H / swing duration; 100: no bound)",
     )
 
 
