@@ -22,7 +22,6 @@ from pathlib import Path
 
 from scalf_opt.cli.console import Console
 from scalf_opt.energy.cycle import change_percent
-from scalf_opt.energy.margins import PAPER_MARGINS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.files import write_atomic
 from scalf_opt.io.results import rows_csv_text
@@ -51,8 +50,7 @@ def scan(quick: bool) -> list[dict[str, object]]:
             for leg in ("RF", "LH"):
                 # an infeasible pair is recognised long before Ipopt's default 3000 iterations
                 optimum = run_ipopt(
-                    SwingProblem(pipeline, leg, family, margins=PAPER_MARGINS),
-                    ipopt_options={"max_iter": 300},
+                    SwingProblem(pipeline, leg, family), ipopt_options={"max_iter": 300}
                 )
                 ref = reference.legs[leg].swing_energy_j
                 change = change_percent(optimum.swing_energy_j, ref) if optimum.success else None

@@ -19,8 +19,10 @@ from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.limits import leg_bounds, violations
 from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.energy.margins import (
+    DEFAULT_EFFORT_SHARE,
     DEFAULT_STOP_MARGIN_RAD,
     DEFAULT_STROKE_MARGIN_M,
+    LiftProfile,
     LimitMargins,
 )
 from scalf_opt.energy.peaks import CycleViolation, Peak, cycle_peaks, cycle_violations
@@ -182,6 +184,8 @@ def optimize_swing(
     loads: str = DEFAULT_LOADS,
     stop_margin_rad: float = DEFAULT_STOP_MARGIN_RAD,
     stroke_margin_m: float = DEFAULT_STROKE_MARGIN_M,
+    effort_share: float = DEFAULT_EFFORT_SHARE,
+    lift: LiftProfile | None = None,
 ) -> OptimizationResult:
     """Optimize the swing of ``legs`` (LF and RH repeat RF and LH: the paper's symmetry).
 
@@ -212,6 +216,9 @@ def optimize_swing(
         stop_margin_rad: Every optimized joint angle (and the free stance's) stays this far
             inside its range [rad] (default 2 degrees: what the simulated servo needs).
         stroke_margin_m: Every cylinder length stays this far inside its stroke [m] (2 mm).
+        effort_share: Every torque and drive force stays this share under its limit (0.05).
+        lift: How the swing foot leaves and meets the ground (default: the lift profile of
+            :class:`~scalf_opt.energy.margins.LiftProfile`; ``NO_LIFT_PROFILE``: only above it).
 
     Raises:
         ConfigError: A margin < 0 or one that leaves no range; a family without parameters, a
@@ -227,7 +234,7 @@ def optimize_swing(
         bound=bound,
         free_stance=free_stance,
         verbose=verbose,
-        margins=LimitMargins(stop_margin_rad, stroke_margin_m),
+        margins=LimitMargins(stop_margin_rad, stroke_margin_m, effort_share, lift or LiftProfile()),
     )
     robot = as_robot(robot)
     pipeline = EnergyPipeline(robot, gait or read_gait(robot=robot), accounting, loads=loads)
@@ -341,7 +348,7 @@ def _free_stance(
     stance = optimize_stance(pipeline, family, settings)
     run = stance.best.run
     records: dict[str, Any] = {
-        "limit_margins": settings.margins.to_dict(pipeline.gait),
+        "limit_margins": settings.margins.for_family(family.n_params).to_dict(pipeline.gait),
         "free_stance": stance_record(stance),
     }
     solved = run is not None and run.success
@@ -376,7 +383,7 @@ def _swings(
     """The legs' swings optimized on the pipeline's gait; with ``bound``, the bound beside."""
     run = optimize_swings(pipeline, legs, family, settings, progress=progress)
     records: dict[str, Any] = {
-        "limit_margins": settings.margins.to_dict(pipeline.gait),
+        "limit_margins": settings.margins.for_family(family.n_params).to_dict(pipeline.gait),
         "optimization": leg_records(run),
         "optimization_run": run_record(run),
     }

@@ -51,21 +51,27 @@ DEFAULT_LIFT_SHARE = 0.2
 """Default lift height as a share of the gait's mid-swing clearance H: H/5 (16 mm on SCalf's
 H = 80 mm; H itself is Froude-scaled to each robot's leg length)."""
 
-DEFAULT_LIFT_FRACTION = 0.1
+DEFAULT_LIFT_FRACTION = 0.15
 """Default share of the swing over which the foot lifts to, and comes down from, the lift height.
-Measured on SCalf's default optimum in the referee ensemble (:mod:`scalf_opt.sim.ensemble`): with
-0.15 its hind legs' verdict spread 5.8 points (the softer contact cost them +5.8 %); with 0.1,
-2.7 points, for a saving of 20.2 % instead of 22.5 % (``docs/speed-log.md``)."""
+With the default height and touch-down speed, the paper's reference swing keeps the profile on
+every robot (Froude-scaled, the same shape): it is 17.3 mm up at 15 % of SCalf's swing, above
+16 mm (s / 0.15)^2 all the way, and comes down at up to 2.52 H / T_sw over the last 15 %. So no
+optimum need be dearer than the reference for its lift; a profile the reference breaks made
+``joint-3`` optima up to 40 % dearer than it (measured: ``docs/speed-log.md``)."""
 
-DEFAULT_TOUCHDOWN_FACTOR = 3.0
+DEFAULT_TOUCHDOWN_FACTOR = 2.6
 """Default touch-down speed as a multiple of H / swing duration: the foot comes down no faster
-than 3 H / T_sw over the last lift fraction of the swing (0.96 m/s on SCalf's default trot; its
-reference swing comes down at up to 0.61 m/s over its last tenth, 1.9 H / T_sw, on every
-robot)."""
+than 2.6 H / T_sw over the last lift fraction of the swing (0.832 m/s on SCalf's default trot),
+just above the reference swing's 2.52 H / T_sw. With 3 H / T_sw the referee ensemble's verdict
+on SCalf's default optimum spread 5.8 points (its softer-ground member cost the hind legs
++5.6 %); with 2.6 H / T_sw, 4.9 points (``docs/speed-log.md``)."""
 
-PAPER_FAMILY_NAME = "paper"
-"""The paper's swing family (:mod:`scalf_opt.locomotion.swing.names`), which keeps the paper's
-constraints (:meth:`LimitMargins.for_family`)."""
+LIFT_SHAPING_PARAMETERS = 3
+"""The fewest free parameters with which a swing family can shape its lift-off: a family with one
+free term per coordinate (two parameters: the paper family, ``joint-2``, ``fourier-2``) has its
+lift set by the end conditions and cannot hold a lift profile (both legs' problems of the paper
+family, and HyQ's ``joint-2`` and ``fourier-2``, were infeasible under the default one); it keeps
+the foot at or above the ground (:meth:`LimitMargins.for_family`)."""
 
 EFFORT_UNITS = ("nm", "n")
 """Bound units that are an effort or a force: a joint torque [N m], a drive's force [N]."""
@@ -90,7 +96,7 @@ class LiftProfile:
             (:data:`DEFAULT_LIFT_SHARE`); 0 turns the height profile off.
         fraction: The share of the swing the lift and the landing take, in (0, 0.5].
         touchdown_speed_m_s: The largest downward foot speed over the landing [m/s]; ``None``:
-            3 H / swing duration (:data:`DEFAULT_TOUCHDOWN_FACTOR`); ``inf`` turns it off.
+            2.6 H / swing duration (:data:`DEFAULT_TOUCHDOWN_FACTOR`); ``inf`` turns it off.
     """
 
     height_m: float | None = None
@@ -158,20 +164,8 @@ class LimitMargins:
             )
 
     def margin(self, bound: Bound) -> float:
-        """The largest margin this bound gets (SI, the bound's unit).
-
-        For an effort or force limit, the effort share of its larger end (each end moves by its
-        own share, :meth:`apply`); 0 for a rate, and for a joint range of a full turn or more:
-        that is no end stop a joint can ride but a URDF's placeholder (Solo12's and ANYmal C's
-        +-10 rad).
-        """
-        if bound.output == "q":
-            return self.stop_rad if bound.upper - bound.lower < FULL_TURN_RAD else 0.0
-        if bound.row is None and bound.unit == "m":  # a drive's length: the stroke
-            return self.stroke_m
-        if bound.unit in EFFORT_UNITS:
-            return self.effort_share * bound.size
-        return 0.0
+        """The largest margin this bound gets (SI, the bound's unit): the larger of its insets."""
+        return max(self._insets(bound))
 
     def field_of(self, bound: Bound) -> str:
         """The name of the margin that moves ``bound`` (for messages)."""
@@ -180,12 +174,24 @@ class LimitMargins:
         return "effort_share" if bound.unit in EFFORT_UNITS else "stroke_m"
 
     def _insets(self, bound: Bound) -> tuple[float, float]:
-        """How far the lower and the upper end move inwards (SI)."""
-        if bound.unit in EFFORT_UNITS and bound.output != "q":
+        """How far the lower and the upper end move inwards (SI, the bound's unit).
+
+        The stop margin for a joint range, except one of a full turn or more: that is no end
+        stop a joint can ride but a URDF's placeholder (Solo12's and ANYmal C's +-10 rad); the
+        stroke margin for a drive's length; for an effort or force limit the effort share of
+        each finite end's own magnitude; 0 for a rate.
+        """
+        if bound.output == "q":
+            m = self.stop_rad if bound.upper - bound.lower < FULL_TURN_RAD else 0.0
+            return m, m
+        if bound.row is None and bound.unit == "m":  # a drive's length: the stroke
+            return self.stroke_m, self.stroke_m
+        if bound.unit in EFFORT_UNITS:
             share = self.effort_share
-            return share * abs(bound.lower), share * abs(bound.upper)
-        m = self.margin(bound)
-        return m, m
+            low = share * abs(bound.lower) if math.isfinite(bound.lower) else 0.0
+            high = share * abs(bound.upper) if math.isfinite(bound.upper) else 0.0
+            return low, high
+        return 0.0, 0.0
 
     def apply(self, bounds: tuple[Bound, ...]) -> tuple[Bound, ...]:
         """The bounds moved inwards by their margins (a finite end only).
@@ -212,17 +218,16 @@ class LimitMargins:
             out.append(replace(b, lower=lower, upper=upper, source=f"{b.source}, less margin"))
         return tuple(out)
 
-    def for_family(self, family_name: str) -> LimitMargins:
-        """The margins a swing of this family keeps: the paper family keeps the paper's.
+    def for_family(self, n_params: int) -> LimitMargins:
+        """The margins a swing family of ``n_params`` free parameters keeps.
 
-        The paper's two-parameter family cannot hold a lift profile at all (both its legs'
-        problems are infeasible under the default one), and it is the paper's problem: it keeps
-        the stop and stroke margins and no effort margin or lift profile
-        (:data:`PAPER_MARGINS`); every other family keeps these margins.
+        These margins, but without a lift profile for a family too small to shape its lift-off
+        (:data:`LIFT_SHAPING_PARAMETERS`): so the paper family keeps the paper's problem and its
+        tables (the effort margin does not bind it, measured on SCalf and HyQ).
         """
-        if family_name != PAPER_FAMILY_NAME:
+        if n_params >= LIFT_SHAPING_PARAMETERS:
             return self
-        return replace(self, effort_share=0.0, lift=NO_LIFT_PROFILE)
+        return replace(self, lift=NO_LIFT_PROFILE)
 
     def to_dict(self, gait: Gait) -> dict[str, float]:
         """The margins at the edges' units, the lift profile's resolved on ``gait``.
@@ -244,12 +249,6 @@ class LimitMargins:
 
 DEFAULT_MARGINS = LimitMargins()
 """The margins every optimizer keeps unless told otherwise."""
-
-PAPER_MARGINS = LimitMargins(effort_share=0.0, lift=NO_LIFT_PROFILE)
-"""The paper's constraints (the joint range, the actuators' limits, the mid-swing clearance) with
-the stop and stroke margins: no effort margin and no lift profile, which go beyond the paper.
-``scalf-opt paper`` and the paper's studies optimize with these, so its tables stay the paper's
-problem (a two-parameter paper-family swing cannot keep the default lift profile at all)."""
 
 NO_MARGINS = LimitMargins(0.0, 0.0, 0.0, NO_LIFT_PROFILE)
 """The limits themselves, and the foot at or above the ground."""

@@ -107,10 +107,9 @@ class Kernel:
         kin = self.physics.kin
         if self.space == "joint":
             q, qd, qdd = out["q"], out["qd"], out["qdd"]
-            accel = ca.mtimes(kin.jacobian_expr(q), qdd) + ca.mtimes(
-                kin.jacobian_dot_expr(q, qd), qd
-            )
-            foot_z_vel = ca.mtimes(kin.jacobian_expr(q), qd)[1]
+            jacobian = kin.jacobian_expr(q)
+            accel = ca.mtimes(jacobian, qdd) + ca.mtimes(kin.jacobian_dot_expr(q, qd), qd)
+            foot_z_vel = ca.mtimes(jacobian, qd)[1]
             foot_z_accel = accel[1]
         else:
             foot_z_vel, foot_z_accel = y[3], y[5]

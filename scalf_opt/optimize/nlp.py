@@ -394,7 +394,7 @@ def _stance_limits(
     bounds = [
         b
         for t in coupling.terms
-        for b in problem.kept_margins.apply(stance_limited_bounds(problem.pipeline.physics(t.leg)))
+        for b in problem.margins.apply(stance_limited_bounds(problem.pipeline.physics(t.leg)))
     ]
     return np.array([b.lower for b in bounds]), np.array([b.upper for b in bounds])
 

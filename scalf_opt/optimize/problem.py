@@ -113,10 +113,8 @@ class SwingProblem:
     margins: LimitMargins = DEFAULT_MARGINS
     stance_term: bool = True
 
-    @property
-    def kept_margins(self) -> LimitMargins:
-        """The margins this family's swing keeps (:meth:`LimitMargins.for_family`)."""
-        return self.margins.for_family(self.family.name)
+    def __post_init__(self) -> None:
+        self.margins = self.margins.for_family(self.family.n_params)  # a small family: no lift
 
     @cached_property
     def couplings(self) -> tuple[StanceCoupling, ...]:
@@ -160,7 +158,7 @@ class SwingProblem:
     @cached_property
     def bounds(self) -> tuple[Bound, ...]:
         """The leg's bounds on per-sample quantities, the range and stroke less the margins."""
-        return self.kept_margins.apply(self.kernel.bounds)
+        return self.margins.apply(self.kernel.bounds)
 
     @property
     def n_params(self) -> int:
@@ -191,15 +189,15 @@ class SwingProblem:
         basis = self.path.basis.reshape(6, self.n_samples, self.n_params)
         return self.samples_base + basis @ np.asarray(theta, dtype=float)
 
-    @cached_property
+    @property
     def mid_index(self) -> int:
         """Index of the mid-swing sample (the swing grid has an even number of intervals)."""
-        return (self.n_samples - 1) // 2
+        return self.grid.mid_index
 
     @property
     def clearance_z_m(self) -> float:
         """Lowest foot height allowed at mid-swing, in the leg frame [m]: ground + H."""
-        return self.ground_z_m + self.pipeline.gait.clearance_m
+        return self.grid.clearance_z_m
 
     @property
     def ground_z_m(self) -> float:
@@ -209,11 +207,9 @@ class SwingProblem:
     @cached_property
     def grid(self) -> SwingGrid:
         """What the constraint families need of the swing's samples."""
-        grid = SwingGrid.on(
-            self.path.t_s, self.ground_z_m, self.pipeline.gait.clearance_m, self.kept_margins.lift
+        return SwingGrid.on(
+            self.path.t_s, self.ground_z_m, self.pipeline.gait.clearance_m, self.margins.lift
         )
-        assert grid.mid_index == self.mid_index and grid.clearance_z_m == self.clearance_z_m
-        return grid
 
     @cached_property
     def constraints(self) -> tuple[ConstraintFamily, ...]:
@@ -315,7 +311,7 @@ class SwingProblem:
         ]
         for term, tau in loaded:
             physics = self.pipeline.physics(term.leg)
-            bounds = self.kept_margins.apply(stance_limited_bounds(physics))
+            bounds = self.margins.apply(stance_limited_bounds(physics))
             if not bounds:
                 continue
             fn = stance_limit_function(physics).map(tau.shape[1])
@@ -479,10 +475,8 @@ class PairProblem:
     family: SwingFamily
     margins: LimitMargins = DEFAULT_MARGINS
 
-    @property
-    def kept_margins(self) -> LimitMargins:
-        """The margins this family's swings keep (:meth:`LimitMargins.for_family`)."""
-        return self.margins.for_family(self.family.name)
+    def __post_init__(self) -> None:
+        self.margins = self.margins.for_family(self.family.n_params)  # a small family: no lift
 
     @cached_property
     def problems(self) -> tuple[SwingProblem, ...]:

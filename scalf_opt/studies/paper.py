@@ -64,7 +64,7 @@ RUNS: dict[str, tuple[str, str, Settings]] = {
     "ipopt_rich": (DEFAULT_FAMILY, f"Ipopt, {DEFAULT_FAMILY} family", Settings()),
 }
 """Run key -> (family, label, settings); the settings are ``scalf-opt optimize``'s (the paper
-family keeps the paper's constraints: :meth:`~scalf_opt.energy.margins.LimitMargins.for_family`)."""
+family keeps no lift profile: :meth:`~scalf_opt.energy.margins.LimitMargins.for_family`)."""
 
 
 @dataclass(frozen=True)

@@ -13,7 +13,6 @@ from collections.abc import Sequence
 import numpy as np
 
 from scalf_opt.energy.loads import PAPER_LOADS
-from scalf_opt.energy.margins import PAPER_MARGINS
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.driver import Settings, optimize_swings
@@ -46,13 +45,9 @@ def search_study(
     """
     pipeline = pipeline.with_loads(PAPER_LOADS)
     family = make_family(FAMILY)
-    pattern_settings = Settings(
-        PatternSearchSolver.name, pattern=options or PatternSearchOptions(), margins=PAPER_MARGINS
-    )
+    pattern_settings = Settings(PatternSearchSolver.name, pattern=options or PatternSearchOptions())
     pattern_run = optimize_swings(pipeline, tuple(legs), family, pattern_settings)
-    ipopt_run = optimize_swings(
-        pipeline, tuple(legs), family, Settings(IpoptSolver.name, margins=PAPER_MARGINS)
-    )
+    ipopt_run = optimize_swings(pipeline, tuple(legs), family, Settings(IpoptSolver.name))
     # the landscape at the finer of the two runs' rates (the paper family converges at the
     # gait's rate, so both are the same there)
     at_rate = max((pattern_run.pipeline, ipopt_run.pipeline), key=lambda p: p.gait.sample_rate_hz)
@@ -71,7 +66,7 @@ def search_study(
         out[leg] = LegSearch(
             pattern=pattern,
             ipopt=ipopt,
-            landscape=energy_landscape(SwingGoal(family, PAPER_MARGINS).on(at_rate, leg), x, y),
+            landscape=energy_landscape(SwingGoal(family).on(at_rate, leg), x, y),
             reference_swing_j=ipopt_run.legs[leg].reference_swing_energy_j,
             pattern_rates_hz=tuple(pattern_run.rates_hz),
         )

@@ -270,7 +270,7 @@ def _reference_below_lift(run: SwingOptimization, reference: RobotCycle) -> str:
     less than any swing that does.
     """
     gait = run.pipeline.gait
-    lift = run.settings.margins.for_family(run.family.name).lift
+    lift = run.settings.margins.for_family(run.family.n_params).lift
     if lift.height_for(gait.clearance_m) == 0.0:
         return ""
     for leg, cycle in reference.legs.items():

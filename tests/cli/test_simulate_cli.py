@@ -32,7 +32,13 @@ def test_simulate_writes_the_result_the_figure_and_a_log(simulated, capsys):
         assert set(data[key]) == set(LEG_NAMES)
     for leg in LEG_NAMES:
         energy = data["joint_energy_per_cycle_j"][leg]
-        assert set(energy) == {"simulated", "model", "relative_difference"}
+        # the referee ensemble's median, and its spread
+        assert set(energy) == {
+            "simulated",
+            "model",
+            "relative_difference",
+            "relative_difference_spread",
+        }
         assert energy["relative_difference"] == pytest.approx(
             energy["simulated"] / energy["model"] - 1, rel=1e-12
         )

@@ -114,8 +114,8 @@ def test_the_saved_optimum_states_its_margins_and_keeps_them(optimum):
             "stroke_margin_mm": 2.0,
             "effort_margin_pct": 5.0,
             "lift_height_mm": 16.0,
-            "lift_fraction": 0.1,
-            "touchdown_speed_m_s": 0.96,
+            "lift_fraction": 0.15,
+            "touchdown_speed_m_s": 0.832,
         },
         rel=1e-12,
     )

@@ -123,9 +123,12 @@ def test_the_csv_at_1000_hz_gives_back_the_plans_energy(optimum, tmp_path, capsy
     result = analyze_log(path, plan=optimum)
     comparison = result.to_dict()["plan_comparison"]
     assert result.measured.velocity_source == "measured"
-    # measured 3e-5 for the robot; per leg the one sample at touch-down (the force's jump,
-    # larger under the whole-body loads) moves 0.6 % between stance and the leg's neighbours
-    assert abs(comparison["change_percent"]) < 0.01
+    # measured -0.04 % for the robot (3e-5 % before the lift profile: the default optimum's
+    # lift-off is sharper now, and the log's 1 kHz samples and the plan's 600 Hz ones integrate
+    # it 0.2 W apart; at 2 and 4 kHz the log reads -0.06 %); per leg the one sample at
+    # touch-down (the force's jump, larger under the whole-body loads) moves 0.7 % between
+    # stance and the leg's neighbours
+    assert abs(comparison["change_percent"]) < 0.1
     for leg in LEG_NAMES:
         assert abs(comparison["legs"][leg]["change_percent"]) < 1.0
     # docs/plan-to-robot.md quotes it

@@ -7,6 +7,7 @@ import numpy as np
 import pytest
 
 from scalf_opt.energy.limits import violations
+from scalf_opt.energy.margins import NO_LIFT_PROFILE, LimitMargins
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.bspline import BSplineFamily
@@ -30,11 +31,22 @@ def model(scalf):
     return EnergyPipeline(scalf, Gait(), loads="trunk")
 
 
+# the margins these measured cases were written under: the stop and stroke margins alone (with
+# the lift profile and the effort margin, SCalf's RF 16-span level needs twice its first rate)
+BEFORE_THE_LIFT_PROFILE = LimitMargins(effort_share=0.0, lift=NO_LIFT_PROFILE)
+
+
 @pytest.fixture(scope="module")
 def bound_and_family(model):
     family = make_family("joint-6")
-    run = optimize_swings(model, ("RF",), family)
-    bound = bound_for(model, "RF", [(family, run.legs["RF"].best.theta)], spans=(16, 32, 64))
+    run = optimize_swings(model, ("RF",), family, Settings(margins=BEFORE_THE_LIFT_PROFILE))
+    bound = bound_for(
+        model,
+        "RF",
+        [(family, run.legs["RF"].best.theta)],
+        spans=(16, 32, 64),
+        margins=BEFORE_THE_LIFT_PROFILE,
+    )
     return bound, run.legs["RF"]
 
 
@@ -61,7 +73,7 @@ def test_the_bound_swing_is_feasible_and_reproduced_by_the_cycle(model, bound_an
     at_rate, family, thetas = bound_cycle_inputs(model, {"RF": bound})
     swing = at_rate.swing("RF", family, thetas["RF"])
     assert float(swing.energy_j.sum()) == pytest.approx(bound.swing_energy_j, rel=1e-9)
-    problem = SwingProblem(at_rate, "RF", family)
+    problem = SwingProblem(at_rate, "RF", family, margins=BEFORE_THE_LIFT_PROFILE)
     assert violations(swing.values, problem.bounds) == []
     assert problem.evaluate(thetas["RF"]).reason is None
 
@@ -110,7 +122,9 @@ def test_the_stated_remainder_holds_one_level_finer_at_twice_the_rate(model, bou
     rate = 2 * level_rate_hz(model.gait, spans)
     at_rate = model.with_gait(with_rate(model.gait, rate))
     start = _projection(at_rate, "RF", finer, bound.family, bound.result.best.theta)
-    run = optimize_swings(at_rate, ("RF",), finer, Settings(), {"RF": start})
+    run = optimize_swings(
+        at_rate, ("RF",), finer, Settings(margins=BEFORE_THE_LIFT_PROFILE), {"RF": start}
+    )
     assert run.legs["RF"].success
     assert run.legs["RF"].check_energy_j >= bound.check_energy_j - bound.remaining_j
 
@@ -143,9 +157,9 @@ def test_a_level_close_to_convergence_revisits_the_coarser_one(model, monkeypatc
     import scalf_opt.optimize.bound as bound_module
 
     spans = (16, 32, 64, 128)
-    revisited = bound_for(model, "LH", spans=spans)
+    revisited = bound_for(model, "LH", spans=spans, margins=BEFORE_THE_LIFT_PROFILE)
     monkeypatch.setattr(bound_module, "REVISIT_WITHIN", 0.0)
-    forward = bound_for(model, "LH", spans=spans)
+    forward = bound_for(model, "LH", spans=spans, margins=BEFORE_THE_LIFT_PROFILE)
     assert [lv.revisited for lv in forward.levels] == [False] * 4
     assert not forward.converged  # the forward path alone needs a finer level
     assert [lv.revisited for lv in revisited.levels] == [False, False, True, False]

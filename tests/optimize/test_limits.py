@@ -8,6 +8,7 @@ import pytest
 
 from scalf_opt.actuators.cylinder import HydraulicCylinder
 from scalf_opt.energy.limits import leg_bounds, violations
+from scalf_opt.energy.margins import NO_LIFT_PROFILE, LimitMargins
 from scalf_opt.energy.peaks import cycle_peaks, cycle_violations
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.errors import ConfigError
@@ -83,10 +84,12 @@ def test_a_tighter_limit_binds_and_the_optimum_respects_it(scalf):
     for joint, drive in EnergyPipeline(scalf, Gait(), loads="trunk").robot_physics.drives.items():
         tight[joint] = dataclasses.replace(drive, max_force_n=4000.0)
     pipeline = EnergyPipeline(scalf, Gait(), drives=tight, loads="trunk")
+    # the limit itself, not less the effort margin, is what binds here
+    settings = Settings(margins=LimitMargins(effort_share=0.0))
     free = optimize_swings(
-        EnergyPipeline(scalf, Gait(), loads="trunk"), ("RF",), make_family("joint-6")
+        EnergyPipeline(scalf, Gait(), loads="trunk"), ("RF",), make_family("joint-6"), settings
     )
-    bound = optimize_swings(pipeline, ("RF",), make_family("joint-6"))
+    bound = optimize_swings(pipeline, ("RF",), make_family("joint-6"), settings)
     assert bound.success
     swing = bound.pipeline.swing("RF", bound.family, bound.legs["RF"].best.theta)
     force = np.abs(swing.values["cyl_force_hip"])
@@ -142,7 +145,9 @@ def test_regenerative_is_bounded_on_scalf_by_the_work_energy_theorem(scalf):
     # same for every swing), so the optimum only lowers the friction heat: checked against
     # Pinocchio's kinetic and potential energies at lift-off and touch-down
     pipeline = EnergyPipeline(scalf, Gait(), "regenerative", loads="trunk")
-    run = optimize_swings(pipeline, ("RF",), make_family("joint-3"))
+    # compared with the reference swing, which keeps no lift profile: nor does this optimum
+    margins = LimitMargins(lift=NO_LIFT_PROFILE)
+    run = optimize_swings(pipeline, ("RF",), make_family("joint-3"), Settings(margins=margins))
     assert run.success
     result = run.legs["RF"]
     swing = run.pipeline.swing("RF", run.family, result.best.theta)
@@ -162,7 +167,8 @@ def test_regenerative_is_bounded_on_scalf_by_the_work_energy_theorem(scalf):
     # it is no worse than the reference's heat, and every limit holds
     reference = fine.swing("RF", make_family("reference"))
     assert heat <= float(reference.loss_j.sum())
-    assert violations(swing.values, SwingProblem(run.pipeline, "RF", run.family).bounds) == []
+    problem = SwingProblem(run.pipeline, "RF", run.family, margins=margins)
+    assert violations(swing.values, problem.bounds) == []
 
 
 def test_starts_are_deterministic_and_the_best_is_kept(model):

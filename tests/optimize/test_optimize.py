@@ -8,6 +8,7 @@ import pytest
 
 from scalf_opt.api.gaits import read_gait
 from scalf_opt.energy.limits import violations
+from scalf_opt.energy.margins import NO_LIFT_PROFILE, LimitMargins
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
@@ -79,15 +80,18 @@ def test_pattern_search_records_its_history(paper_optima):
 
 
 def test_richer_nested_families_never_do_worse(model):
+    # under the same constraints: the paper family, too small to shape its lift, keeps no lift
+    # profile (LimitMargins.for_family), so none here
+    margins = LimitMargins(lift=NO_LIFT_PROFILE)
     for leg in ("RF", "LH"):
         previous = None
         chain = ("paper", "joint-3", "joint-4", "joint-5")
         for poor_name, rich_name in itertools.pairwise(chain):
             poor, rich = make_family(poor_name), make_family(rich_name)
             if previous is None:
-                previous = run_ipopt(SwingProblem(model, leg, poor))
+                previous = run_ipopt(SwingProblem(model, leg, poor, margins=margins))
             warm = rich.embed(previous.theta, poor)
-            richer = run_ipopt(SwingProblem(model, leg, rich), warm)
+            richer = run_ipopt(SwingProblem(model, leg, rich, margins=margins), warm)
             assert richer.success
             assert richer.swing_energy_j <= previous.swing_energy_j + SMOOTHING_BOUND_J
             previous = richer
@@ -283,7 +287,10 @@ def test_build_nlp_has_the_constraints_and_is_built_once(model):
     rich = SwingProblem(model, "LH", make_family("joint-3"))
     lifted = build_nlp(rich)
     assert lifted.lifted and len(rich.input_rows) == 4  # q and qd of both joints
-    assert lifted.solver.size_out("g")[0] == 6 * n + 2 * n + (m - 4) * n + (n - 2) + 2
+    # ... and, its lift shaped (more than two parameters), the landing speed's samples
+    landing = int(rich.grid.landing().sum())
+    assert landing > 0
+    assert lifted.solver.size_out("g")[0] == 6 * n + 2 * n + (m - 4) * n + (n - 2) + landing + 2
     assert lifted.solver.size_in("x0")[0] == 6 + 6 * n + 4 * n
     # the same shape is never built twice, whatever family of that size or gait
     other = SwingProblem(model.with_gait(Gait(step_length_m=0.2)), "LH", make_family("paper"))
@@ -366,7 +373,12 @@ def test_conditioning_lets_ipopt_converge_in_fewer_iterations(model, monkeypatch
     # coordinates the path, and the optimum it ends on, follow the round-off
     from scalf_opt.optimize import nlp
 
-    rich = SwingProblem(model.with_gait(Gait(sample_rate_hz=375)), "RF", make_family("joint-12"))
+    # the constraints it was measured under (with the lift profile the plain NLP did not
+    # converge: 25 s, then a failed status)
+    margins = LimitMargins(effort_share=0.0, lift=NO_LIFT_PROFILE)
+    rich = SwingProblem(
+        model.with_gait(Gait(sample_rate_hz=375)), "RF", make_family("joint-12"), margins=margins
+    )
     conditioned = run_ipopt(rich)
     monkeypatch.setattr(nlp, "parameter_map", lambda problem, block: np.eye(block.n_theta))
     plain = run_ipopt(rich)

@@ -9,6 +9,7 @@ import pytest
 
 import scalf_opt.optimize.solve as solve_module
 from scalf_opt.energy.loads import PAPER_LOADS
+from scalf_opt.energy.margins import NO_LIFT_PROFILE, LimitMargins
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.locomotion.swing.bspline import BSplineFamily
@@ -30,11 +31,13 @@ def _level(pipeline: EnergyPipeline, spans: int) -> EnergyPipeline:
 def warm(scalf):
     """The 32-span problem and its start at the 16-span optimum."""
     pipeline = EnergyPipeline(scalf, Gait()).with_loads(PAPER_LOADS)
-    coarse = SwingProblem(_level(pipeline, 16), "RF", BSplineFamily(16))
+    # the actuator rows the screen leaves out, and the ground's, as they were written for
+    margins = LimitMargins(effort_share=0.0, lift=NO_LIFT_PROFILE)
+    coarse = SwingProblem(_level(pipeline, 16), "RF", BSplineFamily(16), margins=margins)
     optimum = run_ipopt(coarse, closest_member(coarse, reference_path(coarse)))
     assert optimum.success
     level = _level(pipeline, 32)
-    problem = SwingProblem(level, "RF", BSplineFamily(32))
+    problem = SwingProblem(level, "RF", BSplineFamily(32), margins=margins)
     return problem, _projection(level, "RF", BSplineFamily(32), BSplineFamily(16), optimum.theta)
 
 

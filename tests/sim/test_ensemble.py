@@ -14,7 +14,6 @@ import pytest
 from scalf_opt.cli import main
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
-from scalf_opt.robots.loading import load_robot
 from scalf_opt.sim.control import servo_gains
 from scalf_opt.sim.ensemble import ENSEMBLE, NOMINAL, MemberResult, Perturbation, ensemble_verdict
 from scalf_opt.sim.experiment import run_trot
@@ -24,8 +23,8 @@ from scalf_opt.types import LEG_NAMES
 
 
 @pytest.fixture(scope="module")
-def robot():
-    return load_robot("scalf")
+def robot(scalf):
+    return scalf  # the session's SCalf (tests/conftest.py)
 
 
 @pytest.fixture(scope="module")

@@ -181,7 +181,7 @@ def add_ground_margin_options(parser: argparse.ArgumentParser) -> None:
         default=None,
         metavar="X",
         help="over the landing (the last lift fraction of the swing) the foot comes down no "
-        "faster than X m/s, at most 100 (default: 3 H / swing duration; 100: no bound)",
+        "faster than X m/s, at most 100 (default: 2.6 H / swing duration; 100: no bound)",
     )
 
 
