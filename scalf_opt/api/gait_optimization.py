@@ -96,8 +96,12 @@ class GaitResult:
             gait = Gait(**details["gait"])
             loads = details["optimization_run"]["loads"]  # the loads it was optimized under
             pipeline = EnergyPipeline(robot, gait, details["accounting"], loads=loads)
-            thetas = {leg: np.asarray(p, dtype=float) for leg, p in details["parameters"].items()}
-            cycle = pipeline.robot_cycle(make_family(details["family"]), thetas)
+            family = make_family(details["family"])
+            names = details.get("parameter_names")  # none in a cache of an older version
+            thetas = {
+                leg: family.theta_from_record(p, names) for leg, p in details["parameters"].items()
+            }
+            cycle = pipeline.robot_cycle(family, thetas)
         return cls(robot, row, details, cycle, pipeline, search, command_tuple(command))
 
     @property

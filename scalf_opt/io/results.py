@@ -19,6 +19,7 @@ from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.peaks import cycle_peaks, cycle_violations, peaks_summary
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.files import number_text, write_atomic
+from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.types import JOINT_ROLES
 
 _PAIRED: tuple[tuple[str, str, tuple[str, str]], ...] = (
@@ -87,6 +88,7 @@ def cycle_summary(cycle: RobotCycle) -> dict[str, Any]:
         legs[name] = {
             "swing_family": leg.swing_family,
             "swing_parameters": [float(x) for x in leg.swing_theta],
+            "swing_parameter_names": make_family(leg.swing_family).parameter_names,
             "stance_energy_j": leg.stance_energy_j,
             "swing_energy_j": leg.swing_energy_j,
             "cycle_energy_j": leg.energy_j,

@@ -278,9 +278,10 @@ def _swings(path: Path, legs: dict[str, Any]) -> tuple[dict[str, str], dict[str,
         family = _field(path, record, "swing_family", str, f"legs.{leg}.swing_family")
         params = _field(path, record, "swing_parameters", list, f"legs.{leg}.swing_parameters")
         try:
-            n_params = make_family(family).n_params
+            swing_family = make_family(family)
         except ScalfError as exc:
             raise ConfigError(f"{path}: legs.{leg}.swing_family: {exc}") from exc
+        n_params = swing_family.n_params
         if len(params) != n_params or not all(
             _number_or_none(v) is not None and math.isfinite(v) for v in params
         ):
@@ -288,8 +289,16 @@ def _swings(path: Path, legs: dict[str, Any]) -> tuple[dict[str, str], dict[str,
                 f"{path}: legs.{leg}.swing_parameters must be {n_params} finite numbers for family "
                 f"{family!r}, got {params!r}"
             )
+        names = record.get("swing_parameter_names")  # none in a file of an older version
+        if names is not None and not (
+            isinstance(names, list) and all(isinstance(n, str) for n in names)
+        ):
+            raise ConfigError(f"{path}: legs.{leg}.swing_parameter_names must be a list of names")
+        try:
+            parameters[leg] = swing_family.theta_from_record(params, names)
+        except ScalfError as exc:
+            raise ConfigError(f"{path}: legs.{leg}.swing_parameter_names: {exc}") from exc
         families[leg] = family
-        parameters[leg] = np.array(params, dtype=float)
     if not families:
         raise ConfigError(f"{path}: legs holds none of {', '.join(LEG_NAMES)}")
     return families, parameters

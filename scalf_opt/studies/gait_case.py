@@ -118,7 +118,7 @@ def gait_details(search: GaitSearch) -> dict[str, Any]:
     """What rebuilds the cheapest gait's optimum in another process (plain data).
 
     ``gait`` (every field, at the converged rate), ``accounting``, ``family``, ``parameters``
-    per optimized leg, the ``optimization`` and ``optimization_run`` records of
+    per optimized leg and their ``parameter_names``, the ``optimization`` and ``optimization_run`` records of
     ``summary.json``, and the search's own record ``cheapest_gait``.
     """
     run = search.best.run
@@ -130,6 +130,7 @@ def gait_details(search: GaitSearch) -> dict[str, Any]:
         accounting=run.pipeline.accounting,
         family=run.family.name,
         parameters={leg: [float(v) for v in theta] for leg, theta in run.thetas.items()},
+        parameter_names=run.family.parameter_names,
         optimization=leg_records(run),
         optimization_run=run_record(run),
     )

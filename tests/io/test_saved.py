@@ -59,12 +59,42 @@ def edit(summary, change):
         ),
         (lambda d: d["legs"]["RF"].update(swing_family="bogus"), ConfigError, "bogus"),
         (lambda d: d["gait"].update(duty_cycle=0.2), GaitError, "duty_cycle"),
+        (
+            lambda d: d["legs"]["RF"].update(swing_parameter_names=["a", "b"]),
+            ConfigError,
+            "legs.RF.swing_parameter_names: family paper: parameters named",
+        ),
+        (
+            lambda d: d["legs"]["RF"].update(swing_parameter_names="hip"),
+            ConfigError,
+            "legs.RF.swing_parameter_names must be a list of names",
+        ),
     ],
 )
 def test_a_bad_summary_is_refused_naming_the_field(tmp_path, summary, change, error, message):
     (tmp_path / "summary.json").write_text(json.dumps(edit(summary, change)))
     with pytest.raises(error, match=message.replace(".", r"\.")):
         read_saved_swings(tmp_path)
+
+
+def test_a_summary_from_before_the_modes_reads_back_as_the_same_member(tmp_path):
+    # joint-N's parameters were its terms' coefficients until they became its modes' amplitudes:
+    # a file without the parameters' names holds coefficients, and reads back as the member
+    # it was written for
+    from scalf_opt.locomotion.swing.registry import make_family
+
+    out = tmp_path / "opt"
+    assert main(["optimize", "--family", "joint-3", "--leg", "RF", "--out", str(out)]) == 0
+    saved = json.loads((out / "summary.json").read_text())
+    record = saved["legs"]["RF"]
+    family = make_family("joint-3")
+    assert record["swing_parameter_names"] == family.parameter_names
+    theta = np.array(record["swing_parameters"])
+    old = edit(saved, lambda d: d["legs"]["RF"].pop("swing_parameter_names"))
+    old["legs"]["RF"]["swing_parameters"] = list(family.fourier_coefficients(theta))
+    (tmp_path / "summary.json").write_text(json.dumps(old))
+    np.testing.assert_allclose(read_saved_swings(tmp_path).swings["RF"][1], theta, atol=1e-12)
+    np.testing.assert_array_equal(read_saved_swings(out).swings["RF"][1], theta)
 
 
 def test_a_simulation_needs_every_leg(tmp_path, summary):

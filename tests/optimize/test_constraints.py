@@ -130,7 +130,8 @@ def test_the_foot_speed_row_is_the_time_derivative_of_the_foot_height_row(scalf,
     landing bound reads. The difference errs by dt^2/6 times the third derivative: < 1e-5 m/s."""
     gait = Gait(sample_rate_hz=40_000.0)
     problem = SwingProblem(EnergyPipeline(scalf, gait, loads="trunk"), "RF", make_family(family))
-    theta = np.linspace(-1.0, 1.0, problem.n_params)  # degrees or centimetres: in reach
+    # coefficients of -1..1 degrees or centimetres: in reach
+    theta = problem.family.from_fourier_coefficients(np.linspace(-1.0, 1.0, problem.n_params))
     c = problem.outputs(theta)["c"]
     z, v = c[problem.kernel.row("foot_z")], c[problem.kernel.row("foot_z_vel")]
     t = problem.path.t_s

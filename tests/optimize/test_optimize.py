@@ -11,6 +11,7 @@ from scalf_opt.energy.limits import violations
 from scalf_opt.energy.margins import NO_LIFT_PROFILE, LimitMargins
 from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.locomotion.gait import Gait
+from scalf_opt.locomotion.swing.fourier import FourierFamily, order_terms
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.locomotion.swing.registry import make_family
 from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S, kernel_for
@@ -225,17 +226,18 @@ def test_nlp_derivatives_from_the_kernels_equal_casadi_s_own(model, hyq, robot, 
 
 @pytest.mark.parametrize(
     ("family", "loads"),
-    [("joint-6", "trunk"), ("joint-12", "trunk"), ("joint-6", "whole-body")],
+    [("joint-6", "trunk"), ("joint-12 coefficients", "trunk"), ("joint-6", "whole-body")],
 )
 def test_the_nlp_carries_a_dense_basis_on_its_nonzeros(scalf, family, loads):
     # each joint of a Fourier family moves with its own parameters: the NLP's parameter B M
     # holds only B M's nonzeros (half), and its lifted rows Y - Y_0 - (B M) x, the stance
     # term's too under whole-body loads, vanish at samples computed apart, in numpy, from the
-    # dense basis (joint-12: M conditions the basis); a value misplaced fails by far
+    # dense basis (joint-12's coefficients: M conditions the basis); a value misplaced fails by far
     from scalf_opt.optimize import nlp
 
     pipeline = EnergyPipeline(scalf, Gait(), loads=loads)
-    problem = SwingProblem(pipeline, "RF", make_family(family))
+    swing = coefficients_of(12) if family == "joint-12 coefficients" else make_family(family)
+    problem = SwingProblem(pipeline, "RF", swing)
     built = build_nlp(problem)
     block = built.blocks[0]
     theta_map = nlp.parameter_map(problem, block)
@@ -345,12 +347,19 @@ def test_pattern_search_reports_when_nothing_is_feasible(scalf):
     assert result.status == "no feasible point found"
 
 
+def coefficients_of(order: int) -> FourierFamily:
+    """``joint-N`` with its terms' coefficients as parameters instead of its modes."""
+    terms = order_terms(order)
+    return FourierFamily(f"joint-{order}", "joint", (terms, terms))
+
+
 def test_a_badly_conditioned_basis_gets_a_map_that_orthogonalizes_it(model):
-    # joint-12's joint-angle basis has a condition number of 3e9 (its Fourier terms cancel):
-    # the NLP's variables x give theta = M x with B_q M orthogonal; joint-6 (1.8e4) keeps theta
+    # joint-12's terms' coefficients as parameters (the family before its modes) have a
+    # joint-angle basis of condition number 3e9 (the Fourier terms cancel): the NLP's variables
+    # x give theta = M x with B_q M orthogonal; joint-6's modes (orthonormal) keep theta
     from scalf_opt.optimize import nlp
 
-    rich = SwingProblem(model.with_gait(Gait(sample_rate_hz=375)), "RF", make_family("joint-12"))
+    rich = SwingProblem(model.with_gait(Gait(sample_rate_hz=375)), "RF", coefficients_of(12))
     m = nlp.parameter_map(rich, build_nlp(rich).blocks[0])
     angles = rich.path.dense_basis()[0].reshape(-1, rich.n_params)
     assert np.linalg.cond(angles) > nlp.CONDITIONING_ABOVE
@@ -377,7 +386,7 @@ def test_conditioning_lets_ipopt_converge_in_fewer_iterations(model, monkeypatch
     # converge: 25 s, then a failed status)
     margins = LimitMargins(effort_share=0.0, lift=NO_LIFT_PROFILE)
     rich = SwingProblem(
-        model.with_gait(Gait(sample_rate_hz=375)), "RF", make_family("joint-12"), margins=margins
+        model.with_gait(Gait(sample_rate_hz=375)), "RF", coefficients_of(12), margins=margins
     )
     conditioned = run_ipopt(rich)
     monkeypatch.setattr(nlp, "parameter_map", lambda problem, block: np.eye(block.n_theta))

@@ -14,6 +14,7 @@ from __future__ import annotations
 import math
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -106,14 +107,51 @@ class SwingFamily(ABC):
         return len(self.free_terms[0]) + len(self.free_terms[1])
 
     @property
-    def parameter_names(self) -> list[str]:
-        """Names of the free parameters, e.g. ``hip_cos3`` (joint) or ``z_sin4`` (foot)."""
+    def coefficient_names(self) -> list[str]:
+        """Names of the free terms' coefficients, e.g. ``hip_cos3`` (joint) or ``z_sin4`` (foot)."""
         coords = ("hip", "knee") if self.space == "joint" else ("x", "z")
         return [
             f"{c}_{k}{o}"
             for c, terms in zip(coords, self.free_terms, strict=True)
             for k, o in terms
         ]
+
+    @property
+    def parameter_names(self) -> list[str]:
+        """Names of the free parameters: the coefficients' unless a family says otherwise."""
+        return self.coefficient_names
+
+    def fourier_coefficients(self, theta: np.ndarray) -> np.ndarray:
+        """The free terms' coefficients (family units) of the member with parameters ``theta``."""
+        return np.asarray(theta, dtype=float).copy()
+
+    def from_fourier_coefficients(self, coefficients: np.ndarray) -> np.ndarray:
+        """The parameters of the member whose free terms' coefficients are ``coefficients``."""
+        return np.asarray(coefficients, dtype=float).copy()
+
+    def theta_from_record(self, values: Sequence[float], names: Sequence[str] | None) -> np.ndarray:
+        """Parameters saved with their names (or without: a file from before the names).
+
+        A record names either this family's parameters or its terms' coefficients (files
+        written before the modal parameters of ``joint-N`` and ``fourier-N``); values saved
+        without names are coefficients, as every file without them was written.
+
+        Raises:
+            ConfigError: The names are neither, or their count is not the values'.
+        """
+        theta = np.asarray(values, dtype=float)
+        if names is not None and list(names) == self.parameter_names:
+            return theta
+        if names is None or list(names) == self.coefficient_names:
+            if theta.size != self.n_params:
+                raise ConfigError(
+                    f"family {self.name}: {self.n_params} parameters expected, got {theta.size}"
+                )
+            return self.from_fourier_coefficients(theta)
+        raise ConfigError(
+            f"family {self.name}: parameters named {list(names)} are neither "
+            f"{self.parameter_names} nor {self.coefficient_names}"
+        )
 
     @property
     def parameter_unit(self) -> str:
@@ -152,8 +190,22 @@ class SwingFamily(ABC):
         )
         if not nested:
             raise ConfigError(f"family {poorer.name} is not nested in {self.name}")
-        names = self.parameter_names
-        out = np.zeros(self.n_params)
-        for name, value in zip(poorer.parameter_names, np.asarray(theta, dtype=float), strict=True):
-            out[names.index(name)] = value
+        theta = np.asarray(theta, dtype=float)
+        shared = set(poorer.parameter_names) <= set(self.parameter_names)
+        if shared and all(
+            new[: len(old)] == old
+            for old, new in zip(poorer.free_terms, self.free_terms, strict=True)
+        ):  # the same parameters (terms or modes) of leading terms: mapped by name, exactly
+            return self._by_name(theta, poorer.parameter_names, self.parameter_names)
+        coefficients = self._by_name(
+            poorer.fourier_coefficients(theta), poorer.coefficient_names, self.coefficient_names
+        )
+        return self.from_fourier_coefficients(coefficients)
+
+    @staticmethod
+    def _by_name(values: np.ndarray, names: list[str], into: list[str]) -> np.ndarray:
+        """``values`` named ``names`` placed at their names in a zero vector named ``into``."""
+        out = np.zeros(len(into))
+        for name, value in zip(names, values, strict=True):
+            out[into.index(name)] = value
         return out

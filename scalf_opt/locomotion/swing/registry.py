@@ -49,7 +49,7 @@ def _fourier(match: re.Match[str]) -> SwingFamily:
         )
     terms = order_terms(order)
     space: Space = "foot" if match.group(1) == "fourier" else "joint"
-    return FourierFamily(match.group(0), space, (terms, terms))
+    return FourierFamily(match.group(0), space, (terms, terms), modes=True)
 
 
 FAMILY_KINDS: list[FamilyKind] = [
