@@ -123,13 +123,14 @@ optima or lower, not fewer everywhere (measured: docs/speed-log.md, "Measurement
 choices")."""
 
 CONDITIONING_ABOVE = 1e6
-"""A dense basis whose joint angles have a condition number above this is conditioned
-(:func:`parameter_map`): ``joint-8`` (1.2e6) and richer, ``joint-12`` at 3e9. The Fourier terms
-left after the end conditions cancel more with every order, and Ipopt's steps, its
-regularization and its barrier are not invariant to that: conditioned, the rich families solve
+"""A dense basis whose values have a condition number above this is conditioned
+(:func:`parameter_map`). The Fourier families' modes are orthonormal (condition number 1) and
+never are; their terms' coefficients were, from ``joint-8`` (1.2e6) on, ``joint-12`` at 3e9: the
+Fourier terms left after the end conditions cancel more with every order, and Ipopt's steps, its
+regularization and its barrier are not invariant to that. Conditioned, those rich families solved
 faster to the same or lower optima; below the threshold conditioning only picked other local
-optima, and those families keep their parameters (measured: docs/speed-log.md, "Measurements
-behind choices")."""
+optima (measured: docs/speed-log.md, "Measurements behind choices"). A family registered with
+such a basis is conditioned the same way."""
 
 SPARSE_BASIS_DENSITY = 0.25
 """A family's basis with fewer nonzeros than this fraction is built into the NLP as a sparse

@@ -6,11 +6,11 @@
 * The **member closest to a path**: the least-squares fit of the family's affine samples to the
   path's value, rate and acceleration, weighted by ``T_sw`` and ``T_sw^2`` so that the three are
   comparable (a dimensionless fit in the family's space: joint angles or foot position). The
-  rich Fourier families are ill-conditioned (``joint-12``: condition number 4e7): the plain fit
-  of the reference needs cancelling coefficients of 27,000 degrees. The fit is therefore a
-  truncated SVD (:data:`FIT_RCOND`): directions ten thousand times weaker than the strongest
-  stay at zero, which keeps every coefficient of that fit below 7 degrees and its residual
-  within 0.15 % of the exact fit's.
+  fit is a truncated SVD (:data:`FIT_RCOND`): directions ten thousand times weaker than the
+  strongest stay at zero. The Fourier families' modes never reach that (their fit's condition
+  number is 1.5e3 on ``joint-12``, from the rates and accelerations of the higher modes): their
+  fit is the exact one. A basis of cancelling terms would: ``joint-12``'s coefficients, whose
+  plain fit of the reference needed 27,000 degrees, kept below 7 degrees truncated.
 * **More starts**: the member closest to the reference (if it was not the first), then that
   member plus deterministic pseudo-random offsets (standard deviation :data:`START_SPREAD`
   parameter units, seeded by the start's number; halved until a foot-space start is inside the

@@ -102,6 +102,13 @@ def test_view_of_a_saved_joint_12_optimum_prints_its_numbers(tmp_path, capsys):
     argv = ["optimize", "--family", "joint-12", "--loads", LOADS["joint-12"], "--json"]
     assert main([*argv, "--out", str(saved)]) == 0
     summary = json.loads(capsys.readouterr().out)
+    # its parameters are its modes' rms amplitudes: none beyond ten times the largest joint
+    # range in degrees (its coefficients reached a million degrees)
+    leg = so.load_robot("scalf").leg("RF")
+    largest_range_deg = max(leg.upper_limits_rad - leg.lower_limits_rad) * 180 / 3.141592653589793
+    for record in summary["optimization"].values():
+        assert max(map(abs, record["parameters"].values())) < 10 * largest_range_deg
+        assert max(map(abs, record["parameters"].values())) < 30.0  # measured 16 degrees
     assert main(["view", "--from", str(saved), "--out", str(tmp_path / "j12.html")]) == 0
     shown = legend(capsys.readouterr().out)
     assert shown["reference (cubic spline)"] == printed(
