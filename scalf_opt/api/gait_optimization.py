@@ -15,8 +15,6 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from scalf_opt.api.gaits import as_robot, command_tuple, read_gait
 from scalf_opt.energy.cycle import RobotCycle
 from scalf_opt.energy.loads import DEFAULT_LOADS

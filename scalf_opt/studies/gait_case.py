@@ -118,8 +118,9 @@ def gait_details(search: GaitSearch) -> dict[str, Any]:
     """What rebuilds the cheapest gait's optimum in another process (plain data).
 
     ``gait`` (every field, at the converged rate), ``accounting``, ``family``, ``parameters``
-    per optimized leg and their ``parameter_names``, the ``optimization`` and ``optimization_run`` records of
-    ``summary.json``, and the search's own record ``cheapest_gait``.
+    per optimized leg and their ``parameter_names``, the ``optimization`` and
+    ``optimization_run`` records of ``summary.json``, and the search's own record
+    ``cheapest_gait``.
     """
     run = search.best.run
     details: dict[str, Any] = {"cheapest_gait": gait_search_record(search)}

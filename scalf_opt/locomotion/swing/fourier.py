@@ -85,7 +85,7 @@ the products of terms up to order 2 x 12 (a polynomial of degree 255 is integrat
 
 
 def free_functions(terms: Terms, s: np.ndarray, derivative: int = 0) -> np.ndarray:
-    """The free terms' functions of ``s``, each with its eliminated part: shape (len(s), len(terms)).
+    """The free terms' functions of ``s`` with their eliminated parts, shape (len(s), len(terms)).
 
     Every column and its first derivative vanish at ``s = 0`` and ``s = 1``.
     """
@@ -112,7 +112,7 @@ def mode_transform(terms: Terms) -> tuple[np.ndarray, np.ndarray]:
         return r[:k, :k], r_inv[:k, :k]
     nodes, weights = np.polynomial.legendre.leggauss(QUADRATURE_NODES)
     s, w = (nodes + 1.0) / 2.0, weights / 2.0
-    r = np.linalg.qr(np.sqrt(w)[:, None] * free_functions(terms, s), mode="r")
+    r = np.linalg.qr(np.sqrt(w)[:, None] * free_functions(terms, s)).R
     r = r * np.sign(np.diag(r))[:, None]  # a positive diagonal: mode k leans on term k
     r_inv = np.linalg.solve(r, np.eye(len(terms)))
     r.setflags(write=False)
