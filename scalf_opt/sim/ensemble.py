@@ -97,6 +97,7 @@ class MemberResult:
         saving_percent: The plan's simulated change against the reference [%], when the
             reference was simulated.
         torque_saturation: The largest share of steps any joint asked beyond its effort limit.
+        fell_at_s: When the robot fell in this member's run [s], ``None`` when it did not.
     """
 
     perturbation: Perturbation
@@ -105,6 +106,7 @@ class MemberResult:
     total_relative_difference: float
     saving_percent: float | None
     torque_saturation: float
+    fell_at_s: float | None = None
 
     @classmethod
     def of(cls, perturbation: Perturbation, data: dict[str, Any]) -> MemberResult:
@@ -118,6 +120,7 @@ class MemberResult:
             float(data["total_energy_per_cycle_j"]["relative_difference"]),
             None if saving is None else float(saving["simulated_percent"]),
             float(max(data["torque_saturation_fraction"].values())),
+            data.get("fell_at_s"),
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -132,6 +135,7 @@ class MemberResult:
             "total_relative_difference": self.total_relative_difference,
             "saving_simulated_percent": self.saving_percent,
             "torque_saturation_fraction": self.torque_saturation,
+            "fell_at_s": self.fell_at_s,
         }
 
 
@@ -148,9 +152,10 @@ def ensemble_verdict(
     the members' medians, ``relative_difference_spread`` their largest minus smallest;
     ``total_energy_per_cycle_j`` likewise; ``saving_vs_reference.simulated_percent`` the median
     saving with its spread in points. ``goals``: ``refereeable`` (every spread within ``goal``)
-    and ``joint_energy_met`` (refereeable, and every median within ``goal``). ``ensemble`` lists
-    the members. The rest (trunk, forces, the phase split, the servo's work) stays the nominal
-    referee's.
+    and ``joint_energy_met`` (refereeable, and every median within ``goal``); a member whose
+    robot fell makes the plan not refereeable whatever the spread (``ensemble.fell`` names
+    them). ``ensemble`` lists the members. The rest (trunk, forces, the phase split, the
+    servo's work) stays the nominal referee's.
     """
     data = dict(nominal)
     energy = {}
@@ -171,7 +176,8 @@ def ensemble_verdict(
     data["total_energy_per_cycle_j"] = total
     spread = max(e["relative_difference_spread"] for e in energy.values())
     largest = max(abs(e["relative_difference"]) for e in energy.values())
-    refereeable = spread <= goal
+    fell = [m.perturbation.name for m in members if m.fell_at_s is not None]
+    refereeable = spread <= goal and not fell
     data["goals"] = {
         **nominal["goals"],
         "ensemble_spread_at_most": goal,
@@ -184,6 +190,7 @@ def ensemble_verdict(
     data["ensemble"] = {
         "members": [m.to_dict() for m in members],
         "largest_spread": spread,
+        "fell": fell,
     }
     return data
 

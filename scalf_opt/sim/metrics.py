@@ -31,6 +31,11 @@ Every figure is taken after the first gait cycle (the start-up transient), over 
   push along x against each other, the part that cancels (``min |F_x|`` of the two), peak and
   mean over the pair's stance: the model's minimum-norm distribution has none.
 
+* ``fell_at_s``: the first time the trunk left its plan by more than a fall
+  (:data:`FALL_HEIGHT_SHARE` of the stance height, or :data:`FALL_PITCH_RAD` of pitch), ``None``
+  when it never did: a run that fell measured a robot on the ground, not the plan, and the report
+  says so instead of quoting its energy as a verdict.
+
 Two checks of the record itself: the mean vertical ground force over whole cycles equals the
 robot's weight (momentum balance of a periodic motion), and the work of the joint torques and
 the contacts equals the change of the robot's kinetic plus potential energy (MuJoCo's own).
@@ -51,6 +56,22 @@ from scalf_opt.sim.mujoco_model import SimModel
 from scalf_opt.sim.plan import TrotPlan
 from scalf_opt.sim.run import SimRecord
 from scalf_opt.types import LEG_NAMES
+
+FALL_HEIGHT_SHARE = 0.25
+"""A trunk this share of the stance height away from its planned height has fallen (or jumped)."""
+
+FALL_PITCH_RAD = 0.35
+"""A trunk pitched this far (20 degrees) has fallen."""
+
+
+def fell_at_s(record: SimRecord, stance_height_m: float) -> float | None:
+    """When the trunk first left its plan by a fall (module docstring), else ``None`` [s]."""
+    _, z, pitch = record.trunk
+    away = (np.abs(z - record.start_trunk_height_m) > FALL_HEIGHT_SHARE * stance_height_m) | (
+        np.abs(pitch) > FALL_PITCH_RAD
+    )
+    return float(record.t_s[np.argmax(away)]) if away.any() else None
+
 
 HEIGHT_GOAL_M = 0.004
 """The paper's largest trunk-height fluctuation (Section 6.3) [m]."""
@@ -255,9 +276,11 @@ def summarize(
     height_ptp = float(np.ptp(z[steps]))
     height_goal = height_goal_m(gait.stance_height_m)
     largest_gap = max(abs(e["relative_difference"]) for e in energy.values())
+    fell = fell_at_s(record, gait.stance_height_m)
     return {
         "cycles": cycles + 1,
         "cycles_averaged": cycles,
+        "fell_at_s": fell,
         "trunk_height_fluctuation_m": height_ptp,
         "trunk_height_mean_m": float(z[steps].mean()),
         "trunk_height_planned_m": record.start_trunk_height_m,
@@ -300,7 +323,7 @@ def summarize(
             "trunk_height_fluctuation_at_most_m": height_goal,
             "trunk_height_met": height_ptp <= height_goal,
             "joint_energy_relative_difference_at_most": goal,
-            "joint_energy_met": largest_gap <= goal,
+            "joint_energy_met": largest_gap <= goal and fell is None,
         },
     }
 

@@ -106,9 +106,15 @@ def _energy_goal_line(result: dict[str, Any]) -> str:
     goal = goals["joint_energy_relative_difference_at_most"]
     line = f"goal: joint energy within {100 * goal:.0f} % of the model's on every leg"
     if "ensemble" not in result:
+        fell = result.get("fell_at_s")
+        if fell is not None:
+            return f"{line}: NOT met (the robot fell at t = {fell:.3f} s)"
         return f"{line}: {_met(goals['joint_energy_met'])}"
     n = len(result["ensemble"]["members"])
     line += f" in the median of {n} referees, spread at most {100 * goal:.0f} points: "
+    fell = result["ensemble"].get("fell") or []
+    if fell:
+        return line + f"NOT refereeable (the robot fell under: {', '.join(fell)})"
     if not goals["refereeable"]:
         spread = result["ensemble"]["largest_spread"]
         return line + f"NOT refereeable (the referees disagree by up to {100 * spread:.2f} points)"
@@ -132,6 +138,7 @@ def _members(result: dict[str, Any]) -> list[str]:
             + f" {100 * m['total_relative_difference']:+7.2f}%  "
             + ("    n/a" if saving is None else f"{saving:+6.2f}%")
             + f"  {100 * m['torque_saturation_fraction']:6.2f} %"
+            + ("" if m.get("fell_at_s") is None else f"  fell at {m['fell_at_s']:.3f} s")
         )
     return lines
 
@@ -204,6 +211,11 @@ def _checks_and_saving(result: dict[str, Any]) -> list[str]:
             if "relative_difference_spread" in worst
             else ""
         )
+        fell = (result["reference"].get("ensemble") or {}).get("fell") or []
+        if fell:
+            spread += f"; it fell under: {', '.join(fell)}"
+        elif result["reference"].get("fell_at_s") is not None:
+            spread += f"; it fell at t = {result['reference']['fell_at_s']:.3f} s"
         lines += [
             "",
             f"reference swing, simulated the same way: {reference['simulated']:.3f} J per cycle "

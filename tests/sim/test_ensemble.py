@@ -196,3 +196,38 @@ def test_a_model_20_percent_wrong_is_told_so(robot):
         for leg in LEG_NAMES
     )
     assert math.isfinite(wrong["trunk_height_fluctuation_m"])
+
+
+def test_a_member_whose_robot_fell_makes_the_plan_not_refereeable():
+    """Within the spread, but one referee's robot fell: its energy measured a robot on the
+    ground, so the verdict names it instead of agreeing."""
+    members = [_member(str(i), [0.01] * 4) for i in range(4)]
+    members.append(dataclasses.replace(_member("foot radius x3", [0.02] * 4), fell_at_s=1.25))
+    data = ensemble_verdict(_nominal_data(), members, 0.05)
+    assert data["goals"]["refereeable"] is False and data["goals"]["joint_energy_met"] is False
+    assert data["ensemble"]["fell"] == ["foot radius x3"]
+    assert data["ensemble"]["members"][-1]["fell_at_s"] == 1.25
+    from scalf_opt.sim.report import _energy_goal_line, _members
+
+    assert _energy_goal_line(data).endswith(
+        "NOT refereeable (the robot fell under: foot radius x3)"
+    )
+    assert _members(data)[-1].endswith("fell at 1.250 s")
+
+
+def test_a_fall_is_the_first_time_the_trunk_leaves_its_plan_by_a_fall():
+    from types import SimpleNamespace
+
+    from scalf_opt.sim.metrics import FALL_HEIGHT_SHARE, FALL_PITCH_RAD, fell_at_s
+
+    t = np.arange(6) * 0.1
+    level = np.zeros(6)
+    height = np.full(6, 0.5)
+    record = SimpleNamespace(t_s=t, start_trunk_height_m=0.5, trunk=np.vstack([t, height, level]))
+    assert fell_at_s(record, 0.5) is None
+    sinking = height - np.array([0, 0, 0.99, 1.01, 2, 3]) * FALL_HEIGHT_SHARE * 0.5
+    record.trunk = np.vstack([t, sinking, level])
+    assert fell_at_s(record, 0.5) == pytest.approx(0.3)
+    pitched = np.array([0, 0.5, 1.01, 0, 0, 0]) * FALL_PITCH_RAD
+    record.trunk = np.vstack([t, height, pitched])
+    assert fell_at_s(record, 0.5) == pytest.approx(0.2)
