@@ -255,9 +255,40 @@ def load_gait(args: argparse.Namespace, robot: Robot, base: Gait | None = None) 
     from scalf_opt.optimize.gait_search import check_speed
 
     try:
-        return gait.with_speed(check_speed(speed))
+        gait = gait.with_speed(check_speed(speed))
     except (ConfigError, GaitError) as exc:
         raise ConfigError(f"--speed {speed:g}: {exc}", field="speed") from exc
+    _check_stance_reach(gait, robot, f"--speed {speed:g}")
+    return gait
+
+
+def _check_stance_reach(gait: Gait, robot: Robot, option: str) -> None:
+    """Refuse a step length (from ``option``) that takes a stance foot out of the leg's reach.
+
+    Raises:
+        ConfigError: It does; the message names the option and the step length it asked.
+    """
+    from scalf_opt.energy.pipeline import EnergyPipeline
+    from scalf_opt.energy.workspace import check_workspace
+
+    pipeline = EnergyPipeline(robot, gait)
+    for leg in LEG_NAMES:
+        try:
+            check_workspace(
+                pipeline.kinematics(leg),
+                gait,
+                "foot",
+                pipeline.stance_paths[leg],
+                "stance",
+                ("step_length_m",),
+            )
+        except GaitError as exc:
+            reason = exc.__cause__ or exc
+            raise ConfigError(
+                f"{option} asks a step length S = v d T = {gait.step_length_m:.4g} m, which the "
+                f"stance cannot walk: {reason}",
+                field="speed",
+            ) from exc
 
 
 def _warn_other_robot(args: argparse.Namespace, robot: Robot) -> None:

@@ -39,6 +39,10 @@ def test_an_optimum_walks_at_the_speed_and_says_so(capsys, tmp_path):
         (["--speed", "0.8", "--step-length", "0.2"], "--step-length: not allowed with"),
         (["--speed", "0"], "--speed 0: the speed must be a number in (0, 10] m/s"),
         (["--speed", "nan"], "--speed nan: the speed must be a number"),
+        (  # a speed within range whose step the legs cannot reach names the speed, not the gait
+            ["--speed", "9"],
+            "--speed 9 asks a step length S = v d T = 2.25 m, which the stance cannot walk: leg",
+        ),
     ],
 )
 def test_a_bad_speed_is_one_line_naming_the_option(capsys, argv, message):
