@@ -18,8 +18,8 @@ The perturbations (each one alone, the others nominal):
 * the feet's radius x0.5 and x3;
 * friction 0.6 (the nominal is 1.0);
 * a touch-down detected 5 ms early and 5 ms late: the controller switches a leg from its swing
-  loop to the stance loop that much off the planned touch-down (early: as soon as the foot
-  touches within those 5 ms).
+  loop to the stance loop that much off the planned touch-down (early: with the foot still in
+  the air; late: the landed foot still on its swing loop).
 """
 
 from __future__ import annotations

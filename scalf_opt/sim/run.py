@@ -153,23 +153,15 @@ def _record_contacts(
         slip[leg][k] = abs(float(jacp[0] @ data.qvel))
 
 
-def _stance_loop_legs(
-    scheduled: np.ndarray, planned: np.ndarray, grf: dict[str, np.ndarray], k: int
-) -> list[int]:
-    """The legs (indices into :data:`LEG_NAMES`) in the stance loop at step ``k``.
+def _stance_loop_legs(scheduled: np.ndarray) -> list[int]:
+    """The legs (indices into :data:`LEG_NAMES`) the controller's schedule puts in stance.
 
-    The legs the controller's schedule puts in stance; where that schedule runs off the plan (a
-    shifted schedule), a leg it calls in stance joins the loop only once its foot touched at the
-    last step: a foot still (or already) in the air keeps its own joint loop, as a controller
-    that sees its contacts does. With the plan's own schedule, exactly the planned stance legs.
+    With the plan's own schedule, exactly the planned stance legs. A schedule whose touch-downs
+    run early switches a leg to the stance loop while its foot is still in the air, as a
+    controller that detects contact too early does; one that runs late keeps a landed leg on its
+    swing loop (:meth:`~scalf_opt.sim.plan.TrotPlan.scheduled_stance`).
     """
-    out = []
-    for i, leg in enumerate(LEG_NAMES):
-        if not scheduled[i]:
-            continue
-        if planned[i] or (k > 0 and grf[leg][1, k - 1] > 0):
-            out.append(i)
-    return out
+    return [i for i in range(len(LEG_NAMES)) if scheduled[i]]
 
 
 def simulate(
@@ -208,7 +200,6 @@ def simulate(
         {leg: g.kd_nms_per_rad for leg, g in gains.items()},
     )
     foot_leg = {geom: leg for leg, geom in sim.foot_geom.items()}
-    planned = np.array([plan.in_stance(leg, t) for leg in LEG_NAMES])  # (4, n)
     # the controller's contact schedule: the plan's, its touch-downs shifted
     stance = np.array([plan.scheduled_stance(leg, t, schedule_shift_s) for leg in LEG_NAMES])
     mass = np.zeros((model.nv, model.nv))
@@ -229,7 +220,7 @@ def simulate(
         q[:, k] = data.qpos[qpos_i]
         v_start = data.qvel.copy()
         feedback = kp * (q_ref[:, k] - q[:, k]) + kd * (qd_ref[:, k] - v_start[dof_i])
-        on_ground = _stance_loop_legs(stance[:, k], planned[:, k], grf, k)
+        on_ground = _stance_loop_legs(stance[:, k])
         if trunk is not None and on_ground:
             rows = np.concatenate([np.arange(2 * i, 2 * i + 2) for i in on_ground])
             feedback[rows] = _stance_feedback(

@@ -231,3 +231,36 @@ def test_a_fall_is_the_first_time_the_trunk_leaves_its_plan_by_a_fall():
     pitched = np.array([0, 0.5, 1.01, 0, 0, 0]) * FALL_PITCH_RAD
     record.trunk = np.vstack([t, height, pitched])
     assert fell_at_s(record, 0.5) == pytest.approx(0.2)
+
+
+def test_an_early_touch_down_switches_the_leg_in_the_air(robot, pipeline):
+    """The "touch-down 5 ms early" member changes what the controller does: the leg joins the
+    stance loop before its foot lands (the feet land about half a millisecond after the planned
+    touch-down, so a switch that waited for the contact would be the nominal referee again)."""
+    from scalf_opt.sim.mujoco_model import build_sim_model
+    from scalf_opt.sim.run import simulate
+
+    settings, _ = SimSettings().for_leg_length(robot.leg_length_m)
+    plan = TrotPlan.build(pipeline, REFERENCE_SWINGS, 1.0 / settings.value("timestep_s"))
+    sim = build_sim_model(robot, settings)
+    gains = servo_gains(robot, plan, settings)
+    from scalf_opt.sim.control import trunk_gains
+
+    runs = {
+        shift: simulate(sim, plan, gains, 2, trunk_gains(settings), shift)
+        for shift in (0.0, -0.005)
+    }
+    t = runs[0.0].t_s
+    # the 5 ms before RF's second planned touch-down (t = T): its foot is in the air in both
+    window = (t > 0.5 - 0.005) & (t < 0.5 - 0.001)
+    assert not runs[0.0].in_contact("RF")[window].any()
+    assert not runs[-0.005].in_contact("RF")[window].any()
+    # and its torques differ there: the stance loop's, not the swing loop's
+    nominal, early = runs[0.0].tau_nm["RF"][:, window], runs[-0.005].tau_nm["RF"][:, window]
+    assert np.abs(early - nominal).max() > 0.05 * np.abs(nominal).max()
+    # until 5 ms before the first touch-down after the start (LF and RH at T / 2) the two
+    # runs are the same to the last bit
+    before = t < 0.25 - 0.005 - 1e-9
+    np.testing.assert_array_equal(
+        runs[0.0].tau_nm["RF"][:, before], runs[-0.005].tau_nm["RF"][:, before]
+    )
