@@ -105,20 +105,29 @@ def _energy_goal_line(result: dict[str, Any]) -> str:
     goals = result["goals"]
     goal = goals["joint_energy_relative_difference_at_most"]
     line = f"goal: joint energy within {100 * goal:.0f} % of the model's on every leg"
+    fell = _fall(result)
     if "ensemble" not in result:
-        fell = result.get("fell_at_s")
         if fell is not None:
-            return f"{line}: NOT met (the robot fell at t = {fell:.3f} s)"
+            return f"{line}: NOT met (the robot {fell})"
         return f"{line}: {_met(goals['joint_energy_met'])}"
     n = len(result["ensemble"]["members"])
     line += f" in the median of {n} referees, spread at most {100 * goal:.0f} points: "
-    fell = result["ensemble"].get("fell") or []
-    if fell:
-        return line + f"NOT refereeable (the robot fell under: {', '.join(fell)})"
+    if fell is not None:
+        return line + f"NOT refereeable (the robot {fell})"
     if not goals["refereeable"]:
         spread = result["ensemble"]["largest_spread"]
         return line + f"NOT refereeable (the referees disagree by up to {100 * spread:.2f} points)"
     return line + _met(goals["joint_energy_met"])
+
+
+def _fall(result: dict[str, Any]) -> str | None:
+    """``fell under: <members>`` (an ensemble's) or ``fell at t = ... s`` (one run), else None."""
+    members = (result.get("ensemble") or {}).get("fell") or []
+    if members:
+        return f"fell under: {', '.join(members)}"
+    if result.get("fell_at_s") is not None:
+        return f"fell at t = {result['fell_at_s']:.3f} s"
+    return None
 
 
 def _members(result: dict[str, Any]) -> list[str]:
@@ -211,11 +220,9 @@ def _checks_and_saving(result: dict[str, Any]) -> list[str]:
             if "relative_difference_spread" in worst
             else ""
         )
-        fell = (result["reference"].get("ensemble") or {}).get("fell") or []
-        if fell:
-            spread += f"; it fell under: {', '.join(fell)}"
-        elif result["reference"].get("fell_at_s") is not None:
-            spread += f"; it fell at t = {result['reference']['fell_at_s']:.3f} s"
+        fell = _fall(result["reference"])
+        if fell is not None:
+            spread += f"; it {fell}"
         lines += [
             "",
             f"reference swing, simulated the same way: {reference['simulated']:.3f} J per cycle "

@@ -84,15 +84,30 @@ QUADRATURE_NODES = 128
 the products of terms up to order 2 x 12 (a polynomial of degree 255 is integrated exactly)."""
 
 
-def free_functions(terms: Terms, s: np.ndarray, derivative: int = 0) -> np.ndarray:
+def term_columns(terms: Terms, s: np.ndarray, derivative: int = 0) -> np.ndarray:
+    """The ``derivative``-th derivatives of ``terms`` at ``s``, shape (len(s), len(terms))."""
+    return np.column_stack([fourier_term(k, o, s, derivative) for k, o in terms])
+
+
+@functools.cache
+def _eliminated_share(terms: Terms) -> np.ndarray:
+    """How the eliminated terms' coefficients follow the free ones', shape (4, len(terms))."""
+    share = -(np.linalg.inv(_functionals(ELIMINATED_TERMS)) @ _functionals(terms))
+    share.setflags(write=False)
+    return share
+
+
+def free_functions(
+    terms: Terms, s: np.ndarray, derivative: int = 0, eliminated: np.ndarray | None = None
+) -> np.ndarray:
     """The free terms' functions of ``s`` with their eliminated parts, shape (len(s), len(terms)).
 
-    Every column and its first derivative vanish at ``s = 0`` and ``s = 1``.
+    Every column and its first derivative vanish at ``s = 0`` and ``s = 1``. ``eliminated``: the
+    eliminated terms' columns at ``s`` (:func:`term_columns`), when the caller has them already.
     """
-    inv = np.linalg.inv(_functionals(ELIMINATED_TERMS))
-    phi_c = np.column_stack([fourier_term(k, o, s, derivative) for k, o in ELIMINATED_TERMS])
-    phi_f = np.column_stack([fourier_term(k, o, s, derivative) for k, o in terms])
-    return np.asarray(phi_f - phi_c @ (inv @ _functionals(terms)))
+    if eliminated is None:
+        eliminated = term_columns(ELIMINATED_TERMS, s, derivative)
+    return np.asarray(term_columns(terms, s, derivative) + eliminated @ _eliminated_share(terms))
 
 
 @functools.cache
@@ -194,6 +209,7 @@ class FourierFamily(SwingFamily):
         scale = PARAMETER_SCALE[self.space]
         base = np.zeros((3, 2, t.size))
         basis = np.zeros((3, 2, t.size, self.n_params))
+        phi_c = [term_columns(ELIMINATED_TERMS, s, d) for d in range(3)]  # both coordinates'
         column = 0
         for c, terms in enumerate(self.free_terms):
             data = np.array(
@@ -203,10 +219,9 @@ class FourierFamily(SwingFamily):
             to_terms = mode_transform(terms)[1] if (terms and self.modes) else None
             for d in range(3):
                 time_scale = b.duration_s**-d  # d/dt = (1/T_sw) d/ds
-                phi_c = np.column_stack([fourier_term(k, o, s, d) for k, o in ELIMINATED_TERMS])
-                base[d, c] = time_scale * (phi_c @ coefficients)
+                base[d, c] = time_scale * (phi_c[d] @ coefficients)
                 if terms:
-                    functions = free_functions(terms, s, d)
+                    functions = free_functions(terms, s, d, phi_c[d])
                     if to_terms is not None:
                         functions = functions @ to_terms
                     basis[d, c, :, column : column + len(terms)] = time_scale * scale * functions
