@@ -1,0 +1,239 @@
+r"""A 3-D whole-body gait cycle as a plan: its nodes, what it costs, and its check between nodes.
+
+A :class:`WholeBodyPlan` holds one periodic trot cycle of the 3-D model at the nodes of its
+:class:`~scalf_opt.locomotion.contact_schedule.TrotSchedule`: the coordinates ``X`` with their rates
+and second derivatives (a periodic C2 cubic spline, :mod:`~scalf_opt.locomotion.periodic_spline`)
+and the four feet's contact forces (world axes, on the robot; linear between nodes, zero in swing).
+
+:meth:`WholeBodyPlan.evaluate` gives the energy the optimizer saw: each joint's drawn power at the
+nodes (exact accounting and losses) summed over the periodic grid (the trapezoidal rule).
+:meth:`WholeBodyPlan.check` is the independent re-evaluation: the spline and the forces read at
+``factor`` times the rate and pushed through Pinocchio's own ``rnea`` (with the forces as external
+forces on the feet's parent joints, not the CasADi twin the optimizer used), giving the joint
+torques, the energy, the wrench the trunk is left with (zero if the forces carry the robot between
+the nodes too), how far a stance foot slides and how close a swing foot comes to the ground.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+import pinocchio as pin
+
+from scalf_opt.energy.whole_body import WholeBodyPhysics
+from scalf_opt.locomotion.contact_schedule import TrotSchedule
+from scalf_opt.locomotion.periodic_spline import evaluate as spline_at
+from scalf_opt.locomotion.periodic_spline import midpoints
+from scalf_opt.types import Accounting
+
+
+@dataclass(frozen=True)
+class PlanEnergy:
+    """What a plan costs, per joint and in total, at some rate.
+
+    Attributes:
+        rate_hz: The samples per second it was summed at.
+        joint_energy_j: Each joint's drawn energy over one cycle [J] (physics' joint order).
+        tau_nm: The joint torques at the samples (n_joints, n) [N m].
+        times_s: The sample times (n,) [s].
+    """
+
+    rate_hz: float
+    joint_energy_j: np.ndarray
+    tau_nm: np.ndarray
+    times_s: np.ndarray
+
+    @property
+    def total_j(self) -> float:
+        """The whole robot's drawn energy per cycle [J]."""
+        return float(self.joint_energy_j.sum())
+
+
+@dataclass(frozen=True)
+class PlanCheck:
+    """The plan read between its nodes (:meth:`WholeBodyPlan.check`).
+
+    Attributes:
+        energy: The energy at the finer rate, from Pinocchio's torques.
+        base_residual: The largest wrench left on the trunk, force [N] over the robot's weight
+            (and moment [N m] over weight x stance height): 0 when the forces carry the robot.
+        stance_slip_m: The largest distance a stance foot moves from its foothold [m].
+        swing_floor_m: The lowest height of a swing foot's frame over the swing's inner samples
+            (the first and last node excluded: there it is on the ground) [m].
+        torque_gap_nm: The largest difference between Pinocchio's joint torques and the plan's at
+            the nodes themselves [N m] (the twin against Pinocchio).
+    """
+
+    energy: PlanEnergy
+    base_residual: float
+    stance_slip_m: float
+    swing_floor_m: float
+    torque_gap_nm: float
+
+
+@dataclass(frozen=True)
+class WholeBodyPlan:
+    """One periodic trot cycle of the whole robot in 3-D (immutable).
+
+    Attributes:
+        physics: The 3-D model it was planned on.
+        schedule: Its contact schedule and node grid.
+        speed_m_s: The trunk's average forward speed [m/s]; the stride is ``speed T``.
+        x, xd, xdd: The coordinates, rates and second derivatives at the nodes (nx, N).
+        forces_n: The feet's contact forces at the nodes (12, N) [N], world axes, on the robot,
+            stacked per foot in :data:`~scalf_opt.types.LEG_NAMES` order.
+        footholds_m: Each foot's foothold ``(x, y)`` of the stance that begins in the cycle
+            (2, 4) [m], world.
+    """
+
+    physics: WholeBodyPhysics
+    schedule: TrotSchedule
+    speed_m_s: float
+    x: np.ndarray
+    xd: np.ndarray
+    xdd: np.ndarray
+    forces_n: np.ndarray
+    footholds_m: np.ndarray
+
+    @property
+    def stride_m(self) -> float:
+        """How far the trunk moves forward in one cycle [m]."""
+        return self.speed_m_s * self.schedule.period_s
+
+    def cost_of_transport(self, energy_j: float) -> float:
+        """Dimensionless cost of transport of ``energy_j`` per cycle: ``E / (m g stride)``."""
+        return energy_j / (self.physics.weight_n * self.stride_m)
+
+    @cached_property
+    def pinocchio_states(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Pinocchio's ``q``, ``v``, ``a`` at the nodes ((nq, N), (nv, N), (nv, N))."""
+        fn = self.physics.pinocchio_state_function.map(self.schedule.intervals)
+        q, v, a = fn(self.x, self.xd, self.xdd)
+        return np.array(q), np.array(v), np.array(a)
+
+    def node_outputs(self, accounting: Accounting) -> dict[str, np.ndarray]:
+        """Every output of :meth:`WholeBodyPhysics.node_function` at the nodes (exact losses)."""
+        fn = self.physics.node_function(accounting).map(self.schedule.intervals)
+        values = fn(self.x, self.xd, self.xdd, self.forces_n)
+        return {name: np.array(v) for name, v in zip(fn.name_out(), values, strict=True)}
+
+    @property
+    def shift(self) -> np.ndarray:
+        """What one cycle adds to ``X`` (nx, 1): the stride on the trunk's x."""
+        out = np.zeros((self.physics.nx, 1))
+        out[0, 0] = self.stride_m
+        return out
+
+    def midpoint_outputs(self, accounting: Accounting) -> dict[str, np.ndarray]:
+        """Every output of :meth:`WholeBodyPhysics.node_function` halfway through each interval.
+
+        The spline's midpoint state (:func:`~scalf_opt.locomotion.periodic_spline.midpoints`)
+        and the mean of the two nodes' forces (zero where a foot is in the air: its forces are
+        zero at touch-down and lift-off).
+        """
+        states = midpoints(self.x, self.xd, self.xdd, self.schedule.step_s, self.shift)
+        forces = (self.forces_n + np.roll(self.forces_n, -1, axis=1)) / 2
+        fn = self.physics.node_function(accounting).map(self.schedule.intervals)
+        values = fn(*states, forces)
+        return {name: np.array(v) for name, v in zip(fn.name_out(), values, strict=True)}
+
+    def evaluate(self, accounting: Accounting) -> PlanEnergy:
+        """The energy the optimizer minimised, with the exact losses: Simpson's rule on each
+        interval (its two nodes and its midpoint)."""
+        nodes = self.node_outputs(accounting)["charged"]
+        middles = self.midpoint_outputs(accounting)["charged"]
+        step = self.schedule.step_s
+        energy = step * (nodes.sum(axis=1) / 3 + 2 * middles.sum(axis=1) / 3)
+        return PlanEnergy(2.0 / step, energy, self.node_outputs(accounting)["tau"],
+                          self.schedule.times_s)
+
+    def forces_at(self, t_s: np.ndarray) -> np.ndarray:
+        """The contact forces at times ``t_s`` in ``[0, T)`` (12, n): linear between nodes."""
+        step, n = self.schedule.step_s, self.schedule.intervals
+        k = np.minimum((t_s / step).astype(int), n - 1)
+        w = t_s / step - k
+        following = np.roll(self.forces_n, -1, axis=1)
+        return self.forces_n[:, k] * (1 - w) + following[:, k] * w
+
+    def states_at(self, t_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The coordinates, rates and second derivatives at times ``t_s`` in ``[0, T)`` (nx, n)."""
+        return spline_at(self.x, self.xd, self.xdd, self.schedule.step_s, t_s)
+
+    def check(self, accounting: Accounting, factor: int = 10) -> PlanCheck:
+        """Re-read the plan at ``factor`` times its rate through Pinocchio (module docstring)."""
+        physics, schedule = self.physics, self.schedule
+        model = physics.model
+        data = model.createData()
+        n = schedule.intervals * factor
+        t_s = np.arange(n) * schedule.period_s / n
+        x, xd, xdd = self.states_at(t_s)
+        forces = self.forces_at(t_s)
+        fn = physics.pinocchio_state_function.map(n)
+        qs, vs, as_ = (np.array(m) for m in fn(x, xd, xdd))
+        fids = [model.getFrameId(f) for f in physics.feet]
+        tau = np.zeros((physics.n_joints, n))
+        base = np.zeros((6, n))
+        feet = np.zeros((3, len(fids), n))
+        for s in range(n):
+            q = qs[:, s]
+            pin.forwardKinematics(model, data, q)
+            pin.updateFramePlacements(model, data)
+            fext = [pin.Force.Zero() for _ in range(model.njoints)]
+            for i, fid in enumerate(fids):
+                frame = model.frames[fid]
+                local = data.oMi[frame.parentJoint].rotation.T @ forces[3 * i : 3 * i + 3, s]
+                moment = np.cross(frame.placement.translation, local)
+                fext[frame.parentJoint] += pin.Force(local, moment)
+                feet[:, i, s] = data.oMf[fid].translation
+            out = pin.rnea(model, data, q, vs[:, s], as_[:, s], fext)
+            base[:, s], tau[:, s] = out[:6], out[6:]
+        charged = np.array(physics.power_function(accounting).map(n)(x, xd, tau))
+        energy = PlanEnergy(
+            n / schedule.period_s, charged.sum(axis=1) * schedule.period_s / n, tau, t_s
+        )
+        return PlanCheck(
+            energy=energy,
+            base_residual=self._residual(base),
+            stance_slip_m=self._slip(feet, factor),
+            swing_floor_m=self._swing_floor(feet, factor),
+            torque_gap_nm=float(np.abs(tau[:, ::factor] - self.evaluate(accounting).tau_nm).max()),
+        )
+
+    def _residual(self, base: np.ndarray) -> float:
+        weight = self.physics.weight_n
+        height = float(np.mean(self.x[2]))
+        return float(max(np.abs(base[:3]).max() / weight, np.abs(base[3:]).max() / (weight * height)))
+
+    def _stance_mask_fine(self, factor: int) -> np.ndarray:
+        """Stance at the fine samples (4, n): strictly between two stance nodes, or on one."""
+        stance = self.schedule.stance
+        following = np.roll(stance, -1, axis=1)
+        inside = stance & following
+        fine = np.repeat(inside, factor, axis=1)
+        fine[:, ::factor] |= stance
+        return fine
+
+    def _slip(self, feet: np.ndarray, factor: int) -> float:
+        stance = self._stance_mask_fine(factor)
+        worst = 0.0
+        for i in range(feet.shape[1]):
+            on = stance[i]
+            if not on.any():
+                continue
+            hold_x = self.footholds_m[0, i]
+            t_index = np.flatnonzero(on)
+            previous = np.repeat(self.schedule.previous_stance[i], factor)[t_index]
+            expected = np.vstack(
+                [hold_x - self.stride_m * previous,
+                 np.full(t_index.size, self.footholds_m[1, i]),
+                 np.zeros(t_index.size)]
+            )
+            worst = max(worst, float(np.linalg.norm(feet[:, i, t_index] - expected, axis=0).max()))
+        return worst
+
+    def _swing_floor(self, feet: np.ndarray, factor: int) -> float:
+        swing = ~self._stance_mask_fine(factor)
+        heights = np.where(swing, feet[2], np.inf)
+        return float(heights.min())

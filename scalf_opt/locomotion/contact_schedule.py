@@ -1,0 +1,123 @@
+"""A trot's contact schedule on a periodic grid of nodes, with or without a flight phase.
+
+One gait cycle of period ``T`` is cut into ``N`` equal intervals; node ``k`` sits at ``t_k = k T / N``
+and node ``N`` is node ``0`` of the next cycle. The diagonal pair RF, LH is in stance over
+``[0, D T]`` and LF, RH over ``[T/2, T/2 + D T]`` (duty factor ``D``; the scalf-opt convention:
+stance first for RF and LH). Both ends of a stance belong to it: the foot is on the ground, at rest,
+at its touch-down and lift-off nodes. With ``D < 0.5`` the robot flies between a pair's lift-off and
+the other pair's touch-down; with ``D > 0.5`` all four feet share the ground around the switches.
+
+``N`` is chosen so that every phase boundary falls on a node (:func:`trot_schedule`).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+
+import numpy as np
+
+from scalf_opt.errors import GaitError
+from scalf_opt.types import LEG_NAMES
+
+STANCE_START_SHARE = {"RF": 0.0, "LH": 0.0, "LF": 0.5, "RH": 0.5}
+"""Each leg's touch-down as a share of the period."""
+
+MIN_DUTY = 0.2
+"""The smallest duty factor a schedule accepts: below it the flight dominates the cycle."""
+
+MAX_DUTY = 0.8
+"""The largest duty factor a schedule accepts (a walk-like trot)."""
+
+
+@dataclass(frozen=True)
+class TrotSchedule:
+    """Which foot is on the ground at which node of one periodic trot cycle.
+
+    Attributes:
+        period_s: The gait period ``T`` [s].
+        duty_cycle: The share ``D`` of the period each foot spends on the ground.
+        intervals: The number ``N`` of equal intervals (and nodes) in one period.
+    """
+
+    period_s: float
+    duty_cycle: float
+    intervals: int
+
+    @property
+    def step_s(self) -> float:
+        """The interval between nodes [s]."""
+        return self.period_s / self.intervals
+
+    @property
+    def times_s(self) -> np.ndarray:
+        """The node times ``t_k`` (N,) [s]."""
+        return np.arange(self.intervals) * self.step_s
+
+    @property
+    def stance_nodes(self) -> int:
+        """Intervals a stance lasts (``D N``)."""
+        return round(self.duty_cycle * self.intervals)
+
+    def touchdown_node(self, leg: str) -> int:
+        """The node at which ``leg`` touches down in the cycle."""
+        return round(STANCE_START_SHARE[leg] * self.intervals)
+
+    @cached_property
+    def stance(self) -> np.ndarray:
+        """``stance[i, k]``: foot ``i`` (:data:`LEG_NAMES` order) is on the ground at node ``k``."""
+        out = np.zeros((len(LEG_NAMES), self.intervals), dtype=bool)
+        for i, leg in enumerate(LEG_NAMES):
+            start = self.touchdown_node(leg)
+            out[i, (start + np.arange(self.stance_nodes + 1)) % self.intervals] = True
+        return out
+
+    @cached_property
+    def previous_stance(self) -> np.ndarray:
+        """``[i, k]``: node ``k``'s stance of foot ``i`` began in the previous cycle.
+
+        There the foot stands on the previous cycle's foothold, one stride behind this cycle's.
+        """
+        out = np.zeros_like(self.stance)
+        for i, leg in enumerate(LEG_NAMES):
+            start = self.touchdown_node(leg)
+            nodes = start + np.arange(self.stance_nodes + 1)
+            out[i, nodes[nodes >= self.intervals] - self.intervals] = True
+        return out
+
+    @cached_property
+    def flight(self) -> np.ndarray:
+        """Nodes at which no foot is on the ground (N,) bool."""
+        return ~self.stance.any(axis=0)
+
+    def swing_phase(self, leg: str) -> np.ndarray:
+        """The swing phase ``s`` in (0, 1) of ``leg`` at each node (N,); NaN in stance."""
+        lift = self.touchdown_node(leg) + self.stance_nodes
+        swing = self.intervals - self.stance_nodes
+        s = ((np.arange(self.intervals) - lift) % self.intervals) / swing
+        return np.where(self.stance[LEG_NAMES.index(leg)], np.nan, s)
+
+
+def trot_schedule(period_s: float, duty_cycle: float, sample_rate_hz: float) -> TrotSchedule:
+    """The trot schedule with the fewest nodes at least ``sample_rate_hz`` whose phase edges fall on
+    nodes.
+
+    Raises:
+        GaitError: The duty factor is outside [:data:`MIN_DUTY`, :data:`MAX_DUTY`], or no grid of
+            up to four times the rate puts its edges on nodes (a duty factor of more than three
+            decimals).
+    """
+    if not MIN_DUTY <= duty_cycle <= MAX_DUTY:
+        raise GaitError(
+            f"duty_cycle = {duty_cycle:g} is outside [{MIN_DUTY:g}, {MAX_DUTY:g}] for the 3-D trot",
+            field="duty_cycle",
+        )
+    target = max(8, int(np.ceil(period_s * sample_rate_hz - 1e-9)))
+    for n in range(target, 4 * target + 1):
+        if n % 2 == 0 and abs(duty_cycle * n - round(duty_cycle * n)) < 1e-9:
+            return TrotSchedule(period_s, duty_cycle, n)
+    raise GaitError(
+        f"duty_cycle = {duty_cycle:g}: no grid of {target} to {4 * target} nodes puts the phase "
+        "edges on nodes (give the duty factor with at most three decimals)",
+        field="duty_cycle",
+    )
