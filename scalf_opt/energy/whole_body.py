@@ -231,6 +231,14 @@ class WholeBodyPhysics:
         q, v, a = self.pinocchio_state_function(x, xd, xdd)
         return (np.array(q).ravel(), np.array(v).ravel(), np.array(a).ravel())
 
+    @cached_property
+    def feet_function(self) -> ca.Function:
+        """``X -> feet_pos``: the four feet's world positions (3 x 4) [m]."""
+        x = ca.SX.sym("X", self.nx)
+        q = self.pinocchio_state_function(x, ca.DM.zeros(self.nx), ca.DM.zeros(self.nx))[0]
+        feet = ca.horzcat(*(self.twin.frame_position(q, foot) for foot in self.feet))
+        return ca.Function("feet", [x], [feet], ["X"], ["feet_pos"])
+
     # --- the per-instant function the NLP and the reports share ----------------------------------
     def node_function(self, accounting: Accounting, heat_eps: float | None = None) -> ca.Function:
         """One instant's loads and power: ``(X, Xd, Xdd, f) -> outputs``.

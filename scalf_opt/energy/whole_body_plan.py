@@ -25,7 +25,6 @@ import pinocchio as pin
 from scalf_opt.energy.whole_body import WholeBodyPhysics
 from scalf_opt.locomotion.contact_schedule import TrotSchedule
 from scalf_opt.locomotion.periodic_spline import evaluate as spline_at
-from scalf_opt.locomotion.periodic_spline import midpoints
 from scalf_opt.types import Accounting
 
 
@@ -113,12 +112,6 @@ class WholeBodyPlan:
         q, v, a = fn(self.x, self.xd, self.xdd)
         return np.array(q), np.array(v), np.array(a)
 
-    def node_outputs(self, accounting: Accounting) -> dict[str, np.ndarray]:
-        """Every output of :meth:`WholeBodyPhysics.node_function` at the nodes (exact losses)."""
-        fn = self.physics.node_function(accounting).map(self.schedule.intervals)
-        values = fn(self.x, self.xd, self.xdd, self.forces_n)
-        return {name: np.array(v) for name, v in zip(fn.name_out(), values, strict=True)}
-
     @property
     def shift(self) -> np.ndarray:
         """What one cycle adds to ``X`` (nx, 1): the stride on the trunk's x."""
@@ -126,36 +119,36 @@ class WholeBodyPlan:
         out[0, 0] = self.stride_m
         return out
 
-    def midpoint_outputs(self, accounting: Accounting) -> dict[str, np.ndarray]:
-        """Every output of :meth:`WholeBodyPhysics.node_function` halfway through each interval.
+    def node_outputs(self, accounting: Accounting) -> dict[str, np.ndarray]:
+        """Every output of :meth:`WholeBodyPhysics.node_function` at the nodes (exact losses)."""
+        return self._outputs(accounting, (self.x, self.xd, self.xdd), self.forces_n)
 
-        The spline's midpoint state (:func:`~scalf_opt.locomotion.periodic_spline.midpoints`)
-        and the mean of the two nodes' forces (zero where a foot is in the air: its forces are
-        zero at touch-down and lift-off).
-        """
-        states = midpoints(self.x, self.xd, self.xdd, self.schedule.step_s, self.shift)
-        forces = (self.forces_n + np.roll(self.forces_n, -1, axis=1)) / 2
-        fn = self.physics.node_function(accounting).map(self.schedule.intervals)
+    def _outputs(
+        self, accounting: Accounting, states: tuple[np.ndarray, ...], forces: np.ndarray
+    ) -> dict[str, np.ndarray]:
+        fn = self.physics.node_function(accounting).map(forces.shape[1])
         values = fn(*states, forces)
         return {name: np.array(v) for name, v in zip(fn.name_out(), values, strict=True)}
 
+    @property
+    def _following_forces(self) -> np.ndarray:
+        return np.roll(self.forces_n, -1, axis=1)
+
     def evaluate(self, accounting: Accounting) -> PlanEnergy:
-        """The energy the optimizer minimised, with the exact losses: Simpson's rule on each
-        interval (its two nodes and its midpoint)."""
-        nodes = self.node_outputs(accounting)["charged"]
-        middles = self.midpoint_outputs(accounting)["charged"]
+        """The energy the optimizer minimised, with the exact losses: the trapezoidal rule on the
+        periodic grid of nodes (``h`` times their sum)."""
+        nodes = self.node_outputs(accounting)
         step = self.schedule.step_s
-        energy = step * (nodes.sum(axis=1) / 3 + 2 * middles.sum(axis=1) / 3)
-        return PlanEnergy(2.0 / step, energy, self.node_outputs(accounting)["tau"],
-                          self.schedule.times_s)
+        energy = step * nodes["charged"].sum(axis=1)
+        return PlanEnergy(1.0 / step, energy, nodes["tau"], self.schedule.times_s)
 
     def forces_at(self, t_s: np.ndarray) -> np.ndarray:
-        """The contact forces at times ``t_s`` in ``[0, T)`` (12, n): linear between nodes."""
+        """The contact forces at times ``t_s`` in ``[0, T)`` (12, n): linear between nodes (zero
+        in swing: a foot's force is zero at touch-down and lift-off)."""
         step, n = self.schedule.step_s, self.schedule.intervals
         k = np.minimum((t_s / step).astype(int), n - 1)
         w = t_s / step - k
-        following = np.roll(self.forces_n, -1, axis=1)
-        return self.forces_n[:, k] * (1 - w) + following[:, k] * w
+        return self.forces_n[:, k] * (1 - w) + self._following_forces[:, k] * w
 
     def states_at(self, t_s: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The coordinates, rates and second derivatives at times ``t_s`` in ``[0, T)`` (nx, n)."""

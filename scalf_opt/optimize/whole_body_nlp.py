@@ -2,8 +2,9 @@ r"""One periodic trot cycle of the whole robot in 3-D as one NLP, solved by Ipop
 
 Variables, at each node ``k`` of the :class:`~scalf_opt.locomotion.contact_schedule.TrotSchedule`:
 the coordinates ``X_k`` (trunk position and roll-pitch-yaw, every actuated joint), their rates and
-second derivatives, the four feet's contact forces (world axes; fixed at zero in swing and at the
-touch-down and lift-off nodes, so no contact begins or ends with a jump of force), each foot's
+second derivatives, the four feet's contact forces (world axes; zero in swing and at touch-down
+and lift-off, linear in between: the C2 motion of the trunk asks for a continuous total force,
+and a foot that lands or lifts off while others carry can bring no jump of force; linear over an interval a foot is on the ground through, zero over the others), each foot's
 foothold ``(x, y)``, and the accounting's slacks.
 
 Constraints:
@@ -60,7 +61,11 @@ BASE_TILT_BOUND_RAD = 0.6
 IPOPT_DEFAULTS: dict[str, Any] = {
     "tol": 1e-6,
     "constr_viol_tol": 1e-8,
-    "acceptable_iter": 0,
+    "mu_strategy": "adaptive",
+    "acceptable_tol": 1e-4,
+    "acceptable_constr_viol_tol": 1e-8,
+    "acceptable_obj_change_tol": 1e-5,
+    "acceptable_iter": 10,
     "max_iter": 3000,
     "print_level": 0,
     "sb": "yes",
@@ -120,10 +125,14 @@ class _Rows:
     g: list[ca.MX] = field(default_factory=list)
     lower: list[np.ndarray] = field(default_factory=list)
     upper: list[np.ndarray] = field(default_factory=list)
+    names: list[str] = field(default_factory=list)
 
-    def add(self, rows: ca.MX, lower: float | np.ndarray, upper: float | np.ndarray) -> None:
+    def add(
+        self, rows: ca.MX, lower: float | np.ndarray, upper: float | np.ndarray, name: str = ""
+    ) -> None:
         rows = ca.vec(rows)
         n = rows.shape[0]
+        self.names += [name] * n
         self.g.append(rows)
         self.lower.append(np.broadcast_to(np.asarray(lower, dtype=float).ravel(), (n,)).copy())
         self.upper.append(np.broadcast_to(np.asarray(upper, dtype=float).ravel(), (n,)).copy())
@@ -165,45 +174,37 @@ def solve_cycle(
     x, steps, bends = (ca.MX.sym(name, nx, n) for name in ("X", "h_Xd", "h2_Xdd"))
     shares = ca.MX.sym("f_over_weight", nf, n)
     holds = ca.MX.sym("footholds", 2, len(LEG_NAMES))
-    slacks = [ca.MX.sym(f"s{m}", len(charging), 2 * n) for m in range(acc.slacks)]
+    slacks = [ca.MX.sym(f"s{m}", len(charging), n) for m in range(acc.slacks)]
     blocks = [x, steps, bends, shares, holds, *slacks]
     xd, xdd, forces = steps / h, bends / h**2, shares * weight
     scales = (1.0, h, h**2, 1.0 / weight, 1.0)
 
     shift = np.zeros((nx, 1))
     shift[0, 0] = stride
-    node = physics.node_function(problem.accounting, HEAT_SMOOTHING_EPS_M_S).map(n)
-    out = dict(zip(node.name_out(), node(x, xd, xdd, forces), strict=True))
-    middle_forces = (forces + forces[:, list(range(1, n)) + [0]]) / 2
-    middle_states = midpoints(x, xd, xdd, h, shift)
-    mid = dict(zip(node.name_out(), node(*middle_states, middle_forces), strict=True))
+    node = physics.node_function(problem.accounting, HEAT_SMOOTHING_EPS_M_S)
+    order = list(range(1, n)) + [0]
+    out = _mapped(node, (x, xd, xdd), forces)
+    mid = {"feet_pos": physics.feet_function.map(n)(midpoints(x, xd, xdd, h, shift)[0])}
     rows = _Rows()
     values, rates = continuity_rows(x, xd, xdd, h, shift)
-    rows.add(values, 0.0, 0.0)
-    rows.add(rates * h, 0.0, 0.0)
+    rows.add(values, 0.0, 0.0, "spline values")
+    rows.add(rates * h, 0.0, 0.0, "spline rates")
     height = problem.stance_height_m
-    for point in (out, mid):
-        rows.add(point["base_wrench"][:3, :] / weight, 0.0, 0.0)
-        rows.add(point["base_wrench"][3:, :] / (weight * height), 0.0, 0.0)
-        _limit_rows(problem, rows, point)
+    rows.add(out["base_wrench"][:3, :] / weight, 0.0, 0.0, "base force")
+    rows.add(out["base_wrench"][3:, :] / (weight * height), 0.0, 0.0, "base moment")
+    _limit_rows(problem, rows, out)
     _contact_rows(problem, rows, out, mid, x, forces, holds, stride, start)
     bounds = _variable_bounds(problem, start)
-    # Simpson's rule on each interval: a third of the nodes' power, two thirds of the midpoints'
-    power = ca.horzcat(out["p_joint"][charging, :], mid["p_joint"][charging, :])
+    # the trapezoidal rule on the periodic grid: h times the nodes' sum
+    power = out["p_joint"][charging, :]
     if acc.slacks:
-        rows.add(acc.slack_rows(power, slacks), *acc.slack_row_bounds())
-    loss = ca.horzcat(out["loss"], mid["loss"])
-    cost = ca.sum1(acc.smooth_cost(power, slacks)) + ca.sum1(loss)
-    weights = np.concatenate([np.full(n, h / 3), np.full(n, 2 * h / 3)])
+        rows.add(acc.slack_rows(power, slacks), *acc.slack_row_bounds(), "slacks")
+    cost = ca.sum1(acc.smooth_cost(power, slacks)) + ca.sum1(out["loss"])
     scale = max(start.evaluate(problem.accounting).total_j, 1e-6)
-    objective = ca.mtimes(cost, ca.DM(weights)) / scale
+    objective = ca.sum2(cost) * h / scale
 
     w = ca.veccat(*blocks)
-    start_power = np.hstack(
-        [start.node_outputs(problem.accounting)["p_joint"][charging],
-         start.midpoint_outputs(problem.accounting)["p_joint"][charging]]
-    )
-    start_slacks = acc.initial_slacks(start_power)
+    start_slacks = acc.initial_slacks(start.node_outputs(problem.accounting)["p_joint"][charging])
     start_blocks = (start.x, start.xd, start.xdd, start.forces_n, start.footholds_m)
     w0 = np.concatenate(
         [np.ravel(b * c, order="F") for b, c in zip(start_blocks, scales, strict=True)]
@@ -234,6 +235,14 @@ def solve_cycle(
         plan, start, bool(stats["success"]), str(stats["return_status"]),
         int(stats["iter_count"]), elapsed,
     )
+
+
+def _mapped(
+    node: ca.Function, states: tuple[ca.MX, ca.MX, ca.MX], forces: ca.MX
+) -> dict[str, ca.MX]:
+    """The node function on every column of ``states`` and ``forces``, by output name."""
+    fn = node.map(forces.shape[1])
+    return dict(zip(fn.name_out(), fn(*states, forces), strict=True))
 
 
 def _scaled(
@@ -275,11 +284,9 @@ def _contact_rows(
             ca.repmat(holds[1, i], 1, len(stance)),
             ca.DM.zeros(1, len(stance)),
         )
-        rows.add(feet_pos[:, columns] - target, 0.0, 0.0)
-        # at rest when it lands and when it lifts off (between, its nodes hold it in place)
-        rows.add(feet_vel[:, [columns[0], columns[-1]]], 0.0, 0.0)
+        rows.add(feet_pos[:, columns] - target, 0.0, 0.0, f"{leg} stance position")
         f = forces[3 * i : 3 * i + 3, stance]
-        rows.add(mu2 * f[2, :] ** 2 - f[0, :] ** 2 - f[1, :] ** 2, 0.0, np.inf)
+        rows.add(mu2 * f[2, :] ** 2 - f[0, :] ** 2 - f[1, :] ** 2, 0.0, np.inf, f"{leg} cone")
         inside = np.flatnonzero(schedule.stance[i] & np.roll(schedule.stance[i], -1))
         # the swing, at its nodes and at the midpoints of its intervals
         swing = np.flatnonzero(~schedule.stance[i])
@@ -288,20 +295,21 @@ def _contact_rows(
         middle = int(np.argmin(np.abs(phase - 0.5)))
         floor[middle] = max(floor[middle], problem.clearance_m)
         columns = [4 * k + i for k in swing]
-        rows.add(feet_pos[2, columns], floor, np.inf)
+        rows.add(feet_pos[2, columns], floor, np.inf, f"{leg} swing floor")
         airborne = np.setdiff1d(np.arange(n), inside)
         mid_phase = mid_swing_phase(schedule, leg, airborne)
         rows.add(
             mid["feet_pos"][2, [4 * k + i for k in airborne]],
             np.array([lift_floor_m(problem, s) for s in mid_phase]),
             np.inf,
+            f"{leg} swing floor (midpoints)",
         )
         landing_nodes = [c for c, s in zip(columns, phase, strict=True) if s > 1 - lift.fraction]
         if landing_nodes and np.isfinite(landing):
-            rows.add(feet_vel[2, landing_nodes], -landing, np.inf)
+            rows.add(feet_vel[2, landing_nodes], -landing, np.inf, f"{leg} landing speed")
         side = np.sign(start.footholds_m[1, i])
         lateral = side * (feet_pos[1, [4 * k + i for k in range(n)]] - x[1, :])
-        rows.add(lateral, SIDE_SHARE * start_lateral[i], np.inf)
+        rows.add(lateral, SIDE_SHARE * start_lateral[i], np.inf, f"{leg} side")
 
 
 def _variable_bounds(problem: CycleProblem, start: WholeBodyPlan) -> tuple[np.ndarray, np.ndarray]:
@@ -330,7 +338,7 @@ def _variable_bounds(problem: CycleProblem, start: WholeBodyPlan) -> tuple[np.nd
         f_hi[3 * i : 3 * i + 3, inner[i]] = inf
     acc = power_accounting(problem.accounting)
     charging = sum(d.charges_joint_power for d in physics.drives)
-    slack = np.zeros(acc.slacks * charging * 2 * n)
+    slack = np.zeros(acc.slacks * charging * n)
     lower = [x_lo, xd_lo, -free, f_lo, np.full(2 * len(LEG_NAMES), -inf), slack]
     upper = [x_hi, xd_hi, free, f_hi, np.full(2 * len(LEG_NAMES), inf), slack + inf]
     return (
@@ -346,4 +354,4 @@ def _limit_rows(problem: CycleProblem, rows: _Rows, out: dict[str, ca.MX]) -> No
             continue
         name = "tau" if bound.output == "tau" else f"{bound.output}_{bound.joint}"
         expr = out[name][bound.joint, :] if bound.output == "tau" else out[name]
-        rows.add(expr, bound.lower, bound.upper)
+        rows.add(expr, bound.lower, bound.upper, f"{name} {bound.source}")

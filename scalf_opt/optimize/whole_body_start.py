@@ -2,11 +2,10 @@
 
 The trunk rides level at the gait's height (its pitching hips ``stance_height_m`` above the
 ground) at the average speed; each foot stands under its hip at mid-stance and swings to its next
-foothold on a half-cosine in x with a half-sine lift of ``1.1 H``. The joints follow by Pinocchio's
+foothold on a minimum-jerk path in x with a lift of ``1.1 H`` (``64 s^3 (1 - s)^3``). The joints follow by Pinocchio's
 inverse kinematics (damped Gauss-Newton on the four feet at once, from the robot's reference
 posture); the rates and second derivatives are the periodic spline's through those nodes; each
-stance foot carries an equal share of the weight, ramped from zero at touch-down to zero at
-lift-off. Nothing of it need be feasible: it is where Ipopt starts.
+stance foot carries an equal share of the weight (none at touch-down and lift-off). Nothing of it need be feasible: it is where Ipopt starts.
 """
 
 from __future__ import annotations
@@ -88,8 +87,9 @@ def starting_plan(
             ahead = t >= touchdown
             landing = footholds[0, i] + (stride if ahead else 0.0)
             s = 1 - (touchdown + (period if ahead else 0.0) - t) / (period - duty_s)
-            x = landing - stride + stride * (1 - np.cos(np.pi * s)) / 2
-            z = START_LIFT_SHARE * clearance_m * np.sin(np.pi * s)
+            # minimum-jerk in x and a bump in z: at rest, unaccelerated, at both ends
+            x = landing - stride + stride * s**3 * (10 - 15 * s + 6 * s**2)
+            z = START_LIFT_SHARE * clearance_m * 64 * s**3 * (1 - s) ** 3
             targets[:, i, k] = (x, footholds[1, i], z)
     x_nodes = np.zeros((physics.nx, n))
     for k, t in enumerate(times):
@@ -136,12 +136,12 @@ def _inverse_kinematics(
 
 
 def _start_forces(physics: WholeBodyPhysics, schedule: TrotSchedule) -> np.ndarray:
-    """Each stance foot's equal share of the weight, zero at touch-down and lift-off (12, N)."""
+    """Each stance foot's equal share of the weight, vertical, zero at touch-down and lift-off
+    (12, N) [N]."""
     stance = schedule.stance
     inner = stance & np.roll(stance, 1, axis=1) & np.roll(stance, -1, axis=1)
     forces = np.zeros((3 * len(LEG_NAMES), schedule.intervals))
-    counts = inner.sum(axis=0)
+    counts = np.maximum(inner.sum(axis=0), 1)
     for i in range(len(LEG_NAMES)):
-        share = np.where(counts > 0, physics.weight_n / np.maximum(counts, 1), 0.0)
-        forces[3 * i + 2] = np.where(inner[i], share, 0.0)
+        forces[3 * i + 2] = np.where(inner[i], physics.weight_n / counts, 0.0)
     return forces

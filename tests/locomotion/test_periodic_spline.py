@@ -1,0 +1,53 @@
+"""The periodic C2 cubic spline of the 3-D model: its rows, its fit and its order of accuracy."""
+
+import numpy as np
+import pytest
+
+from scalf_opt.locomotion import periodic_spline as spline
+
+PERIOD_S = 0.8
+DRIFT = 0.3  # what one period adds to the second coordinate
+
+
+def signal(t):
+    w = 2 * np.pi / PERIOD_S
+    values = np.vstack([np.sin(w * t), DRIFT * t / PERIOD_S + np.cos(2 * w * t)])
+    rates = np.vstack([w * np.cos(w * t), DRIFT / PERIOD_S - 2 * w * np.sin(2 * w * t)])
+    return values, rates
+
+
+def fitted(n):
+    step = PERIOD_S / n
+    nodes = np.arange(n) * step
+    shift = np.array([[0.0], [DRIFT]])
+    values, _ = signal(nodes)
+    rates, second = spline.fit(values, step, shift)
+    return values, rates, second, step, shift
+
+
+def test_the_fit_satisfies_the_nlps_continuity_rows():
+    values, rates, second, step, shift = fitted(24)
+    a, b = spline.continuity_rows(values, rates, second, step, shift)
+    assert np.abs(a).max() < 1e-14 and np.abs(b).max() < 1e-12
+
+
+def test_between_nodes_the_spline_is_its_cubic_and_midpoints_agree():
+    values, rates, second, step, shift = fitted(24)
+    at_nodes = spline.evaluate(values, rates, second, step, np.arange(24) * step)
+    np.testing.assert_allclose(at_nodes[0], values, atol=1e-15)
+    middle = spline.midpoints(values, rates, second, step, shift)
+    read = spline.evaluate(values, rates, second, step, (np.arange(24) + 0.5) * step)
+    for m, r in zip(middle, read, strict=True):
+        np.testing.assert_allclose(m, r, rtol=0, atol=1e-11 * max(1, np.abs(r).max()))
+
+
+def test_the_spline_converges_at_fourth_order_in_value_and_third_in_rate():
+    fine = np.linspace(0, PERIOD_S, 997, endpoint=False)
+    exact_values, exact_rates = signal(fine)
+    errors = []
+    for n in (32, 64):
+        values, rates, second, step, _ = fitted(n)
+        v, r, _ = spline.evaluate(values, rates, second, step, fine)
+        errors.append((np.abs(v - exact_values).max(), np.abs(r - exact_rates).max()))
+    assert errors[0][0] / errors[1][0] == pytest.approx(16, rel=0.15)
+    assert errors[0][1] / errors[1][1] == pytest.approx(8, rel=0.3)
