@@ -13,11 +13,12 @@ Coordinates. The optimizer's generalised coordinates are
 
 the trunk's (root link's) position in the world [m], its roll, pitch and yaw [rad] (``R = R_z(\psi)
 R_y(\theta) R_x(\phi)``, never near the pitch singularity on a walking robot) and the actuated
-joints' angles in Pinocchio's order [rad]. Pinocchio's free-flyer state follows from ``(X, Xd,
-Xdd)`` (:meth:`WholeBodyPhysics.pinocchio_state`): ``q = (p, quaternion(x, y, z, w), q_j)``,
-``v = (R^T \dot p, \omega_b, \dot q_j)`` and ``a = \dot v`` (Pinocchio's free-flyer acceleration is the
-time derivative of the base-frame velocity: ``a_lin = R^T \ddot p - \omega_b \times R^T \dot p``),
-with ``\omega_b = E(\phi, \theta) (\dot\phi, \dot\theta, \dot\psi)`` the body-frame angular velocity.
+joints' angles in Pinocchio's order [rad]. Pinocchio's free-flyer state follows from
+``(X, Xd, Xdd)`` (:meth:`WholeBodyPhysics.pinocchio_state`): ``q = (p, quaternion(x, y, z, w),
+q_j)``, ``v = (R^T \dot p, \omega_b, \dot q_j)`` and ``a = \dot v`` (Pinocchio's free-flyer
+acceleration is the time derivative of the base-frame velocity: ``a_lin = R^T \ddot p - \omega_b
+\times R^T \dot p``), with ``\omega_b = E(\phi, \theta) (\dot\phi, \dot\theta, \dot\psi)`` the
+body-frame angular velocity.
 
 Loads. With the stance feet's forces ``f_k`` (world axes, on the robot) the floating-base inverse
 dynamics ``RNEA(q, v, a) - \sum_k J_k^T f_k`` (:meth:`~scalf_opt.model.symbolic.SymbolicChain.
@@ -35,6 +36,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass, replace
 from functools import cached_property
+from typing import Any
 
 import casadi as ca
 import numpy as np
@@ -221,8 +223,9 @@ class WholeBodyPhysics:
         q = ca.vertcat(x[:3], rpy_quaternion(rpy), x[6:])
         v = ca.vertcat(v_lin, omega, xd[6:])
         a = ca.vertcat(a_lin, omega_dot, xdd[6:])
-        return ca.Function("pinocchio_state", [x, xd, xdd], [q, v, a], ["X", "Xd", "Xdd"],
-                           ["q", "v", "a"])
+        return ca.Function(
+            "pinocchio_state", [x, xd, xdd], [q, v, a], ["X", "Xd", "Xdd"], ["q", "v", "a"]
+        )
 
     def pinocchio_state(
         self, x: np.ndarray, xd: np.ndarray, xdd: np.ndarray
@@ -296,7 +299,7 @@ class WholeBodyPhysics:
 
     def _drive_expressions(
         self, x: ca.SX, xd: ca.SX, tau: ca.SX, accounting: Accounting, heat_eps: float | None
-    ) -> tuple[ca.SX, ca.SX, ca.SX, dict[str, ca.SX]]:
+    ) -> tuple[Any, Any, Any, dict[str, Any]]:
         """Signed joint powers, drawn powers, losses [W] and drive channels of every joint."""
         charge = power_accounting(accounting).charge
         max_fn = ca.fmax if heat_eps is None else (lambda y, _: smooth_max(y, heat_eps))
@@ -324,8 +327,11 @@ class WholeBodyPhysics:
             tau = ca.SX.sym("tau", self.n_joints)
             charged = self._drive_expressions(x, xd, tau, accounting, None)[1]
             self._cache[key] = ca.Function(
-                f"whole_body_power_{accounting}", [x, xd, tau], [charged], ["X", "Xd", "tau"],
-                ["charged"]
+                f"whole_body_power_{accounting}",
+                [x, xd, tau],
+                [charged],
+                ["X", "Xd", "tau"],
+                ["charged"],
             )
         return self._cache[key]
 

@@ -135,16 +135,20 @@ class WholeBodyPlan:
         return np.roll(self.forces_n, -1, axis=1)
 
     def evaluate(self, accounting: Accounting) -> PlanEnergy:
-        """The energy the optimizer minimised, with the exact losses: the trapezoidal rule on the
-        periodic grid of nodes (``h`` times their sum)."""
+        """The energy at the nodes, with the exact losses.
+
+        The trapezoidal rule on the periodic grid of nodes: ``h`` times their sum.
+        """
         nodes = self.node_outputs(accounting)
         step = self.schedule.step_s
         energy = step * nodes["charged"].sum(axis=1)
         return PlanEnergy(1.0 / step, energy, nodes["tau"], self.schedule.times_s)
 
     def forces_at(self, t_s: np.ndarray) -> np.ndarray:
-        """The contact forces at times ``t_s`` in ``[0, T)`` (12, n): linear between nodes (zero
-        in swing: a foot's force is zero at touch-down and lift-off)."""
+        """The contact forces at times ``t_s`` in ``[0, T)`` (12, n) [N].
+
+        Linear between nodes; zero in swing (a foot's force is zero at touch-down and lift-off).
+        """
         step, n = self.schedule.step_s, self.schedule.intervals
         k = np.minimum((t_s / step).astype(int), n - 1)
         w = t_s / step - k
@@ -197,7 +201,8 @@ class WholeBodyPlan:
     def _residual(self, base: np.ndarray) -> float:
         weight = self.physics.weight_n
         height = float(np.mean(self.x[2]))
-        return float(max(np.abs(base[:3]).max() / weight, np.abs(base[3:]).max() / (weight * height)))
+        force = np.abs(base[:3]).max() / weight
+        return float(max(force, np.abs(base[3:]).max() / (weight * height)))
 
     def _stance_mask_fine(self, factor: int) -> np.ndarray:
         """Stance at the fine samples (4, n): strictly between two stance nodes, or on one."""
@@ -219,9 +224,11 @@ class WholeBodyPlan:
             t_index = np.flatnonzero(on)
             previous = np.repeat(self.schedule.previous_stance[i], factor)[t_index]
             expected = np.vstack(
-                [hold_x - self.stride_m * previous,
-                 np.full(t_index.size, self.footholds_m[1, i]),
-                 np.zeros(t_index.size)]
+                [
+                    hold_x - self.stride_m * previous,
+                    np.full(t_index.size, self.footholds_m[1, i]),
+                    np.zeros(t_index.size),
+                ]
             )
             worst = max(worst, float(np.linalg.norm(feet[:, i, t_index] - expected, axis=0).max()))
         return worst

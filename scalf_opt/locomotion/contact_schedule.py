@@ -1,11 +1,12 @@
 """A trot's contact schedule on a periodic grid of nodes, with or without a flight phase.
 
-One gait cycle of period ``T`` is cut into ``N`` equal intervals; node ``k`` sits at ``t_k = k T / N``
-and node ``N`` is node ``0`` of the next cycle. The diagonal pair RF, LH is in stance over
-``[0, D T]`` and LF, RH over ``[T/2, T/2 + D T]`` (duty factor ``D``; the scalf-opt convention:
-stance first for RF and LH). Both ends of a stance belong to it: the foot is on the ground, at rest,
-at its touch-down and lift-off nodes. With ``D < 0.5`` the robot flies between a pair's lift-off and
-the other pair's touch-down; with ``D > 0.5`` all four feet share the ground around the switches.
+One gait cycle of period ``T`` is cut into ``N`` equal intervals; node ``k`` sits at
+``t_k = k T / N`` and node ``N`` is node ``0`` of the next cycle. The diagonal pair RF, LH is in
+stance over ``[0, D T]`` and LF, RH over ``[T/2, T/2 + D T]`` (duty factor ``D``; the scalf-opt
+convention: stance first for RF and LH). Both ends of a stance belong to it: the foot is on the
+ground at its touch-down and lift-off nodes. With ``D < 0.5`` the robot flies between a pair's
+lift-off and the other pair's touch-down; with ``D > 0.5`` all four feet share the ground around
+the switches.
 
 ``N`` is chosen so that every phase boundary falls on a node (:func:`trot_schedule`).
 """
@@ -88,7 +89,7 @@ class TrotSchedule:
     @cached_property
     def flight(self) -> np.ndarray:
         """Nodes at which no foot is on the ground (N,) bool."""
-        return ~self.stance.any(axis=0)
+        return np.logical_not(self.stance.any(axis=0))
 
     def swing_phase(self, leg: str) -> np.ndarray:
         """The swing phase ``s`` in (0, 1) of ``leg`` at each node (N,); NaN in stance."""
@@ -99,8 +100,7 @@ class TrotSchedule:
 
 
 def trot_schedule(period_s: float, duty_cycle: float, sample_rate_hz: float) -> TrotSchedule:
-    """The trot schedule with the fewest nodes at least ``sample_rate_hz`` whose phase edges fall on
-    nodes.
+    """The trot schedule of the fewest nodes (``sample_rate_hz`` or more) with edges on nodes.
 
     Raises:
         GaitError: The duty factor is outside [:data:`MIN_DUTY`, :data:`MAX_DUTY`], or no grid of

@@ -25,12 +25,14 @@ def continuity_rows(y: Any, yd: Any, ydd: Any, step_s: float, shift: Any) -> tup
     """The two row blocks that are zero on a periodic C2 cubic spline (CasADi or numpy).
 
     Args:
-        y, yd, ydd: Values, rates and second derivatives at the nodes (m, N).
+        y: Values at the nodes (m, N).
+        yd: Rates at the nodes (m, N).
+        ydd: Second derivatives at the nodes (m, N).
         step_s: The node interval ``h`` [s].
         shift: What one period adds to ``y`` (m, 1): node ``N`` is ``y[:, 0] + shift``.
     """
     n = y.shape[1]
-    order = list(range(1, n)) + [0]
+    order = [*range(1, n), 0]
     y_next = y[:, order] + _last_column(shift, n)
     yd_next, ydd_next = yd[:, order], ydd[:, order]
     h = step_s
@@ -94,7 +96,7 @@ def midpoints(y: Any, yd: Any, ydd: Any, step_s: float, shift: Any) -> tuple[Any
     or numpy; column ``k`` is the middle of ``[t_k, t_{k+1}]``).
     """
     n = y.shape[1]
-    order = list(range(1, n)) + [0]
+    order = [*range(1, n), 0]
     y_next = y[:, order] + _last_column(shift, n)
     yd_next, ydd_next = yd[:, order], ydd[:, order]
     h = step_s

@@ -1,11 +1,14 @@
-"""A start for the 3-D cycle NLP: the trunk level at constant speed, the feet on a simple path.
+"""A kinematic reference trot in 3-D: the trunk level at constant speed, the feet on a simple path.
 
 The trunk rides level at the gait's height (its pitching hips ``stance_height_m`` above the
 ground) at the average speed; each foot stands under its hip at mid-stance and swings to its next
-foothold on a minimum-jerk path in x with a lift of ``1.1 H`` (``64 s^3 (1 - s)^3``). The joints follow by Pinocchio's
-inverse kinematics (damped Gauss-Newton on the four feet at once, from the robot's reference
-posture); the rates and second derivatives are the periodic spline's through those nodes; each
-stance foot carries an equal share of the weight (none at touch-down and lift-off). Nothing of it need be feasible: it is where Ipopt starts.
+foothold on a minimum-jerk path in x with a lift of ``1.1 H`` (``64 s^3 (1 - s)^3``). The joints
+follow by Pinocchio's inverse kinematics (damped Gauss-Newton on the four feet at once, from the
+robot's reference posture); the rates and second derivatives are the periodic spline's through
+those nodes; each stance foot carries an equal share of the weight (none at touch-down and
+lift-off). It is a start for an optimizer, not a balanced motion: its forces do not carry the
+robot's accelerations (:meth:`~scalf_opt.energy.whole_body_plan.WholeBodyPlan.check` says by how
+much).
 """
 
 from __future__ import annotations
@@ -27,8 +30,10 @@ IK_DAMPING = 1e-6
 
 
 def reference_joints(physics: WholeBodyPhysics) -> np.ndarray:
-    """The joints' start posture [rad]: each leg's reference hip pitch and knee, others at zero
-    (clipped into their ranges)."""
+    """The joints' start posture [rad].
+
+    Each leg's reference hip pitch and knee, the others at zero (clipped into their ranges).
+    """
     model = physics.model
     q = np.zeros(physics.n_joints)
     for leg in LEG_NAMES:
@@ -136,8 +141,10 @@ def _inverse_kinematics(
 
 
 def _start_forces(physics: WholeBodyPhysics, schedule: TrotSchedule) -> np.ndarray:
-    """Each stance foot's equal share of the weight, vertical, zero at touch-down and lift-off
-    (12, N) [N]."""
+    """Each stance foot's equal share of the weight (12, N) [N].
+
+    Vertical, and zero at touch-down and lift-off.
+    """
     stance = schedule.stance
     inner = stance & np.roll(stance, 1, axis=1) & np.roll(stance, -1, axis=1)
     forces = np.zeros((3 * len(LEG_NAMES), schedule.intervals))

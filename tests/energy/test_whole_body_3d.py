@@ -121,3 +121,63 @@ def test_the_power_function_charges_what_the_node_function_charges():
     np.testing.assert_allclose(np.array(charged), np.array(out["charged"]), rtol=1e-14)
     # the paper's accounting: |tau qd| plus the cylinders' friction heat, never negative
     assert (np.array(charged) >= 0).all()
+
+
+@pytest.mark.parametrize("name, duty", [("go1", 0.35), ("scalf", 0.5)])
+def test_the_kinematic_reference_trot_puts_the_feet_where_the_schedule_says(name, duty):
+    from scalf_opt.locomotion.contact_schedule import trot_schedule
+    from scalf_opt.locomotion.scaling import default_gait_for
+    from scalf_opt.optimize.whole_body_start import START_LIFT_SHARE, starting_plan
+
+    robot = load_robot(name)
+    gait = default_gait_for(robot)
+    physics = WholeBodyPhysics.of(robot)
+    schedule = trot_schedule(gait.period_s, duty, 100.0)
+    speed = gait.step_length_m / gait.period_s
+    plan = starting_plan(physics, schedule, speed, gait.stance_height_m, gait.clearance_m)
+    feet = plan.node_outputs("paper")["feet_pos"].reshape(3, -1, 4)  # (xyz, node, foot)
+    for i in range(4):
+        on = schedule.stance[i]
+        back = schedule.previous_stance[i, on]
+        np.testing.assert_allclose(feet[2, on, i], 0.0, atol=1e-9)
+        np.testing.assert_allclose(
+            feet[0, on, i], plan.footholds_m[0, i] - plan.stride_m * back, atol=1e-9
+        )
+        # the swing's apex is 1.1 H up, reached at mid-swing (a node when the swing is even)
+        assert feet[2, ~on, i].max() == pytest.approx(START_LIFT_SHARE * gait.clearance_m, rel=0.02)
+    # the trunk rides level at constant speed: its x advances one stride per cycle
+    np.testing.assert_allclose(plan.x[0], speed * schedule.times_s, atol=1e-12)
+    assert np.abs(plan.x[3:6]).max() == 0.0
+    # the flying trot's forces: none in flight, the weight shared by the stance feet otherwise
+    support = plan.forces_n[2::3].sum(axis=0)
+    inner = schedule.stance & np.roll(schedule.stance, 1, 1) & np.roll(schedule.stance, -1, 1)
+    carried = inner.any(axis=0)
+    np.testing.assert_allclose(support[carried], physics.weight_n, rtol=1e-12)
+    assert (support[~carried] == 0).all()
+
+
+def test_the_plan_check_reads_pinocchios_torques_at_ten_times_the_rate():
+    """Pinocchio's rnea at the nodes gives the twin's torques (an independent path); between
+    them the check reads the spline, so the stance feet slide only by the spline's error."""
+    from scalf_opt.locomotion.contact_schedule import trot_schedule
+    from scalf_opt.locomotion.scaling import default_gait_for
+    from scalf_opt.optimize.whole_body_start import starting_plan
+
+    robot = load_robot("go1")
+    gait = default_gait_for(robot)
+    physics = WholeBodyPhysics.of(robot)
+    schedule = trot_schedule(gait.period_s, 0.5, 200.0)
+    plan = starting_plan(
+        physics,
+        schedule,
+        gait.step_length_m / gait.period_s,
+        gait.stance_height_m,
+        gait.clearance_m,
+    )
+    check = plan.check("paper", factor=10)
+    scale = np.abs(plan.evaluate("paper").tau_nm).max()
+    assert check.torque_gap_nm < 1e-9 * scale
+    assert check.energy.tau_nm.shape == (12, 10 * schedule.intervals)
+    # the spline interpolates the nodes' joints to fourth order: sub-millimetre between nodes
+    assert check.stance_slip_m < 1e-3
+    assert check.swing_floor_m > -1e-3
