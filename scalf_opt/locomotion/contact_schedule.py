@@ -24,6 +24,9 @@ from scalf_opt.types import LEG_NAMES
 STANCE_START_SHARE = {"RF": 0.0, "LH": 0.0, "LF": 0.5, "RH": 0.5}
 """Each leg's touch-down as a share of the period."""
 
+DEFAULT_FRICTION = 0.8
+"""The feet's friction coefficient in the 3-D model's contact cones unless told otherwise."""
+
 MIN_DUTY = 0.2
 """The smallest duty factor a schedule accepts: below it the flight dominates the cycle."""
 

@@ -27,6 +27,7 @@ from scalf_opt.energy.margins import (
     DEFAULT_STOP_MARGIN_RAD,
     DEFAULT_STROKE_MARGIN_M,
 )
+from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
 
@@ -69,6 +70,10 @@ EXAMPLES = (
     ("scalf-opt optimize --out results/optimum", "Ipopt on joint-6 for RF and LH, written"),
     ("scalf-opt optimize --family paper --method pattern", "the paper's pattern search"),
     ("scalf-opt optimize --robot hyq --leg RF --bound", "and the free-trajectory bound"),
+    (
+        "scalf-opt optimize --model 3d --robot go1 --period 0.3 --duty 0.35 --speed 0.4",
+        "a flying trot of the whole robot in 3-D",
+    ),
 )
 JSON = True
 VERBOSE = True
@@ -76,6 +81,22 @@ VERBOSE = True
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_robot(parser)
+    parser.add_argument(
+        "--model",
+        choices=("sagittal", "3d"),
+        default="sagittal",
+        help="sagittal (default): the swing of two-joint legs under a trunk on a fixed line, "
+        "the paper's model; 3d: one periodic trot cycle of the whole robot (free trunk, every "
+        "joint, contact forces in friction cones, --duty down to 0.2: a flying trot), solved "
+        "by Ipopt on a refined grid (takes minutes; the Python API only had it before)",
+    )
+    parser.add_argument(
+        "--friction",
+        type=float,
+        default=DEFAULT_FRICTION,
+        metavar="X",
+        help=f"--model 3d: the feet's friction coefficient (default {DEFAULT_FRICTION:g})",
+    )
     add_gait(parser, speed=True)
     add_loads(parser)
     parser.add_argument(
@@ -210,6 +231,10 @@ def check_family(name: str) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Exit 0 when everything converged, 3 when something did not (unless accepted)."""
+    if args.model == "3d":
+        from scalf_opt.cli.commands.optimize_3d import run_3d
+
+        return run_3d(args)
     from scalf_opt.api.optimization import goal_from, optimize_goal
     from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.energy.pipeline import EnergyPipeline

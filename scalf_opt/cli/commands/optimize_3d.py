@@ -1,0 +1,233 @@
+"""``scalf-opt optimize --model 3d``: one periodic trot cycle of the whole robot in 3-D."""
+
+from __future__ import annotations
+
+import argparse
+import math
+from typing import TYPE_CHECKING, Any
+
+from scalf_opt.cli.options import check_output_dir, load_gait, load_robot
+from scalf_opt.errors import ConfigError, GaitError
+from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
+from scalf_opt.types import LEG_NAMES
+
+if TYPE_CHECKING:
+    from scalf_opt.optimize.whole_body_driver import CycleResult
+    from scalf_opt.optimize.whole_body_nlp import CycleProblem
+
+DEFAULT_3D_RATE_HZ = 100.0
+"""The 3-D cycle's node rate unless ``--rate`` says otherwise [Hz] (the ten-times rule refines
+it where the energy needs more)."""
+
+SAGITTAL_ONLY = {
+    "family": DEFAULT_FAMILY,
+    "leg": "PAIR",
+    "bound": False,
+    "free_stance": False,
+    "starts": 1,
+    "precision": None,
+}
+"""``optimize`` options of the sagittal swing problem and their defaults: the 3-D model has no
+swing family, legs to choose or stance search of its own, so another value is refused."""
+
+
+def refuse_sagittal_options(args: argparse.Namespace) -> None:
+    """Refuse a sagittal-only option given with ``--model 3d`` (one line naming it).
+
+    Raises:
+        ConfigError: Such an option has a value other than its default.
+    """
+    for field, default in SAGITTAL_ONLY.items():
+        if getattr(args, field, default) != default:
+            option = "--" + field.replace("_", "-")
+            raise ConfigError(
+                f"{option} is an option of the sagittal model; --model 3d optimizes every joint "
+                "of the whole cycle (leave it out)",
+                field=field,
+            )
+    from scalf_opt.optimize.solvers import DEFAULT_SOLVER
+
+    if getattr(args, "method", DEFAULT_SOLVER) != DEFAULT_SOLVER:
+        raise ConfigError("--method: --model 3d is solved by Ipopt only", field="method")
+
+
+def build_problem(args: argparse.Namespace) -> tuple[CycleProblem, float, str]:
+    """The 3-D problem the options describe, its node rate [Hz] and a line saying so."""
+    from scalf_opt.cli.commands.optimize import margins_from
+    from scalf_opt.energy.whole_body import WholeBodyPhysics
+    from scalf_opt.locomotion.contact_schedule import trot_schedule
+    from scalf_opt.optimize.whole_body_nlp import CycleProblem
+
+    robot = load_robot(args)
+    duty = args.duty_cycle
+    args.duty_cycle = None  # the sagittal gait needs 0.5 or more; the 3-D schedule takes 0.2..0.8
+    gait = load_gait(args, robot)
+    args.duty_cycle = duty
+    duty = gait.duty_cycle if duty is None else duty
+    rate = DEFAULT_3D_RATE_HZ if args.sample_rate_hz is None else gait.sample_rate_hz
+    try:
+        schedule = trot_schedule(gait.period_s, duty, rate)
+    except GaitError as exc:
+        raise GaitError(f"--duty {duty:g}: {exc}", field="duty_cycle") from exc
+    physics = WholeBodyPhysics.of(robot)
+    # the step length S is the trunk's travel over a stance, S = v d T (the sagittal gait's)
+    speed = args.speed if args.speed is not None else gait.step_length_m / (duty * gait.period_s)
+    problem = CycleProblem(
+        physics,
+        schedule,
+        speed,
+        gait.stance_height_m,
+        gait.clearance_m,
+        args.friction,
+        margins_from(args),
+        args.accounting,
+    )
+    flight = gait.period_s * max(0.0, 0.5 - duty)
+    line = (
+        f"3-D whole-body trot on {robot.name}: T={gait.period_s:g} s, duty {duty:g}"
+        + (f" (flight {1e3 * flight:.0f} ms twice per cycle)" if flight > 0 else "")
+        + f", {speed:.3g} m/s (stride {speed * gait.period_s:.3g} m), H={gait.clearance_m:.3g} m, "
+        f"start z0={gait.stance_height_m:.3g} m, friction {args.friction:g}, "
+        f"accounting '{args.accounting}'"
+    )
+    return problem, rate, line
+
+
+def run_3d(args: argparse.Namespace) -> int:
+    """Exit 0 when the cycle converged, 3 when it did not (unless accepted)."""
+    from scalf_opt.cli.progress import ProgressBar
+    from scalf_opt.io.whole_body_export import write_cycle
+    from scalf_opt.optimize.whole_body_driver import optimize_cycle
+
+    check_output_dir(args.out)
+    refuse_sagittal_options(args)
+    if not (math.isfinite(args.friction) and args.friction > 0):
+        raise ConfigError(f"--friction {args.friction:g} must be > 0", field="friction")
+    problem, rate, line = build_problem(args)
+    with ProgressBar(None, "optimize --model 3d", enabled=not args.quiet) as bar:
+        result = optimize_cycle(problem, rate, bar.step)
+    console = args.console
+    console.text(line)
+    summary = cycle_summary(problem, result)
+    console.json(summary)
+    console.text(cycle_report(problem, result))
+    written = []
+    if args.out is not None and (result.converged or args.accept_unconverged):
+        written = write_cycle(args.out, summary, result.plan, problem.accounting)
+        console.text("wrote " + " and ".join(str(p) for p in written))
+    if not result.converged:
+        console.error(f"not converged: {result.failure()}")
+        return 0 if args.accept_unconverged else 3
+    return 0
+
+
+def _leg_energies(problem: CycleProblem, joint_energy: Any) -> dict[str, float]:
+    legs = problem.physics.joint_legs
+    return {
+        leg: float(sum(e for e, owner in zip(joint_energy, legs, strict=True) if owner == i))
+        for i, leg in enumerate(LEG_NAMES)
+    }
+
+
+def cycle_summary(problem: CycleProblem, result: CycleResult) -> dict[str, Any]:
+    """The run as plain data (``--json`` and ``summary.json``; SI units)."""
+    plan, last = result.plan, result.last
+    physics, schedule = problem.physics, plan.schedule
+    energy = plan.evaluate(problem.accounting)
+    return {
+        "model": "3d",
+        "robot": physics.robot.name,
+        "period_s": schedule.period_s,
+        "duty_cycle": schedule.duty_cycle,
+        "speed_m_s": problem.speed_m_s,
+        "stride_m": plan.stride_m,
+        "clearance_m": problem.clearance_m,
+        "friction": problem.friction,
+        "accounting": problem.accounting,
+        "nodes": schedule.intervals,
+        "converged": result.converged,
+        "failure": result.failure(),
+        "energy_per_cycle_j": energy.total_j,
+        "energy_at_10x_j": last.check.energy.total_j,
+        "rate_difference": last.rate_difference,
+        "cost_of_transport": plan.cost_of_transport(energy.total_j),
+        "leg_energy_per_cycle_j": _leg_energies(problem, energy.joint_energy_j),
+        "joint_energy_per_cycle_j": dict(
+            zip(physics.joint_names, map(float, energy.joint_energy_j), strict=True)
+        ),
+        "drives": dict(zip(physics.joint_names, physics.drive_origins, strict=True)),
+        "check_at_10x": {
+            "trunk_wrench_share_of_weight": last.check.base_residual,
+            "stance_slip_m": last.check.stance_slip_m,
+            "swing_floor_m": last.check.swing_floor_m,
+        },
+        "trunk": {
+            "height_m": [float(plan.x[2].min()), float(plan.x[2].max())],
+            "roll_rad": [float(plan.x[3].min()), float(plan.x[3].max())],
+            "pitch_rad": [float(plan.x[4].min()), float(plan.x[4].max())],
+        },
+        "solves": [
+            {
+                "nodes": step.nodes,
+                "status": step.solution.status,
+                "iterations": step.solution.iterations,
+                "seconds": step.solution.solve_s,
+                "energy_per_cycle_j": step.energy_j,
+                "rate_difference": step.rate_difference,
+            }
+            for step in result.steps
+        ],
+    }
+
+
+def trunk_line(trunk: dict[str, list[float]]) -> str:
+    """The trunk's height, roll and pitch ranges in words (degrees at the edge)."""
+    roll = [math.degrees(v) for v in trunk["roll_rad"]]
+    pitch = [math.degrees(v) for v in trunk["pitch_rad"]]
+    return (
+        f"trunk                    height {trunk['height_m'][0]:.3f}..{trunk['height_m'][1]:.3f}"
+        f" m, roll {roll[0]:+.2f}..{roll[1]:+.2f} deg, pitch {pitch[0]:+.2f}..{pitch[1]:+.2f} deg"
+    )
+
+
+def cycle_report(problem: CycleProblem, result: CycleResult) -> str:
+    """The run in words and a table."""
+    data = cycle_summary(problem, result)
+    lines = [""]
+    for solve in data["solves"]:
+        lines.append(
+            f"Ipopt on {solve['nodes']:4d} nodes: {solve['status']} in {solve['iterations']} "
+            f"iterations ({solve['seconds']:.1f} s), {solve['energy_per_cycle_j']:.3f} J per "
+            f"cycle, {100 * solve['rate_difference']:+.2f} % at 10x the rate"
+        )
+    lines += ["", "leg   cycle [J]   per joint [J]"]
+    joints = data["joint_energy_per_cycle_j"]
+    for i, leg in enumerate(LEG_NAMES):
+        own = [
+            f"{name} {joints[name]:.3f}"
+            for name, owner in zip(
+                problem.physics.joint_names, problem.physics.joint_legs, strict=True
+            )
+            if owner == i
+        ]
+        lines.append(f"{leg:4s} {data['leg_energy_per_cycle_j'][leg]:10.3f}   " + ", ".join(own))
+    check, trunk = data["check_at_10x"], data["trunk"]
+    lines += [
+        "",
+        f"total energy per cycle   {data['energy_per_cycle_j']:10.3f} J at the nodes, "
+        f"{data['energy_at_10x_j']:.3f} J at 10x the rate "
+        f"({100 * data['rate_difference']:+.2f} %)",
+        f"cost of transport        {data['cost_of_transport']:10.4f}",
+        trunk_line(trunk),
+        "between the nodes        trunk wrench left "
+        f"{100 * check['trunk_wrench_share_of_weight']:.2f} % of the weight, stance slip "
+        f"{1e3 * check['stance_slip_m']:.2f} mm, swing floor "
+        f"{1e3 * check['swing_floor_m']:+.2f} mm",
+    ]
+    estimated = [j for j, o in data["drives"].items() if o != "actuator file"]
+    if estimated:
+        lines.append(
+            f"drives not in the actuator file: {', '.join(estimated)} "
+            f"({data['drives'][estimated[0]]})"
+        )
+    return "\n".join(lines)

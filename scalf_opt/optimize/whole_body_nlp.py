@@ -1,0 +1,365 @@
+r"""One periodic trot cycle of the whole robot in 3-D as one NLP, solved by Ipopt.
+
+Variables, at each node ``k`` of the :class:`~scalf_opt.locomotion.contact_schedule.TrotSchedule`:
+the coordinates ``X_k`` (trunk position and roll-pitch-yaw, every actuated joint), their rates and
+second derivatives, the four feet's contact forces (world axes; zero in swing and at touch-down
+and lift-off, linear in between: the C2 motion of the trunk asks for a continuous total force,
+and a foot that lands or lifts off while others carry can bring no jump of force), each foot's
+foothold ``(x, y)``, and the accounting's slacks.
+
+Constraints:
+
+* **the trajectory**: a periodic C2 cubic spline through the nodes
+  (:func:`~scalf_opt.locomotion.periodic_spline.continuity_rows`); node ``N`` is node ``0`` moved
+  forward by the stride ``v T`` (average speed ``v``); the trunk starts at ``x = y = 0``;
+* **the dynamics**: the floating-base inverse dynamics leaves the trunk no wrench at any node
+  (six rows, over the weight and the weight times the stance height);
+* **the contacts**: a stance foot stands on its foothold on the flat ground ``z = 0`` with zero
+  velocity (at every stance node, touch-down and lift-off included); its force lies in the
+  friction cone ``f_x^2 + f_y^2 \le \mu^2 f_z^2``, ``f_z \ge 0``;
+* **the swing**: the foot at least the lift profile's height above the ground over the first and
+  last share of the swing and in between (:class:`~scalf_opt.energy.margins.LiftProfile`), at least
+  the clearance ``H`` at mid-swing, landing no faster than the profile's touch-down speed; each
+  foot keeps to its side of the trunk (at least half its start's lateral offset from the trunk's
+  midline: the legs cannot cross);
+* **the limits**: every joint's range, velocity and effort limit and every drive bound, less the
+  margins (:class:`~scalf_opt.energy.margins.LimitMargins`).
+
+Objective: the drive energy of every joint over the cycle (the node sum of their drawn power:
+the accounting's slack form of the charged joint power plus the drives' losses, smoothed as in the
+sagittal NLP), over the start's energy.
+"""
+
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, field
+from typing import Any
+
+import casadi as ca
+import numpy as np
+
+from scalf_opt.energy.accounting import accounting as power_accounting
+from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
+from scalf_opt.energy.whole_body import WholeBodyPhysics
+from scalf_opt.energy.whole_body_plan import WholeBodyPlan
+from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION, TrotSchedule
+from scalf_opt.locomotion.periodic_spline import continuity_rows, midpoints
+from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S
+from scalf_opt.optimize.whole_body_start import starting_plan
+from scalf_opt.types import LEG_NAMES, Accounting
+
+SIDE_SHARE = 0.5
+"""A foot's smallest lateral offset from the trunk's midline, as a share of its start's."""
+
+BASE_TILT_BOUND_RAD = 0.6
+"""The trunk's roll, pitch and yaw stay within this [rad] (far from the pitch singularity)."""
+
+IPOPT_DEFAULTS: dict[str, Any] = {
+    "tol": 1e-6,
+    "constr_viol_tol": 1e-8,
+    "mu_strategy": "adaptive",
+    "acceptable_tol": 1e-4,
+    "acceptable_constr_viol_tol": 1e-8,
+    "acceptable_obj_change_tol": 1e-5,
+    "acceptable_iter": 10,
+    "max_iter": 3000,
+    "print_level": 0,
+    "sb": "yes",
+}
+
+
+@dataclass(frozen=True)
+class CycleProblem:
+    """A 3-D trot cycle to optimise.
+
+    Attributes:
+        physics: The robot's 3-D model.
+        schedule: The contact schedule and node grid.
+        speed_m_s: The average forward speed [m/s].
+        stance_height_m: The pitching hips' height above the ground at the start [m].
+        clearance_m: The swing foot's least height at mid-swing, H [m].
+        friction: The friction coefficient of the contact cones.
+        margins: How far inside its limits and above the ground the plan stays.
+        accounting: How joint power is charged.
+    """
+
+    physics: WholeBodyPhysics
+    schedule: TrotSchedule
+    speed_m_s: float
+    stance_height_m: float
+    clearance_m: float
+    friction: float = DEFAULT_FRICTION
+    margins: LimitMargins = field(default=DEFAULT_MARGINS)
+    accounting: Accounting = "paper"
+
+
+@dataclass(frozen=True)
+class CycleSolution:
+    """What Ipopt made of a :class:`CycleProblem`.
+
+    Attributes:
+        plan: The last iterate as a plan (the optimum when ``success``).
+        start: The plan it started from.
+        success: Ipopt converged to its tolerances.
+        status: Ipopt's return status.
+        iterations: Ipopt's iterations.
+        solve_s: Wall time of the solve [s].
+    """
+
+    plan: WholeBodyPlan
+    start: WholeBodyPlan
+    success: bool
+    status: str
+    iterations: int
+    solve_s: float
+
+
+@dataclass
+class _Rows:
+    """Constraint rows with their bounds, appended block by block."""
+
+    g: list[ca.MX] = field(default_factory=list)
+    lower: list[np.ndarray] = field(default_factory=list)
+    upper: list[np.ndarray] = field(default_factory=list)
+    names: list[str] = field(default_factory=list)
+
+    def add(
+        self, rows: ca.MX, lower: float | np.ndarray, upper: float | np.ndarray, name: str = ""
+    ) -> None:
+        rows = ca.vec(rows)
+        n = rows.shape[0]
+        self.names += [name] * n
+        self.g.append(rows)
+        self.lower.append(np.broadcast_to(np.asarray(lower, dtype=float).ravel(), (n,)).copy())
+        self.upper.append(np.broadcast_to(np.asarray(upper, dtype=float).ravel(), (n,)).copy())
+
+
+def lift_floor_m(problem: CycleProblem, phase: float) -> float:
+    """The swing foot's least height [m] at swing phase ``phase`` in (0, 1)."""
+    lift = problem.margins.lift
+    height = lift.height_for(problem.clearance_m)
+    edge = min(phase, 1 - phase) / lift.fraction
+    return height * min(edge, 1.0) ** 2
+
+
+def mid_swing_phase(schedule: TrotSchedule, leg: str, intervals: np.ndarray) -> np.ndarray:
+    """The swing phase in (0, 1) of ``leg`` halfway through each of the given intervals."""
+    lift = schedule.touchdown_node(leg) + schedule.stance_nodes
+    swing = schedule.intervals - schedule.stance_nodes
+    return ((intervals + 0.5 - lift) % schedule.intervals) / swing
+
+
+def solve_cycle(
+    problem: CycleProblem, start: WholeBodyPlan | None = None, ipopt: dict[str, Any] | None = None
+) -> CycleSolution:
+    """Optimise one cycle (module docstring) from ``start`` (default :func:`starting_plan`)."""
+    physics, schedule = problem.physics, problem.schedule
+    if start is None:
+        start = starting_plan(
+            physics, schedule, problem.speed_m_s, problem.stance_height_m, problem.clearance_m
+        )
+    n, nx, nf = schedule.intervals, physics.nx, 3 * len(LEG_NAMES)
+    h = schedule.step_s
+    stride = problem.speed_m_s * schedule.period_s
+    acc = power_accounting(problem.accounting)
+    charging = [j for j, d in enumerate(physics.drives) if d.charges_joint_power]
+
+    weight = physics.weight_n
+    # the variables are scaled to order one: rates and second derivatives as their change over
+    # one interval (h Xd, h^2 Xdd), forces over the weight
+    x, steps, bends = (ca.MX.sym(name, nx, n) for name in ("X", "h_Xd", "h2_Xdd"))
+    shares = ca.MX.sym("f_over_weight", nf, n)
+    holds = ca.MX.sym("footholds", 2, len(LEG_NAMES))
+    slacks = [ca.MX.sym(f"s{m}", len(charging), n) for m in range(acc.slacks)]
+    blocks = [x, steps, bends, shares, holds, *slacks]
+    xd, xdd, forces = steps / h, bends / h**2, shares * weight
+    scales = (1.0, h, h**2, 1.0 / weight, 1.0)
+
+    shift = np.zeros((nx, 1))
+    shift[0, 0] = stride
+    node = physics.node_function(problem.accounting, HEAT_SMOOTHING_EPS_M_S)
+    out = _mapped(node, (x, xd, xdd), forces)
+    mid = {"feet_pos": physics.feet_function.map(n)(midpoints(x, xd, xdd, h, shift)[0])}
+    rows = _Rows()
+    values, rates = continuity_rows(x, xd, xdd, h, shift)
+    rows.add(values, 0.0, 0.0, "spline values")
+    rows.add(rates * h, 0.0, 0.0, "spline rates")
+    height = problem.stance_height_m
+    rows.add(out["base_wrench"][:3, :] / weight, 0.0, 0.0, "base force")
+    rows.add(out["base_wrench"][3:, :] / (weight * height), 0.0, 0.0, "base moment")
+    _limit_rows(problem, rows, out)
+    _contact_rows(problem, rows, out, mid, x, forces, holds, stride, start)
+    bounds = _variable_bounds(problem, start)
+    # the trapezoidal rule on the periodic grid: h times the nodes' sum
+    power = out["p_joint"][charging, :]
+    if acc.slacks:
+        slack_rows = acc.slack_rows(power, slacks)
+        assert slack_rows is not None  # an accounting with slacks has their rows
+        rows.add(slack_rows, *acc.slack_row_bounds(), "slacks")
+    cost = ca.sum1(acc.smooth_cost(power, slacks)) + ca.sum1(out["loss"])
+    scale = max(start.evaluate(problem.accounting).total_j, 1e-6)
+    objective = ca.sum2(cost) * h / scale
+
+    w = ca.veccat(*blocks)
+    start_slacks = acc.initial_slacks(start.node_outputs(problem.accounting)["p_joint"][charging])
+    start_blocks = (start.x, start.xd, start.xdd, start.forces_n, start.footholds_m)
+    w0 = np.concatenate(
+        [np.ravel(b * c, order="F") for b, c in zip(start_blocks, scales, strict=True)]
+        + [np.ravel(b, order="F") for b in start_slacks]
+    )
+    lbw, ubw = _scaled(bounds, blocks, scales)
+    options = {**IPOPT_DEFAULTS, **(ipopt or {})}
+    solver = ca.nlpsol(
+        "whole_body_cycle",
+        "ipopt",
+        {"x": w, "f": objective, "g": ca.vertcat(*rows.g)},
+        {"ipopt": options, "print_time": False, "expand": True},
+    )
+    began = time.perf_counter()
+    result = solver(
+        x0=np.clip(w0, lbw, ubw),
+        lbx=lbw,
+        ubx=ubw,
+        lbg=np.concatenate(rows.lower),
+        ubg=np.concatenate(rows.upper),
+    )
+    elapsed = time.perf_counter() - began
+    stats = solver.stats()
+    sizes = [b.numel() for b in blocks[:5]]
+    parts = np.split(np.array(result["x"]).ravel(), np.cumsum(sizes))
+    shapes = [b.shape for b in blocks[:5]]
+    x_o, xd_o, xdd_o, f_o, holds_o = (
+        p.reshape(shape, order="F") / c
+        for p, shape, c in zip(parts[:5], shapes, scales, strict=True)
+    )
+    plan = WholeBodyPlan(physics, schedule, problem.speed_m_s, x_o, xd_o, xdd_o, f_o, holds_o)
+    return CycleSolution(
+        plan,
+        start,
+        bool(stats["success"]),
+        str(stats["return_status"]),
+        int(stats["iter_count"]),
+        elapsed,
+    )
+
+
+def _mapped(
+    node: ca.Function, states: tuple[ca.MX, ca.MX, ca.MX], forces: ca.MX
+) -> dict[str, ca.MX]:
+    """The node function on every column of ``states`` and ``forces``, by output name."""
+    fn = node.map(forces.shape[1])
+    return dict(zip(fn.name_out(), fn(*states, forces), strict=True))
+
+
+def _scaled(
+    bounds: tuple[np.ndarray, np.ndarray], blocks: list[ca.MX], scales: tuple[float, ...]
+) -> tuple[np.ndarray, np.ndarray]:
+    """The variables' bounds in the NLP's scaled units (the first blocks scaled, slacks not)."""
+    factor = np.concatenate(
+        [np.full(b.numel(), c) for b, c in zip(blocks, scales, strict=False)]
+        + [np.ones(b.numel()) for b in blocks[len(scales) :]]
+    )
+    return bounds[0] * factor, bounds[1] * factor
+
+
+def _contact_rows(
+    problem: CycleProblem,
+    rows: _Rows,
+    out: dict[str, ca.MX],
+    mid: dict[str, ca.MX],
+    x: ca.MX,
+    forces: ca.MX,
+    holds: ca.MX,
+    stride: float,
+    start: WholeBodyPlan,
+) -> None:
+    """Stance feet on their footholds at rest, friction cones, swing heights, sides."""
+    schedule = problem.schedule
+    n = schedule.intervals
+    feet_pos, feet_vel = out["feet_pos"], out["feet_vel"]
+    mu2 = problem.friction**2
+    lift = problem.margins.lift
+    swing_s = schedule.period_s * (1 - schedule.duty_cycle)
+    landing = lift.touchdown_speed_for(problem.clearance_m, swing_s)
+    start_lateral = np.abs(start.footholds_m[1])
+    for i, leg in enumerate(LEG_NAMES):
+        stance = np.flatnonzero(schedule.stance[i])
+        columns = [int(4 * k + i) for k in stance]
+        back = schedule.previous_stance[i, stance].astype(float)
+        target = ca.vertcat(
+            ca.repmat(holds[0, i], 1, len(stance)) - stride * ca.DM(back).T,
+            ca.repmat(holds[1, i], 1, len(stance)),
+            ca.DM.zeros(1, len(stance)),
+        )
+        rows.add(feet_pos[:, columns] - target, 0.0, 0.0, f"{leg} stance position")
+        f = forces[3 * i : 3 * i + 3, stance]
+        rows.add(mu2 * f[2, :] ** 2 - f[0, :] ** 2 - f[1, :] ** 2, 0.0, np.inf, f"{leg} cone")
+        inside = np.flatnonzero(schedule.stance[i] & np.roll(schedule.stance[i], -1))
+        # the swing, at its nodes and at the midpoints of its intervals
+        swing = np.flatnonzero(~schedule.stance[i])
+        phase = schedule.swing_phase(leg)[swing]
+        floor = np.array([lift_floor_m(problem, s) for s in phase])
+        middle = int(np.argmin(np.abs(phase - 0.5)))
+        floor[middle] = max(floor[middle], problem.clearance_m)
+        columns = [int(4 * k + i) for k in swing]
+        rows.add(feet_pos[2, columns], floor, np.inf, f"{leg} swing floor")
+        airborne = np.setdiff1d(np.arange(n), inside)
+        mid_phase = mid_swing_phase(schedule, leg, airborne)
+        rows.add(
+            mid["feet_pos"][2, [int(4 * k + i) for k in airborne]],
+            np.array([lift_floor_m(problem, s) for s in mid_phase]),
+            np.inf,
+            f"{leg} swing floor (midpoints)",
+        )
+        landing_nodes = [c for c, s in zip(columns, phase, strict=True) if s > 1 - lift.fraction]
+        if landing_nodes and np.isfinite(landing):
+            rows.add(feet_vel[2, landing_nodes], -landing, np.inf, f"{leg} landing speed")
+        side = np.sign(start.footholds_m[1, i])
+        lateral = side * (feet_pos[1, [4 * k + i for k in range(n)]] - x[1, :])
+        rows.add(lateral, SIDE_SHARE * start_lateral[i], np.inf, f"{leg} side")
+
+
+def _variable_bounds(problem: CycleProblem, start: WholeBodyPlan) -> tuple[np.ndarray, np.ndarray]:
+    """Box bounds of every variable, in the order of the NLP's blocks (column-major)."""
+    physics, schedule = problem.physics, problem.schedule
+    n, nx = schedule.intervals, physics.nx
+    inf = np.inf
+    x_lo, x_hi = np.full((nx, n), -inf), np.full((nx, n), inf)
+    xd_lo, xd_hi = np.full((nx, n), -inf), np.full((nx, n), inf)
+    x_lo[0, 0] = x_hi[0, 0] = 0.0  # the trunk starts at x = y = 0: the cycle's place
+    x_lo[1, 0] = x_hi[1, 0] = 0.0
+    base_z = float(start.x[2, 0])
+    x_lo[2], x_hi[2] = 0.5 * base_z, 1.5 * base_z
+    x_lo[3:6], x_hi[3:6] = -BASE_TILT_BOUND_RAD, BASE_TILT_BOUND_RAD
+    for bound in problem.margins.apply(physics.joint_bounds()):
+        if bound.output == "q":
+            x_lo[6 + bound.joint], x_hi[6 + bound.joint] = bound.lower, bound.upper
+        elif bound.output == "qd":
+            xd_lo[6 + bound.joint], xd_hi[6 + bound.joint] = bound.lower, bound.upper
+    free = np.full((nx, n), inf)
+    f_lo, f_hi = np.zeros((3 * len(LEG_NAMES), n)), np.zeros((3 * len(LEG_NAMES), n))
+    stance = schedule.stance
+    inner = stance & np.roll(stance, 1, axis=1) & np.roll(stance, -1, axis=1)
+    for i in range(len(LEG_NAMES)):
+        f_lo[3 * i : 3 * i + 2, inner[i]] = -inf
+        f_hi[3 * i : 3 * i + 3, inner[i]] = inf
+    acc = power_accounting(problem.accounting)
+    charging = sum(d.charges_joint_power for d in physics.drives)
+    slack = np.zeros(acc.slacks * charging * n)
+    lower = [x_lo, xd_lo, -free, f_lo, np.full(2 * len(LEG_NAMES), -inf), slack]
+    upper = [x_hi, xd_hi, free, f_hi, np.full(2 * len(LEG_NAMES), inf), slack + inf]
+    return (
+        np.concatenate([np.ravel(b, order="F") for b in lower]),
+        np.concatenate([np.ravel(b, order="F") for b in upper]),
+    )
+
+
+def _limit_rows(problem: CycleProblem, rows: _Rows, out: dict[str, ca.MX]) -> None:
+    """Effort limits and drive bounds (less margins) at every node (or midpoint)."""
+    for bound in problem.margins.apply(problem.physics.joint_bounds()):
+        if bound.output in ("q", "qd"):
+            continue
+        name = "tau" if bound.output == "tau" else f"{bound.output}_{bound.joint}"
+        expr = out[name][bound.joint, :] if bound.output == "tau" else out[name]
+        rows.add(expr, bound.lower, bound.upper, f"{name} {bound.source}")

@@ -1,0 +1,134 @@
+"""An optimized 3-D cycle against Pinocchio: dynamics, contacts, periodicity, flight.
+
+The plan is solved on a coarse grid (the driver's first step) to keep the test short; every
+property below is a constraint of the NLP, so it holds on any grid. Pinocchio's free-flyer model
+is rebuilt from the URDF here, independently of the model the NLP's CasADi twin was built from.
+"""
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from scalf_opt.energy.whole_body import WholeBodyPhysics
+from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION, trot_schedule
+from scalf_opt.locomotion.periodic_spline import continuity_rows
+from scalf_opt.locomotion.scaling import default_gait_for
+from scalf_opt.model.urdf_file import read_urdf_text
+from scalf_opt.optimize.whole_body_nlp import CycleProblem, solve_cycle
+from scalf_opt.robots.loading import load_robot
+
+pytestmark = pytest.mark.slow
+
+REL_TOL = 1e-6  # Ipopt's constraint tolerance is 1e-8 on rows scaled by the weight
+
+
+@pytest.fixture(scope="module")
+def solved():
+    robot = load_robot("go1")
+    gait = default_gait_for(robot)
+    physics = WholeBodyPhysics.of(robot)
+    schedule = trot_schedule(gait.period_s, 0.5, 50.0)
+    problem = CycleProblem(
+        physics,
+        schedule,
+        gait.speed_m_s,
+        gait.stance_height_m,
+        gait.clearance_m,
+    )
+    return problem, solve_cycle(problem)
+
+
+def forces_as_fext(model, data, q, forces, feet):
+    pin.framesForwardKinematics(model, data, q)
+    fext = [pin.Force.Zero() for _ in range(model.njoints)]
+    for i, foot in enumerate(feet):
+        frame = model.frames[model.getFrameId(foot)]
+        local = data.oMi[frame.parentJoint].rotation.T @ forces[3 * i : 3 * i + 3]
+        fext[frame.parentJoint] += pin.Force(local, np.cross(frame.placement.translation, local))
+    return fext
+
+
+def test_the_optimum_converges_and_saves_on_its_start(solved):
+    _, solution = solved
+    assert solution.success, solution.status
+    start = solution.start.evaluate("paper").total_j
+    assert solution.plan.evaluate("paper").total_j < 0.5 * start
+
+
+def test_pinocchio_gives_the_plans_torques_and_no_trunk_wrench_at_every_node(solved):
+    problem, solution = solved
+    plan, physics = solution.plan, problem.physics
+    model = pin.buildModelFromXML(
+        read_urdf_text(physics.robot.urdf_path), pin.JointModelFreeFlyer()
+    )
+    data = model.createData()
+    q, v, a = plan.pinocchio_states
+    tau = plan.node_outputs("paper")["tau"]
+    scale = np.abs(tau).max()
+    for k in range(problem.schedule.intervals):
+        fext = forces_as_fext(model, data, q[:, k], plan.forces_n[:, k], physics.feet)
+        out = pin.rnea(model, data, q[:, k], v[:, k], a[:, k], fext)
+        assert np.abs(out[:3]).max() < REL_TOL * physics.weight_n
+        assert np.abs(out[3:6]).max() < REL_TOL * physics.weight_n * problem.stance_height_m
+        np.testing.assert_allclose(out[6:], tau[:, k], rtol=0, atol=REL_TOL * scale)
+
+
+def test_contact_forces_push_inside_their_cones_and_vanish_in_swing(solved):
+    problem, solution = solved
+    forces = solution.plan.forces_n.reshape(4, 3, -1)  # (foot, xyz, node)
+    stance = problem.schedule.stance
+    assert (forces[:, 2][stance] >= -1e-9 * solution.plan.physics.weight_n).all()
+    tangential = np.hypot(forces[:, 0], forces[:, 1])
+    assert (tangential <= DEFAULT_FRICTION * forces[:, 2] * (1 + 1e-6) + 1e-6).all()
+    assert (forces.transpose(0, 2, 1)[~stance] == 0).all()
+
+
+def test_the_cycle_closes_on_itself_one_stride_ahead(solved):
+    problem, solution = solved
+    plan = solution.plan
+    values, rates = continuity_rows(plan.x, plan.xd, plan.xdd, problem.schedule.step_s, plan.shift)
+    assert np.abs(values).max() < 1e-8 and np.abs(rates).max() * problem.schedule.step_s < 1e-8
+    # the stance feet stand on the flat ground at their footholds
+    feet = plan.node_outputs("paper")["feet_pos"].reshape(3, -1, 4)
+    for i in range(4):
+        on = problem.schedule.stance[i]
+        np.testing.assert_allclose(feet[2, on, i], 0.0, atol=1e-8)
+
+
+def test_the_export_is_the_plan_a_controller_can_recheck(solved, tmp_path):
+    import csv
+    import json
+
+    from scalf_opt.cli.commands.optimize_3d import cycle_report, cycle_summary
+    from scalf_opt.io.whole_body_export import write_cycle
+    from scalf_opt.optimize.whole_body_driver import CycleResult, GridStep
+
+    problem, solution = solved
+    plan = solution.plan
+    step = GridStep(
+        problem.schedule.intervals, solution, plan.evaluate("paper").total_j, plan.check("paper")
+    )
+    result = CycleResult((step,))
+    summary = cycle_summary(problem, result)
+    written = write_cycle(tmp_path, summary, plan, "paper")
+    assert [p.name for p in written] == ["plan.csv", "summary.json"]
+    assert json.loads((tmp_path / "summary.json").read_text())["model"] == "3d"
+    rows = list(csv.DictReader((tmp_path / "plan.csv").open()))
+    assert len(rows) == problem.schedule.intervals
+    columns = rows[0].keys()
+    for stem in ("base_pos_{}_m", "base_lin_vel_{}_m_s", "base_ang_acc_{}_rad_s2"):
+        assert all(stem.format(a) in columns for a in "xyz")
+    for joint in problem.physics.joint_names:
+        assert {f"{joint}_q_rad", f"{joint}_tau_nm"} <= columns
+    table = {c: np.array([float(r[c]) for r in rows]) for c in columns}
+    quat = np.vstack([table[f"base_quat_{a}"] for a in "xyzw"])
+    np.testing.assert_allclose(np.linalg.norm(quat, axis=0), 1.0, atol=1e-14)
+    np.testing.assert_array_equal(table["base_lin_acc_z_m_s2"], plan.xdd[2])
+    foot = problem.physics.feet[0]
+    swing = ~problem.schedule.stance[0]
+    assert (table[f"{foot}_force_z_n"][swing] == 0).all()
+    # the world angular velocity is the trunk's rpy rates mapped: its z is the yaw rate when
+    # roll and pitch are small (here within a degree), to their second order
+    np.testing.assert_allclose(table["base_ang_vel_z_rad_s"], plan.xd[5], atol=1e-2)
+    report = cycle_report(problem, result)
+    assert "cost of transport" in report and "Solve_Succeeded" in report
