@@ -72,6 +72,11 @@ from scalf_opt.optimize.problem import PairProblem, SwingProblem
 from scalf_opt.optimize.sampling import scheme
 from scalf_opt.types import Accounting, Space
 
+MUMPS_WORK_SPACE: dict[str, Any] = {"mumps_mem_percent": 10}
+"""MUMPS's work space: the estimate plus 10 % (Ipopt's default adds 1000 %, allocated and
+released at every factorization: the free-trajectory bound's finest levels spent a third of
+their time doing so). Ipopt enlarges it if a factorization runs short."""
+
 IPOPT_DEFAULTS: dict[str, Any] = {
     # 1e-8 (Ipopt's default): at 1e-10 rich families stalled for a hundred iterations on
     # round-off after the energy had converged to 1e-9
@@ -87,10 +92,7 @@ IPOPT_DEFAULTS: dict[str, Any] = {
     "constr_viol_tol": 1e-10,
     # approximate minimum degree ordering: MUMPS's automatic choice took 1.5x longer here
     "mumps_pivot_order": 0,
-    # MUMPS's work space: the estimate plus 10 % (Ipopt's default adds 1000 %, allocated and
-    # released at every factorization: the free-trajectory bound's finest levels spent a third
-    # of their time doing so). Ipopt enlarges it if a factorization runs short.
-    "mumps_mem_percent": 10,
+    **MUMPS_WORK_SPACE,
 }
 
 CONDENSED_OPTIONS: dict[str, Any] = {"mu_oracle": "probing", "mu_max": 10.0}

@@ -46,6 +46,7 @@ from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION, TrotSchedule
 from scalf_opt.locomotion.periodic_spline import continuity_rows, midpoints
 from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S
+from scalf_opt.optimize.nlp import MUMPS_WORK_SPACE
 from scalf_opt.optimize.whole_body_start import starting_plan
 from scalf_opt.types import LEG_NAMES, Accounting
 
@@ -66,6 +67,7 @@ IPOPT_DEFAULTS: dict[str, Any] = {
     "max_iter": 3000,
     "print_level": 0,
     "sb": "yes",
+    **MUMPS_WORK_SPACE,
 }
 
 
