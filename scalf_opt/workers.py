@@ -67,6 +67,11 @@ def worker_progress(label: str) -> None:
         _progress(label)
 
 
+def in_worker_process() -> bool:
+    """This process is a worker of this module (its work should not start workers of its own)."""
+    return _channel is not None
+
+
 @contextlib.contextmanager
 def progress_to(callback: Callable[[str], None]) -> Iterator[None]:
     """Inside the block, :func:`worker_progress` in this process calls ``callback``."""

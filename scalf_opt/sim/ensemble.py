@@ -20,6 +20,9 @@ The perturbations (each one alone, the others nominal):
 * a touch-down detected 5 ms early and 5 ms late: the controller switches a leg from its swing
   loop to the stance loop that much off the planned touch-down (early: with the foot still in
   the air; late: the landed foot still on its swing loop).
+
+The members are independent: they run side by side, one process per core (:func:`run_members`),
+with the numbers of one process.
 """
 
 from __future__ import annotations
@@ -30,9 +33,11 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
+from scalf_opt.interrupts import results_in_order
 from scalf_opt.sim.metrics import saving_met
 from scalf_opt.sim.settings import SimSettings
 from scalf_opt.types import LEG_NAMES
+from scalf_opt.workers import WorkerProcesses, in_worker_process, thread_budget
 
 
 @dataclass(frozen=True)
@@ -206,20 +211,70 @@ def _saving(nominal: dict[str, Any], savings: list[float]) -> dict[str, Any]:
     }
 
 
+def member_processes(workers: int | None = None) -> int:
+    """The processes the members share: ``workers``, by default as many as this process's cores.
+
+    The default is :func:`~scalf_opt.workers.thread_budget` (``SCALF_OPT_THREADS``, else the
+    cores). In a worker process of :mod:`scalf_opt.workers`: one, this process (its work starts
+    no workers of its own).
+    """
+    if in_worker_process():
+        return 1
+    return thread_budget() if workers is None else max(1, workers)
+
+
 def run_members(
     run: Callable[[SimSettings], dict[str, Any]],
-    nominal_data: dict[str, Any],
+    nominal: Callable[[], dict[str, Any]],
     settings: SimSettings,
     derived: SimSettings,
     members: Sequence[Perturbation] = ENSEMBLE,
+    workers: int | None = None,
 ) -> list[tuple[Perturbation, dict[str, Any]]]:
-    """Every member's run data, the nominal referee's ``nominal_data`` (not run again).
+    """Every member's run data: the nominal referee's ``nominal()``, each other's ``run(at)``.
 
-    ``run(settings)`` simulates plan and reference at a member's settings.
+    ``run(at)`` simulates plan and reference at a member's settings ``at``; ``nominal()`` those
+    of the nominal referee, called once, in this process. The members are independent: they
+    share :func:`member_processes` processes (``workers``), this one and worker processes of
+    :class:`~scalf_opt.workers.WorkerProcesses` (``run`` then pickles: a module-level function,
+    or an instance of a module-level class, whose data the worker builds its models from). This
+    process runs the nominal referee and every ``count``-th member after it, each worker its own
+    members one after another, all at once; each member's data is bitwise what one process
+    would compute. One process: the members one after another, here. Ctrl-C, SIGTERM or an error
+    (this process's first, else the first worker's in order) kills the workers.
     """
-    return [
-        (p, nominal_data if p.field is None else run(p.applied(settings, derived))) for p in members
-    ]
+    others = [p.applied(settings, derived) for p in members if p.field is not None]
+    count = min(member_processes(workers), len(others) + 1)
+    if count == 1:
+        return _in_order(members, nominal(), run_each((run, others)))
+    # the members dealt out in turn, the nominal referee first: process i runs the i-th, the
+    # (i + count)-th... (the nominal referee, the 0-th, in this process: its run stays here)
+    shares = [others[i - 1 :: count] if i else others[count - 1 :: count] for i in range(count)]
+    with WorkerProcesses(count) as processes:
+        away = [processes.submit(run_each, (run, share)) for share in shares[1:]]
+        data = nominal()
+        done = [[data, *run_each((run, shares[0]))], *results_in_order(away)]
+    return _in_order(
+        members, data, [done[i % count][i // count] for i in range(1, len(others) + 1)]
+    )
+
+
+MemberJob = tuple[Callable[[SimSettings], dict[str, Any]], Sequence[SimSettings]]
+"""Members' runs as work for :func:`run_each`: the run, and each member's settings."""
+
+
+def run_each(job: MemberJob) -> list[dict[str, Any]]:
+    """``run(at)`` for each member's settings ``at`` in turn (in this process or a worker)."""
+    run, members = job
+    return [run(at) for at in members]
+
+
+def _in_order(
+    members: Sequence[Perturbation], nominal: dict[str, Any], others: Sequence[dict[str, Any]]
+) -> list[tuple[Perturbation, dict[str, Any]]]:
+    """Each member beside its data: the nominal referee's ``nominal``, the others' in turn."""
+    found = iter(others)
+    return [(p, nominal if p.field is None else next(found)) for p in members]
 
 
 def with_ensemble_verdicts(

@@ -81,6 +81,7 @@ def simulation_file(
     cycles: int,
     source: str | None = None,
     ensemble: bool = True,
+    workers: int | None = None,
 ) -> tuple[dict[str, Any], TrotRun]:
     """The content of ``simulation.json``, and the run it describes.
 
@@ -93,19 +94,54 @@ def simulation_file(
     :data:`~scalf_opt.sim.ensemble.ENSEMBLE` referees plan and reference alike and the verdict
     is their median, the plan's and the reference's
     (:func:`~scalf_opt.sim.ensemble.with_ensemble_verdicts`); the run returned is the nominal
-    referee's.
+    referee's. The members run side by side on ``workers`` processes (default: one per core;
+    :func:`~scalf_opt.sim.ensemble.run_members`), with the same numbers on any number.
     """
-
-    def referee(at: SimSettings) -> tuple[dict[str, Any], TrotRun]:
-        return _refereed(robot, pipeline, swings, at, cycles, source)
-
-    data, run = referee(settings)
+    referee = Referee(robot, pipeline, dict(swings), cycles, source)
     if not ensemble:
-        return data, run
+        return referee.run(settings)
+    nominal: list[tuple[dict[str, Any], TrotRun]] = []
+
+    def run_nominal() -> dict[str, Any]:
+        nominal.append(referee.run(settings))
+        return nominal[0][0]
+
     derived, _ = settings.for_leg_length(robot.leg_length_m)
-    runs = run_members(lambda at: referee(at)[0], data, settings, derived)
+    runs = run_members(referee, run_nominal, settings, derived, workers=workers)
+    data, run = nominal[0]
     goal = float(data["goals"]["joint_energy_relative_difference_at_most"])
     return with_ensemble_verdicts(data, runs, goal), run
+
+
+@dataclass(frozen=True)
+class Referee:
+    """One referee's work: the plan, and the reference beside it, at the referee's settings.
+
+    It pickles (plain data, the robot and the pipeline rebuilding their models where they are
+    unpickled), so that a worker process can run an ensemble's member
+    (:func:`~scalf_opt.sim.ensemble.run_members`) with the same code as this process.
+
+    Attributes:
+        robot: The robot MuJoCo simulates.
+        pipeline: The energy model that plans the trot.
+        swings: Every leg's swing.
+        cycles: Gait cycles to simulate.
+        source: Where the swings come from, for ``simulation.json``.
+    """
+
+    robot: Robot
+    pipeline: EnergyPipeline
+    swings: dict[str, SwingChoice]
+    cycles: int
+    source: str | None = None
+
+    def __call__(self, settings: SimSettings) -> dict[str, Any]:
+        """The referee's ``simulation.json`` content at ``settings`` (an ensemble member's)."""
+        return self.run(settings)[0]
+
+    def run(self, settings: SimSettings) -> tuple[dict[str, Any], TrotRun]:
+        """The referee's ``simulation.json`` content at ``settings``, and the plan's run."""
+        return _refereed(self.robot, self.pipeline, self.swings, settings, self.cycles, self.source)
 
 
 def _refereed(
