@@ -95,8 +95,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         default="on",
         help="on: the verdict is the median over the referee ensemble (servo gains x0.5 and x2, "
         "contact time constant x0.5 and x2, foot radius x0.5 and x3, friction 0.6, touch-down "
-        "detected 5 ms early and late), with its spread, its members run side by side on the cores; off: the "
-        "nominal referee alone, a tenth of the work (default on)",
+        "detected 5 ms early and late), with its spread, its members run side by side on the "
+        "cores; off: the nominal referee alone, a tenth of the work (default on)",
     )
     parser.add_argument(
         "--details",
