@@ -11,6 +11,8 @@ from scalf_opt.cli import main
         (["--duty", "0.1"], "--duty 0.1: duty_cycle = 0.1 is outside [0.2, 0.8] for the 3-D trot"),
         (["--family", "joint-4"], "--family is an option of the sagittal model"),
         (["--free-stance"], "--free-stance is an option of the sagittal model"),
+        (["--loads", "trunk"], "--loads is an option of the sagittal model"),
+        (["--leg", "rf"], "--leg is an option of the sagittal model"),
         (["--method", "pattern"], "--method: --model 3d is solved by Ipopt only"),
         (["--friction", "-1"], "--friction -1 must be > 0"),
         (["--friction", "nan"], "--friction nan must be > 0"),

@@ -234,7 +234,7 @@ def run(args: argparse.Namespace) -> int:
     if args.model == "3d":
         from scalf_opt.cli.commands.optimize_3d import run_3d
 
-        return run_3d(args)
+        return run_3d(args, margins_from(args))
     from scalf_opt.api.optimization import goal_from, optimize_goal
     from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.energy.pipeline import EnergyPipeline

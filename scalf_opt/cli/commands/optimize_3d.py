@@ -7,11 +7,13 @@ import math
 from typing import TYPE_CHECKING, Any
 
 from scalf_opt.cli.options import check_output_dir, load_gait, load_robot
+from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.errors import ConfigError, GaitError
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.types import LEG_NAMES
 
 if TYPE_CHECKING:
+    from scalf_opt.energy.margins import LimitMargins
     from scalf_opt.optimize.whole_body_driver import CycleResult
     from scalf_opt.optimize.whole_body_nlp import CycleProblem
 
@@ -26,9 +28,11 @@ SAGITTAL_ONLY = {
     "free_stance": False,
     "starts": 1,
     "precision": None,
+    "loads": DEFAULT_LOADS,
 }
 """``optimize`` options of the sagittal swing problem and their defaults: the 3-D model has no
-swing family, legs to choose or stance search of its own, so another value is refused."""
+swing family, legs to choose or stance search of its own, and its loads are its own contact
+forces, so another value is refused."""
 
 
 def refuse_sagittal_options(args: argparse.Namespace) -> None:
@@ -51,9 +55,10 @@ def refuse_sagittal_options(args: argparse.Namespace) -> None:
         raise ConfigError("--method: --model 3d is solved by Ipopt only", field="method")
 
 
-def build_problem(args: argparse.Namespace) -> tuple[CycleProblem, float, str]:
+def build_problem(
+    args: argparse.Namespace, margins: LimitMargins
+) -> tuple[CycleProblem, float, str]:
     """The 3-D problem the options describe, its node rate [Hz] and a line saying so."""
-    from scalf_opt.cli.commands.optimize import margins_from
     from scalf_opt.energy.whole_body import WholeBodyPhysics
     from scalf_opt.locomotion.contact_schedule import trot_schedule
     from scalf_opt.optimize.whole_body_nlp import CycleProblem
@@ -79,7 +84,7 @@ def build_problem(args: argparse.Namespace) -> tuple[CycleProblem, float, str]:
         gait.stance_height_m,
         gait.clearance_m,
         args.friction,
-        margins_from(args),
+        margins,
         args.accounting,
     )
     flight = gait.period_s * max(0.0, 0.5 - duty)
@@ -93,8 +98,11 @@ def build_problem(args: argparse.Namespace) -> tuple[CycleProblem, float, str]:
     return problem, rate, line
 
 
-def run_3d(args: argparse.Namespace) -> int:
-    """Exit 0 when the cycle converged, 3 when it did not (unless accepted)."""
+def run_3d(args: argparse.Namespace, margins: LimitMargins) -> int:
+    """Exit 0 when the cycle converged, 3 when it did not (unless accepted).
+
+    ``margins``: the limit margins the options give (``optimize``'s).
+    """
     from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.io.whole_body_export import write_cycle
     from scalf_opt.optimize.whole_body_driver import optimize_cycle
@@ -103,7 +111,7 @@ def run_3d(args: argparse.Namespace) -> int:
     refuse_sagittal_options(args)
     if not (math.isfinite(args.friction) and args.friction > 0):
         raise ConfigError(f"--friction {args.friction:g} must be > 0", field="friction")
-    problem, rate, line = build_problem(args)
+    problem, rate, line = build_problem(args, margins)
     with ProgressBar(None, "optimize --model 3d", enabled=not args.quiet) as bar:
         result = optimize_cycle(problem, rate, bar.step)
     console = args.console
