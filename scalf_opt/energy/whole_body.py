@@ -181,6 +181,12 @@ class WholeBodyPhysics:
         """The whole robot's weight [N] (Pinocchio's gravity)."""
         return self.mass_kg * float(np.linalg.norm(self.model.gravity.linear))
 
+    def stride_shift(self, stride_m: float) -> np.ndarray:
+        """What one cycle adds to ``X`` (nx, 1): ``stride_m`` on the trunk's x, zero elsewhere."""
+        out = np.zeros((self.nx, 1))
+        out[0, 0] = stride_m
+        return out
+
     @cached_property
     def twin(self) -> SymbolicChain:
         """The CasADi twin of :attr:`model`."""

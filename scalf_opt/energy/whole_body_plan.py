@@ -115,9 +115,7 @@ class WholeBodyPlan:
     @property
     def shift(self) -> np.ndarray:
         """What one cycle adds to ``X`` (nx, 1): the stride on the trunk's x."""
-        out = np.zeros((self.physics.nx, 1))
-        out[0, 0] = self.stride_m
-        return out
+        return self.physics.stride_shift(self.stride_m)
 
     def node_outputs(self, accounting: Accounting) -> dict[str, np.ndarray]:
         """Every output of :meth:`WholeBodyPhysics.node_function` at the nodes (exact losses)."""

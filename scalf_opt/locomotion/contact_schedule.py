@@ -90,6 +90,16 @@ class TrotSchedule:
         return out
 
     @cached_property
+    def loaded(self) -> np.ndarray:
+        """``[i, k]``: foot ``i`` may carry a force at node ``k``.
+
+        In stance, but not at its touch-down or lift-off node: there its force is zero, so no
+        contact begins or ends with a jump of force.
+        """
+        stance = self.stance
+        return stance & np.roll(stance, 1, axis=1) & np.roll(stance, -1, axis=1)
+
+    @cached_property
     def flight(self) -> np.ndarray:
         """Nodes at which no foot is on the ground (N,) bool."""
         return np.logical_not(self.stance.any(axis=0))

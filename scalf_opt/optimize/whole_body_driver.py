@@ -109,9 +109,7 @@ def resampled(plan: WholeBodyPlan, problem: CycleProblem) -> WholeBodyPlan:
     """
     schedule = problem.schedule
     x, xd, xdd = plan.states_at(schedule.times_s)
-    stance = schedule.stance
-    inner = stance & np.roll(stance, 1, axis=1) & np.roll(stance, -1, axis=1)
-    forces = plan.forces_at(schedule.times_s) * np.repeat(inner, 3, axis=0)
+    forces = plan.forces_at(schedule.times_s) * np.repeat(schedule.loaded, 3, axis=0)
     return replace(plan, schedule=schedule, x=x, xd=xd, xdd=xdd, forces_n=forces)
 
 

@@ -178,8 +178,7 @@ def solve_cycle(
     xd, xdd, forces = steps / h, bends / h**2, shares * weight
     scales = (1.0, h, h**2, 1.0 / weight, 1.0)
 
-    shift = np.zeros((nx, 1))
-    shift[0, 0] = stride
+    shift = physics.stride_shift(stride)
     node = physics.node_function(problem.accounting, HEAT_SMOOTHING_EPS_M_S)
     out = _mapped(node, (x, xd, xdd), forces)
     mid = {"feet_pos": physics.feet_function.map(n)(midpoints(x, xd, xdd, h, shift)[0])}
@@ -341,11 +340,9 @@ def _variable_bounds(problem: CycleProblem, start: WholeBodyPlan) -> tuple[np.nd
             xd_lo[6 + bound.joint], xd_hi[6 + bound.joint] = bound.lower, bound.upper
     free = np.full((nx, n), inf)
     f_lo, f_hi = np.zeros((3 * len(LEG_NAMES), n)), np.zeros((3 * len(LEG_NAMES), n))
-    stance = schedule.stance
-    inner = stance & np.roll(stance, 1, axis=1) & np.roll(stance, -1, axis=1)
     for i in range(len(LEG_NAMES)):
-        f_lo[3 * i : 3 * i + 2, inner[i]] = -inf
-        f_hi[3 * i : 3 * i + 3, inner[i]] = inf
+        f_lo[3 * i : 3 * i + 2, schedule.loaded[i]] = -inf
+        f_hi[3 * i : 3 * i + 3, schedule.loaded[i]] = inf
     acc = power_accounting(problem.accounting)
     charging = sum(d.charges_joint_power for d in physics.drives)
     slack = np.zeros(acc.slacks * charging * n)

@@ -102,9 +102,7 @@ def starting_plan(
         joints = _inverse_kinematics(physics, data, q, fids, targets[:, :, k])
         q[7:] = joints
         x_nodes[:, k] = np.concatenate([[speed_m_s * t, 0.0, base_z, 0.0, 0.0, 0.0], joints])
-    shift = np.zeros((physics.nx, 1))
-    shift[0, 0] = stride
-    xd, xdd = fit(x_nodes, schedule.step_s, shift)
+    xd, xdd = fit(x_nodes, schedule.step_s, physics.stride_shift(stride))
     return WholeBodyPlan(
         physics, schedule, speed_m_s, x_nodes, xd, xdd, _start_forces(physics, schedule), footholds
     )
@@ -145,8 +143,7 @@ def _start_forces(physics: WholeBodyPhysics, schedule: TrotSchedule) -> np.ndarr
 
     Vertical, and zero at touch-down and lift-off.
     """
-    stance = schedule.stance
-    inner = stance & np.roll(stance, 1, axis=1) & np.roll(stance, -1, axis=1)
+    inner = schedule.loaded
     forces = np.zeros((3 * len(LEG_NAMES), schedule.intervals))
     counts = np.maximum(inner.sum(axis=0), 1)
     for i in range(len(LEG_NAMES)):
