@@ -130,5 +130,5 @@ def test_the_export_is_the_plan_a_controller_can_recheck(solved, tmp_path):
     # the world angular velocity is the trunk's rpy rates mapped: its z is the yaw rate when
     # roll and pitch are small (here within a degree), to their second order
     np.testing.assert_allclose(table["base_ang_vel_z_rad_s"], plan.xd[5], atol=1e-2)
-    report = cycle_report(problem, result)
+    report = cycle_report(problem, summary)
     assert "cost of transport" in report and "Solve_Succeeded" in report

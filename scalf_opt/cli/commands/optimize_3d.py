@@ -118,7 +118,7 @@ def run_3d(args: argparse.Namespace, margins: LimitMargins) -> int:
     console.text(line)
     summary = cycle_summary(problem, result)
     console.json(summary)
-    console.text(cycle_report(problem, result))
+    console.text(cycle_report(problem, summary))
     written = []
     if args.out is not None and (result.converged or args.accept_unconverged):
         written = write_cycle(args.out, summary, result.plan, problem.accounting)
@@ -198,9 +198,8 @@ def trunk_line(trunk: dict[str, list[float]]) -> str:
     )
 
 
-def cycle_report(problem: CycleProblem, result: CycleResult) -> str:
-    """The run in words and a table."""
-    data = cycle_summary(problem, result)
+def cycle_report(problem: CycleProblem, data: dict[str, Any]) -> str:
+    """The run in words and a table, from its :func:`cycle_summary` ``data``."""
     lines = [""]
     for solve in data["solves"]:
         lines.append(
