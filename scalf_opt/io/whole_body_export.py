@@ -13,6 +13,7 @@ from __future__ import annotations
 import csv
 import io
 import json
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -20,10 +21,21 @@ import numpy as np
 
 from scalf_opt.energy.whole_body import rpy_rotation
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
+from scalf_opt.errors import ConfigError
 from scalf_opt.files import write_atomic
 from scalf_opt.types import Accounting
 
 AXES = ("x", "y", "z")
+
+REQUIRED_COLUMNS = (
+    "t_s",
+    "base_pos_z_m",
+    "base_quat_x",
+    "base_quat_y",
+    "base_quat_z",
+    "base_quat_w",
+)
+"""Columns a saved cycle must have to be read back (the figures draw from them)."""
 
 
 def plan_columns(plan: WholeBodyPlan, accounting: Accounting) -> dict[str, np.ndarray]:
@@ -85,3 +97,67 @@ def write_cycle(
         write_atomic(out / "plan.csv", plan_csv(plan, accounting)),
         write_atomic(out / "summary.json", json.dumps(summary, indent=2) + "\n"),
     ]
+
+
+@dataclass(frozen=True)
+class SavedCycle:
+    """A 3-D cycle read back from ``optimize --model 3d --out DIR``.
+
+    Attributes:
+        directory: Where it was read from.
+        summary: ``summary.json`` as written.
+        columns: ``plan.csv``'s columns by name, each (N,) at the plan's nodes (SI units).
+    """
+
+    directory: Path
+    summary: dict[str, Any]
+    columns: dict[str, np.ndarray]
+
+    @property
+    def feet(self) -> tuple[str, ...]:
+        """The foot frames with force columns, in the file's (the legs') order."""
+        suffix = "_force_z_n"
+        return tuple(name[: -len(suffix)] for name in self.columns if name.endswith(suffix))
+
+
+def is_cycle_dir(directory: Path) -> bool:
+    """Whether ``directory`` holds a 3-D cycle (a ``plan.csv`` beside its ``summary.json``)."""
+    return (directory / "plan.csv").is_file() and (directory / "summary.json").is_file()
+
+
+def read_cycle(directory: Path) -> SavedCycle:
+    """Read a 3-D cycle's ``summary.json`` and ``plan.csv``.
+
+    Raises:
+        ConfigError: A file is missing or unreadable, is not a 3-D cycle's, or lacks a column
+            (the message names the file and the column).
+    """
+    summary_path, plan_path = directory / "summary.json", directory / "plan.csv"
+    try:
+        summary = json.loads(summary_path.read_text())
+    except (OSError, ValueError) as exc:
+        raise ConfigError(f"{summary_path}: cannot be read ({exc})", field="from") from exc
+    if not isinstance(summary, dict) or summary.get("model") != "3d":
+        raise ConfigError(
+            f"{summary_path}: not a 3-D cycle (write one with optimize --model 3d --out DIR)",
+            field="from",
+        )
+    try:
+        with plan_path.open(newline="") as handle:
+            rows = list(csv.reader(handle))
+    except OSError as exc:
+        raise ConfigError(f"{plan_path}: cannot be read ({exc})", field="from") from exc
+    if len(rows) < 2:
+        raise ConfigError(f"{plan_path}: no rows", field="from")
+    header, body = rows[0], rows[1:]
+    try:
+        values = np.array(body, dtype=float)
+    except ValueError as exc:
+        raise ConfigError(f"{plan_path}: {exc}", field="from") from exc
+    if values.shape[1] != len(header):
+        raise ConfigError(f"{plan_path}: rows and header differ in length", field="from")
+    columns = {name: values[:, c] for c, name in enumerate(header)}
+    for name in REQUIRED_COLUMNS:
+        if name not in columns:
+            raise ConfigError(f"{plan_path}: no column {name!r}", field="from")
+    return SavedCycle(directory, summary, columns)

@@ -23,11 +23,17 @@ Constraints:
   foot keeps to its side of the trunk (at least half its start's lateral offset from the trunk's
   midline: the legs cannot cross);
 * **the limits**: every joint's range, velocity and effort limit and every drive bound, less the
-  margins (:class:`~scalf_opt.energy.margins.LimitMargins`).
+  margins (:class:`~scalf_opt.energy.margins.LimitMargins`), at the nodes and at the intervals'
+  midpoints (there the spline's midpoint and the mean of the two nodes' forces).
 
-Objective: the drive energy of every joint over the cycle (the node sum of their drawn power:
-the accounting's slack form of the charged joint power plus the drives' losses, smoothed as in the
-sagittal NLP), over the start's energy.
+Objective: the drive energy of every joint over the cycle by Simpson's rule over the nodes and
+the midpoints (their drawn power: the accounting's slack form of the charged joint power plus the
+drives' losses, smoothed as in the sagittal NLP), over the start's energy. Read at the nodes
+alone, a joint could rest at every node and move between them for free. The dynamics are not
+imposed at the midpoints: there the trunk's rows are nearly the mean of the neighbouring nodes'
+(forces and trunk acceleration are both linear in between), and such nearly dependent rows stall
+Ipopt (measured: the multipliers grew to 1e10 and the energy fourfold); the ten-times check
+reports what is left between the nodes.
 """
 
 from __future__ import annotations
@@ -173,7 +179,8 @@ def solve_cycle(
     x, steps, bends = (ca.MX.sym(name, nx, n) for name in ("X", "h_Xd", "h2_Xdd"))
     shares = ca.MX.sym("f_over_weight", nf, n)
     holds = ca.MX.sym("footholds", 2, len(LEG_NAMES))
-    slacks = [ca.MX.sym(f"s{m}", len(charging), n) for m in range(acc.slacks)]
+    # the slacks of the nodes (first n columns), then of the midpoints
+    slacks = [ca.MX.sym(f"s{m}", len(charging), 2 * n) for m in range(acc.slacks)]
     blocks = [x, steps, bends, shares, holds, *slacks]
     xd, xdd, forces = steps / h, bends / h**2, shares * weight
     scales = (1.0, h, h**2, 1.0 / weight, 1.0)
@@ -181,7 +188,8 @@ def solve_cycle(
     shift = physics.stride_shift(stride)
     node = physics.node_function(problem.accounting, HEAT_SMOOTHING_EPS_M_S)
     out = _mapped(node, (x, xd, xdd), forces)
-    mid = {"feet_pos": physics.feet_function.map(n)(midpoints(x, xd, xdd, h, shift)[0])}
+    mid_states = midpoints(x, xd, xdd, h, shift)
+    mid = _mapped(node, mid_states, (forces + forces[:, [*range(1, n), 0]]) / 2)
     rows = _Rows()
     values, rates = continuity_rows(x, xd, xdd, h, shift)
     rows.add(values, 0.0, 0.0, "spline values")
@@ -190,20 +198,28 @@ def solve_cycle(
     rows.add(out["base_wrench"][:3, :] / weight, 0.0, 0.0, "base force")
     rows.add(out["base_wrench"][3:, :] / (weight * height), 0.0, 0.0, "base moment")
     _limit_rows(problem, rows, out)
+    _limit_rows(problem, rows, mid)
+    _midpoint_range_rows(problem, rows, mid_states)
     _contact_rows(problem, rows, out, mid, x, forces, holds, stride, start)
     bounds = _variable_bounds(problem, start)
-    # the trapezoidal rule on the periodic grid: h times the nodes' sum
-    power = out["p_joint"][charging, :]
+    # Simpson's rule on the periodic grid: h (sum of the nodes + 2 sum of the midpoints) / 3
+    power = ca.horzcat(out["p_joint"][charging, :], mid["p_joint"][charging, :])
     if acc.slacks:
         slack_rows = acc.slack_rows(power, slacks)
         assert slack_rows is not None  # an accounting with slacks has their rows
         rows.add(slack_rows, *acc.slack_row_bounds(), "slacks")
-    cost = ca.sum1(acc.smooth_cost(power, slacks)) + ca.sum1(out["loss"])
+    cost = ca.sum1(acc.smooth_cost(power, slacks)) + ca.sum1(ca.horzcat(out["loss"], mid["loss"]))
     scale = max(start.evaluate(problem.accounting).total_j, 1e-6)
-    objective = ca.sum2(cost) * h / scale
+    objective = (ca.sum2(cost[:, :n]) + 2 * ca.sum2(cost[:, n:])) * h / (3 * scale)
 
     w = ca.veccat(*blocks)
-    start_slacks = acc.initial_slacks(start.node_outputs(problem.accounting)["p_joint"][charging])
+    start_power = np.hstack(
+        [
+            start.node_outputs(problem.accounting)["p_joint"],
+            start.midpoint_outputs(problem.accounting)["p_joint"],
+        ]
+    )
+    start_slacks = acc.initial_slacks(start_power[charging])
     start_blocks = (start.x, start.xd, start.xdd, start.forces_n, start.footholds_m)
     w0 = np.concatenate(
         [np.ravel(b * c, order="F") for b, c in zip(start_blocks, scales, strict=True)]
@@ -345,13 +361,25 @@ def _variable_bounds(problem: CycleProblem, start: WholeBodyPlan) -> tuple[np.nd
         f_hi[3 * i : 3 * i + 3, schedule.loaded[i]] = inf
     acc = power_accounting(problem.accounting)
     charging = sum(d.charges_joint_power for d in physics.drives)
-    slack = np.zeros(acc.slacks * charging * n)
+    slack = np.zeros(acc.slacks * charging * 2 * n)  # nodes and midpoints
     lower = [x_lo, xd_lo, -free, f_lo, np.full(2 * len(LEG_NAMES), -inf), slack]
     upper = [x_hi, xd_hi, free, f_hi, np.full(2 * len(LEG_NAMES), inf), slack + inf]
     return (
         np.concatenate([np.ravel(b, order="F") for b in lower]),
         np.concatenate([np.ravel(b, order="F") for b in upper]),
     )
+
+
+def _midpoint_range_rows(
+    problem: CycleProblem, rows: _Rows, states: tuple[ca.MX, ca.MX, ca.MX]
+) -> None:
+    """Every joint's range and velocity limit (less margins) at the intervals' midpoints."""
+    for bound in problem.margins.apply(problem.physics.joint_bounds()):
+        if bound.output in ("q", "qd"):
+            values = states[0 if bound.output == "q" else 1]
+            rows.add(
+                values[6 + bound.joint, :], bound.lower, bound.upper, f"{bound.output} (midpoints)"
+            )
 
 
 def _limit_rows(problem: CycleProblem, rows: _Rows, out: dict[str, ca.MX]) -> None:

@@ -26,6 +26,10 @@ EXAMPLES = (
     ("scalf-opt figures", "the paper's figures of the reference and the default optimum"),
     ("scalf-opt figures --from results/optimum --format png", "a saved optimum, PNG only"),
     ("scalf-opt figures --robot hyq --out results/hyq-figures", "another robot"),
+    (
+        "scalf-opt figures --from results/go1-3d",
+        "a 3-D cycle (optimize --model 3d --out): the trunk's height, roll, pitch and the forces",
+    ),
 )
 
 
@@ -73,11 +77,14 @@ def run(args: argparse.Namespace) -> int:
     from scalf_opt.api.presentation import NotSolvedError, search_pipeline, shown_trajectories
     from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.errors import ConfigError
+    from scalf_opt.io.whole_body_export import is_cycle_dir
     from scalf_opt.studies.search import search_study
     from scalf_opt.viz.figure_set import write_figures
     from scalf_opt.viz.trajectories import energy_lines
 
     check_output_dir(args.out)
+    if any(is_cycle_dir(d) for d in args.from_dirs):
+        return _run_3d(args)
     if args.grid < 3:
         raise ConfigError(f"--grid must be at least 3, got {args.grid}")
     refuse_gait_with_saved(args)
@@ -101,4 +108,38 @@ def run(args: argparse.Namespace) -> int:
     args.console.text("\n".join(energy_lines(shown)))
     names = sorted({p.stem for p in written}, key=[p.stem for p in written].index)
     args.console.text(f"wrote {args.out}/: {', '.join(names)} ({', '.join(formats)})")
+    return 0
+
+
+def _run_3d(args: argparse.Namespace) -> int:
+    """Draw the 3-D cycles of ``--from`` (every DIR must be one): the figure ``trunk``."""
+    from scalf_opt.errors import ConfigError
+    from scalf_opt.io.whole_body_export import is_cycle_dir, read_cycle
+    from scalf_opt.viz.plotting import close, save_figure
+    from scalf_opt.viz.whole_body_figure import trunk_figure
+
+    sagittal = [d for d in args.from_dirs if not is_cycle_dir(d)]
+    if sagittal:
+        raise ConfigError(
+            f"--from {sagittal[0]}: not a 3-D cycle; 3-D and sagittal results are drawn apart",
+            field="from",
+        )
+    cycles = [read_cycle(d) for d in args.from_dirs]
+    formats = tuple(dict.fromkeys(args.formats or ("png", "svg")))
+    fig = trunk_figure(cycles)
+    written = []
+    try:
+        for kind in formats:
+            written.append(save_figure(fig, args.out / f"trunk.{kind}"))
+            fig.set_layout_engine("none")
+    finally:
+        close(fig)
+    for cycle in cycles:
+        energy = float(cycle.summary.get("energy_per_cycle_j", float("nan")))
+        cot = float(cycle.summary.get("cost_of_transport", float("nan")))
+        args.console.text(
+            f"{cycle.directory}: {cycle.summary.get('robot')}, {energy:.3f} J per cycle, "
+            f"cost of transport {cot:.4f}"
+        )
+    args.console.text(f"wrote {args.out}/: trunk ({', '.join(formats)})")
     return 0
