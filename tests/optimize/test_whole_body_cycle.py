@@ -27,7 +27,7 @@ def solved():
     robot = load_robot("go1")
     gait = default_gait_for(robot)
     physics = WholeBodyPhysics.of(robot)
-    schedule = trot_schedule(gait.period_s, 0.5, 50.0)
+    schedule = trot_schedule(gait.period_s, 0.5, 25.0)  # 10 nodes
     problem = CycleProblem(
         physics,
         schedule,
@@ -132,3 +132,56 @@ def test_the_export_is_the_plan_a_controller_can_recheck(solved, tmp_path):
     np.testing.assert_allclose(table["base_ang_vel_z_rad_s"], plan.xd[5], atol=1e-2)
     report = cycle_report(problem, summary)
     assert "cost of transport" in report and "Solve_Succeeded" in report
+
+
+def test_where_no_foot_carries_the_exported_robot_falls_at_g(solved, tmp_path):
+    """At the pair switch no foot carries force (duty 0.5; in a flying trot the whole flight):
+    read from plan.csv alone into Pinocchio's own model, the centre of mass accelerates at g."""
+    import csv
+    from functools import partial
+
+    from scalf_opt.io.whole_body_export import plan_csv
+
+    problem, solution = solved
+    physics = problem.physics
+    (tmp_path / "plan.csv").write_text(plan_csv(solution.plan, "paper"))
+    rows = list(csv.DictReader((tmp_path / "plan.csv").open()))
+    model = pin.buildModelFromXML(
+        read_urdf_text(physics.robot.urdf_path), pin.JointModelFreeFlyer()
+    )
+    data = model.createData()
+    joints = [model.names[j] for j in range(2, model.njoints)]
+    falling = 0
+    for row in rows:
+        get = partial(_values, row)
+        forces = get(*(f"{f}_force_{a}_n" for f in physics.feet for a in "xyz"))
+        if np.any(forces != 0):
+            continue
+        falling += 1
+        quat = get(*(f"base_quat_{a}" for a in "xyzw"))
+        rot = pin.Quaternion(quat[3], *quat[:3]).toRotationMatrix()
+        lin_vel = get(*(f"base_lin_vel_{a}_m_s" for a in "xyz"))
+        ang_vel = get(*(f"base_ang_vel_{a}_rad_s" for a in "xyz"))
+        lin_acc = get(*(f"base_lin_acc_{a}_m_s2" for a in "xyz"))
+        ang_acc = get(*(f"base_ang_acc_{a}_rad_s2" for a in "xyz"))
+        body_vel, body_ang = rot.T @ lin_vel, rot.T @ ang_vel
+        q = np.concatenate(
+            [get(*(f"base_pos_{a}_m" for a in "xyz")), quat, get(*(f"{j}_q_rad" for j in joints))]
+        )
+        v = np.concatenate([body_vel, body_ang, get(*(f"{j}_v_rad_s" for j in joints))])
+        # Pinocchio's free-flyer acceleration: the body-frame velocity's time derivative
+        a = np.concatenate(
+            [
+                rot.T @ lin_acc - np.cross(body_ang, body_vel),
+                rot.T @ ang_acc,
+                get(*(f"{j}_a_rad_s2" for j in joints)),
+            ]
+        )
+        pin.centerOfMass(model, data, q, v, a)
+        # the trunk's force rows hold to Ipopt's 1e-8 of the weight: ~1e-7 m/s^2 here
+        np.testing.assert_allclose(data.acom[0], model.gravity.linear, rtol=0, atol=1e-6)
+    assert falling == 2  # the two pair switches of a duty-0.5 trot
+
+
+def _values(row, *names):
+    return np.array([float(row[n]) for n in names])

@@ -46,7 +46,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         default=[],
         help="a directory written by 'optimize --out' (repeat to compare; default: the "
         "reference and the default optimum, joint-6 by Ipopt; the first DIR's robot by default "
-        "when the catalog has it)",
+        "when the catalog has it); a 3-D cycle's (optimize --model 3d --out) draws its trunk "
+        "height, roll, pitch and vertical foot forces (trunk.png)",
     )
     parser.add_argument(
         "--out",
