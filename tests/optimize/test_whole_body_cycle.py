@@ -17,7 +17,7 @@ from scalf_opt.model.urdf_file import read_urdf_text
 from scalf_opt.optimize.whole_body_nlp import CycleProblem, solve_cycle
 from scalf_opt.robots.loading import load_robot
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.xdist_group(name="whole_body_cycle")]
 
 REL_TOL = 1e-6  # Ipopt's constraint tolerance is 1e-8 on rows scaled by the weight
 
