@@ -25,7 +25,7 @@ import pinocchio as pin
 from scalf_opt.energy.whole_body import WholeBodyPhysics
 from scalf_opt.locomotion.contact_schedule import TrotSchedule
 from scalf_opt.locomotion.periodic_spline import evaluate as spline_at
-from scalf_opt.locomotion.periodic_spline import midpoints
+from scalf_opt.locomotion.periodic_spline import interval_means, midpoints
 from scalf_opt.types import Accounting
 
 
@@ -128,7 +128,7 @@ class WholeBodyPlan:
         Column ``k`` is the middle of ``[t_k, t_{k+1}]`` (the spline there, the forces' mean).
         """
         states = midpoints(self.x, self.xd, self.xdd, self.schedule.step_s, self.shift)
-        return self._outputs(accounting, states, (self.forces_n + self._following_forces) / 2)
+        return self._outputs(accounting, states, interval_means(self.forces_n))
 
     def _outputs(
         self, accounting: Accounting, states: tuple[np.ndarray, ...], forces: np.ndarray

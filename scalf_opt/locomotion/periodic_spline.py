@@ -88,6 +88,16 @@ def evaluate(
     return values, rates, accelerations
 
 
+def interval_means(y: Any) -> Any:
+    """Each node's values averaged with the next node's (m, N), periodic without drift.
+
+    Column ``k`` is the middle of ``[t_k, t_{k+1}]`` of a quantity linear between the nodes
+    (the contact forces; CasADi or numpy).
+    """
+    n = y.shape[1]
+    return (y + y[:, [*range(1, n), 0]]) / 2
+
+
 def midpoints(y: Any, yd: Any, ydd: Any, step_s: float, shift: Any) -> tuple[Any, Any, Any]:
     """Values, rates and second derivatives of the spline halfway through each interval (m, N).
 

@@ -50,7 +50,7 @@ from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
 from scalf_opt.energy.whole_body import WholeBodyPhysics
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION, TrotSchedule
-from scalf_opt.locomotion.periodic_spline import continuity_rows, midpoints
+from scalf_opt.locomotion.periodic_spline import continuity_rows, interval_means, midpoints
 from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S
 from scalf_opt.optimize.nlp import MUMPS_WORK_SPACE
 from scalf_opt.optimize.whole_body_start import starting_plan
@@ -189,7 +189,7 @@ def solve_cycle(
     node = physics.node_function(problem.accounting, HEAT_SMOOTHING_EPS_M_S)
     out = _mapped(node, (x, xd, xdd), forces)
     mid_states = midpoints(x, xd, xdd, h, shift)
-    mid = _mapped(node, mid_states, (forces + forces[:, [*range(1, n), 0]]) / 2)
+    mid = _mapped(node, mid_states, interval_means(forces))
     rows = _Rows()
     values, rates = continuity_rows(x, xd, xdd, h, shift)
     rows.add(values, 0.0, 0.0, "spline values")

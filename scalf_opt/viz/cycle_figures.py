@@ -18,7 +18,7 @@ from matplotlib.figure import Figure
 from scalf_opt.locomotion.forces import GRAVITY_M_S2
 from scalf_opt.types import FIRST_PAIR, JOINT_ROLES, LEG_NAMES
 from scalf_opt.viz.colors import LEG_COLORS, trajectory_color
-from scalf_opt.viz.plotting import cycle_samples, shade_swing, style
+from scalf_opt.viz.plotting import DASHES, cycle_samples, shade_swing, style
 from scalf_opt.viz.trajectories import Trajectory, energy_models
 
 JointQuantity = Literal["angle", "torque", "power"]
@@ -34,8 +34,6 @@ _QUANTITIES: dict[str, tuple[str, str, float, str]] = {
     ),
 }
 """Quantity -> (output name, axis label with unit, factor from SI, title)."""
-
-_DASHES = ("-", "--", "-.", ":")
 
 
 def joint_figure(
@@ -64,7 +62,7 @@ def joint_figure(
                         t,
                         factor * values[row],
                         color=trajectory_color(index),
-                        ls=_DASHES[index % len(_DASHES)] if index == 0 else "-",
+                        ls=DASHES[index % len(DASHES)] if index == 0 else "-",
                         lw=1.4,
                         label=trajectory.label,
                     )

@@ -30,7 +30,7 @@ from scalf_opt.model.robot import Robot
 from scalf_opt.types import FIRST_PAIR
 from scalf_opt.viz.cycle_figures import foot_force_figure, joint_figure
 from scalf_opt.viz.energy_figure import energy_bars_figure
-from scalf_opt.viz.plotting import FORMATS, close, save_figure
+from scalf_opt.viz.plotting import FORMATS, save_in_formats
 from scalf_opt.viz.search_figure import LegSearch, search_figure
 from scalf_opt.viz.stick_figure import foot_path_figure, leg_snapshot_figure
 from scalf_opt.viz.trajectories import Trajectory
@@ -114,15 +114,5 @@ def write_figures(
     drawers = figure_drawers(robot, trajectories, search, legs)
     written = []
     for name in FIGURE_NAMES:
-        fig = drawers[name]()
-        try:
-            for kind in formats:
-                path = save_figure(fig, directory / f"{name}.{kind}")
-                # laid out once: the other formats keep the same layout (and save faster)
-                fig.set_layout_engine("none")
-                written.append(path)
-                if on_written is not None:
-                    on_written(path)
-        finally:
-            close(fig)
+        written += save_in_formats(drawers[name](), directory, name, formats, on_written)
     return written

@@ -8,7 +8,7 @@ fixed string instead of a random one, the fonts matplotlib ships (DejaVu).
 from __future__ import annotations
 
 import textwrap
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator, Sequence
 from contextlib import contextmanager
 from pathlib import Path
 from typing import IO, Any
@@ -47,6 +47,9 @@ STYLE: dict[Any, Any] = {
     "svg.hashsalt": "scalf-opt",  # element ids from a fixed salt: the same SVG bytes every run
     "svg.fonttype": "path",  # text as paths: no dependence on the reader's fonts
 }
+
+DASHES = ("-", "--", "-.", ":")
+"""Line styles that tell trajectories apart where colours tell something else apart."""
 
 SWING_SHADE = "#e6e6e6"
 """Background of the swing phase in plots over the cycle."""
@@ -89,6 +92,30 @@ def save_figure(fig: Figure, path: str | Path) -> Path:
             fig.savefig(handle, format=kind, dpi=PNG_DPI, metadata=metadata)
 
     return write_with(path, write)
+
+
+def save_in_formats(
+    fig: Figure,
+    directory: Path,
+    name: str,
+    formats: Sequence[str],
+    on_written: Callable[[Path], None] | None = None,
+) -> list[Path]:
+    """Write ``fig`` as ``directory/name.<kind>`` for each format in turn, then close it.
+
+    Laid out once: the other formats keep the first's layout (and save faster).
+    """
+    written = []
+    try:
+        for kind in formats:
+            path = save_figure(fig, directory / f"{name}.{kind}")
+            fig.set_layout_engine("none")
+            written.append(path)
+            if on_written is not None:
+                on_written(path)
+    finally:
+        close(fig)
+    return written
 
 
 def close(fig: Figure) -> None:

@@ -17,9 +17,7 @@ from matplotlib.figure import Figure
 from scalf_opt.io.whole_body_export import SavedCycle
 from scalf_opt.types import LEG_NAMES
 from scalf_opt.viz.colors import LEG_COLORS, trajectory_color
-from scalf_opt.viz.plotting import SWING_SHADE, style
-
-_DASHES = ("-", "--", "-.", ":")
+from scalf_opt.viz.plotting import DASHES, SWING_SHADE, style
 
 
 def roll_pitch_rad(quat_xyzw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -64,7 +62,7 @@ def trunk_figure(cycles: Sequence[SavedCycle]) -> Figure:
             t = cols["t_s"] / period
             quat = np.vstack([cols[f"base_quat_{a}"] for a in ("x", "y", "z", "w")])
             roll, pitch = roll_pitch_rad(quat)
-            color, dash = trajectory_color(c + 1), _DASHES[c % len(_DASHES)]
+            color, dash = trajectory_color(c + 1), DASHES[c % len(DASHES)]
             style_kw = {"color": color, "linestyle": dash, "marker": ".", "markersize": 3}
             # the cycle closes on itself: its first node again at t = T
             closed = np.append(t, 1.0)

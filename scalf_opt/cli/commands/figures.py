@@ -84,8 +84,9 @@ def run(args: argparse.Namespace) -> int:
     from scalf_opt.viz.trajectories import energy_lines
 
     check_output_dir(args.out)
+    formats = tuple(dict.fromkeys(args.formats or ("png", "svg")))
     if any(is_cycle_dir(d) for d in args.from_dirs):
-        return _run_3d(args)
+        return _run_3d(args, formats)
     if args.grid < 3:
         raise ConfigError(f"--grid must be at least 3, got {args.grid}")
     refuse_gait_with_saved(args)
@@ -104,7 +105,6 @@ def run(args: argparse.Namespace) -> int:
     except NotSolvedError as exc:
         args.console.error(f"{exc}; nothing written")
         return 3
-    formats = tuple(dict.fromkeys(args.formats or ("png", "svg")))
     written = write_figures(args.out, robot, shown, search, formats)
     args.console.text("\n".join(energy_lines(shown)))
     names = sorted({p.stem for p in written}, key=[p.stem for p in written].index)
@@ -112,11 +112,11 @@ def run(args: argparse.Namespace) -> int:
     return 0
 
 
-def _run_3d(args: argparse.Namespace) -> int:
+def _run_3d(args: argparse.Namespace, formats: tuple[str, ...]) -> int:
     """Draw the 3-D cycles of ``--from`` (every DIR must be one): the figure ``trunk``."""
     from scalf_opt.errors import ConfigError
     from scalf_opt.io.whole_body_export import is_cycle_dir, read_cycle
-    from scalf_opt.viz.plotting import close, save_figure
+    from scalf_opt.viz.plotting import save_in_formats
     from scalf_opt.viz.whole_body_figure import trunk_figure
 
     sagittal = [d for d in args.from_dirs if not is_cycle_dir(d)]
@@ -126,15 +126,7 @@ def _run_3d(args: argparse.Namespace) -> int:
             field="from",
         )
     cycles = [read_cycle(d) for d in args.from_dirs]
-    formats = tuple(dict.fromkeys(args.formats or ("png", "svg")))
-    fig = trunk_figure(cycles)
-    written = []
-    try:
-        for kind in formats:
-            written.append(save_figure(fig, args.out / f"trunk.{kind}"))
-            fig.set_layout_engine("none")
-    finally:
-        close(fig)
+    save_in_formats(trunk_figure(cycles), args.out, "trunk", formats)
     for cycle in cycles:
         energy = float(cycle.summary.get("energy_per_cycle_j", float("nan")))
         cot = float(cycle.summary.get("cost_of_transport", float("nan")))
