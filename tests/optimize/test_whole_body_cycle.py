@@ -10,16 +10,15 @@ import pinocchio as pin
 import pytest
 
 from scalf_opt.energy.whole_body import WholeBodyPhysics
-from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION, trot_schedule
+from scalf_opt.locomotion.contact_schedule import trot_schedule
 from scalf_opt.locomotion.periodic_spline import continuity_rows
 from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.model.urdf_file import read_urdf_text
 from scalf_opt.optimize.whole_body_nlp import CycleProblem, solve_cycle
 from scalf_opt.robots.loading import load_robot
+from tests.optimize.whole_body_checks import assert_contacts_hold, assert_pinocchio_agrees
 
 pytestmark = [pytest.mark.slow, pytest.mark.xdist_group(name="whole_body_cycle")]
-
-REL_TOL = 1e-6  # Ipopt's constraint tolerance is 1e-8 on rows scaled by the weight
 
 
 @pytest.fixture(scope="module")
@@ -38,16 +37,6 @@ def solved():
     return problem, solve_cycle(problem)
 
 
-def forces_as_fext(model, data, q, forces, feet):
-    pin.framesForwardKinematics(model, data, q)
-    fext = [pin.Force.Zero() for _ in range(model.njoints)]
-    for i, foot in enumerate(feet):
-        frame = model.frames[model.getFrameId(foot)]
-        local = data.oMi[frame.parentJoint].rotation.T @ forces[3 * i : 3 * i + 3]
-        fext[frame.parentJoint] += pin.Force(local, np.cross(frame.placement.translation, local))
-    return fext
-
-
 def test_the_optimum_converges_and_saves_on_its_start(solved):
     _, solution = solved
     assert solution.success, solution.status
@@ -57,30 +46,12 @@ def test_the_optimum_converges_and_saves_on_its_start(solved):
 
 def test_pinocchio_gives_the_plans_torques_and_no_trunk_wrench_at_every_node(solved):
     problem, solution = solved
-    plan, physics = solution.plan, problem.physics
-    model = pin.buildModelFromXML(
-        read_urdf_text(physics.robot.urdf_path), pin.JointModelFreeFlyer()
-    )
-    data = model.createData()
-    q, v, a = plan.pinocchio_states
-    tau = plan.node_outputs("paper")["tau"]
-    scale = np.abs(tau).max()
-    for k in range(problem.schedule.intervals):
-        fext = forces_as_fext(model, data, q[:, k], plan.forces_n[:, k], physics.feet)
-        out = pin.rnea(model, data, q[:, k], v[:, k], a[:, k], fext)
-        assert np.abs(out[:3]).max() < REL_TOL * physics.weight_n
-        assert np.abs(out[3:6]).max() < REL_TOL * physics.weight_n * problem.stance_height_m
-        np.testing.assert_allclose(out[6:], tau[:, k], rtol=0, atol=REL_TOL * scale)
+    assert_pinocchio_agrees(problem, solution.plan)
 
 
 def test_contact_forces_push_inside_their_cones_and_vanish_in_swing(solved):
     problem, solution = solved
-    forces = solution.plan.forces_n.reshape(4, 3, -1)  # (foot, xyz, node)
-    stance = problem.schedule.stance
-    assert (forces[:, 2][stance] >= -1e-9 * solution.plan.physics.weight_n).all()
-    tangential = np.hypot(forces[:, 0], forces[:, 1])
-    assert (tangential <= DEFAULT_FRICTION * forces[:, 2] * (1 + 1e-6) + 1e-6).all()
-    assert (forces.transpose(0, 2, 1)[~stance] == 0).all()
+    assert_contacts_hold(problem, solution.plan)
 
 
 def test_the_cycle_closes_on_itself_one_stride_ahead(solved):
