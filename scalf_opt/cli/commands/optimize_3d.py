@@ -64,12 +64,16 @@ def build_problem(
     from scalf_opt.optimize.whole_body_nlp import CycleProblem
 
     robot = load_robot(args)
-    duty = args.duty_cycle
-    args.duty_cycle = None  # the sagittal gait needs 0.5 or more; the 3-D schedule takes 0.2..0.8
+    duty, rate = args.duty_cycle, args.sample_rate_hz
+    # the sagittal gait needs a duty factor of 0.5 or more and four samples per phase; the 3-D
+    # schedule takes 0.2..0.8, and its driver starts on a grid of at least three nodes per phase
+    args.duty_cycle = args.sample_rate_hz = None
     gait = load_gait(args, robot)
-    args.duty_cycle = duty
+    args.duty_cycle, args.sample_rate_hz = duty, rate
     duty = gait.duty_cycle if duty is None else duty
-    rate = DEFAULT_3D_RATE_HZ if args.sample_rate_hz is None else gait.sample_rate_hz
+    rate = DEFAULT_3D_RATE_HZ if rate is None else rate
+    if not (math.isfinite(rate) and rate > 0):
+        raise ConfigError(f"--rate {rate:g} must be > 0 [Hz]", field="sample_rate_hz")
     try:
         schedule = trot_schedule(gait.period_s, duty, rate)
     except GaitError as exc:
