@@ -290,18 +290,22 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     )
 
 
+def kinematic_start(problem: CycleProblem) -> WholeBodyPlan:
+    """The problem's kinematic reference trot (:func:`starting_plan`), the default start."""
+    return starting_plan(
+        problem.physics,
+        problem.schedule,
+        problem.speed_m_s,
+        problem.stance_height_m,
+        problem.clearance_m,
+    )
+
+
 def solve_cycle(
     problem: CycleProblem, start: WholeBodyPlan | None = None, ipopt: dict[str, Any] | None = None
 ) -> CycleSolution:
-    """Optimise one cycle (module docstring) from ``start`` (default :func:`starting_plan`)."""
-    if start is None:
-        start = starting_plan(
-            problem.physics,
-            problem.schedule,
-            problem.speed_m_s,
-            problem.stance_height_m,
-            problem.clearance_m,
-        )
+    """Optimise one cycle (module docstring) from ``start`` (default :func:`kinematic_start`)."""
+    start = kinematic_start(problem) if start is None else start
     nlp = build_cycle_nlp(problem, start)
     options = {**IPOPT_DEFAULTS, **(ipopt or {})}
     solver = ca.nlpsol(

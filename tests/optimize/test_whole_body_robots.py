@@ -14,8 +14,12 @@ from scalf_opt.energy.whole_body import WholeBodyPhysics
 from scalf_opt.locomotion.contact_schedule import trot_schedule
 from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.optimize.whole_body_driver import resampled
-from scalf_opt.optimize.whole_body_nlp import CycleProblem, build_cycle_nlp, solve_cycle
-from scalf_opt.optimize.whole_body_start import starting_plan
+from scalf_opt.optimize.whole_body_nlp import (
+    CycleProblem,
+    build_cycle_nlp,
+    kinematic_start,
+    solve_cycle,
+)
 from scalf_opt.robots.loading import load_robot
 from tests.optimize.whole_body_checks import assert_contacts_hold, assert_pinocchio_agrees
 
@@ -60,14 +64,7 @@ def test_every_constraint_row_moves_with_a_free_variable():
     """No row is a constant of the variables Ipopt may move: a row fixed at its bound by the
     variables' own bounds (a cone row where the force is held at zero) is degenerate."""
     problem = problem_on("go1", 8)
-    start = starting_plan(
-        problem.physics,
-        problem.schedule,
-        problem.speed_m_s,
-        problem.stance_height_m,
-        problem.clearance_m,
-    )
-    nlp = build_cycle_nlp(problem, start)
+    nlp = build_cycle_nlp(problem, kinematic_start(problem))
     import casadi as ca
 
     pattern = ca.jacobian_sparsity(nlp.constraints, nlp.variables)
