@@ -13,10 +13,13 @@ from scalf_opt.energy.whole_body import WholeBodyPhysics
 from scalf_opt.locomotion.contact_schedule import trot_schedule
 from scalf_opt.locomotion.periodic_spline import continuity_rows
 from scalf_opt.locomotion.scaling import default_gait_for
-from scalf_opt.model.urdf_file import read_urdf_text
 from scalf_opt.optimize.whole_body_nlp import CycleProblem, solve_cycle
 from scalf_opt.robots.loading import load_robot
-from tests.optimize.whole_body_checks import assert_contacts_hold, assert_pinocchio_agrees
+from tests.optimize.whole_body_checks import (
+    assert_contacts_hold,
+    assert_pinocchio_agrees,
+    free_flyer_model,
+)
 
 pytestmark = [pytest.mark.slow, pytest.mark.xdist_group(name="whole_body_cycle")]
 
@@ -117,9 +120,7 @@ def test_where_no_foot_carries_the_exported_robot_falls_at_g(solved, tmp_path):
     physics = problem.physics
     (tmp_path / "plan.csv").write_text(plan_csv(solution.plan, "paper"))
     rows = list(csv.DictReader((tmp_path / "plan.csv").open()))
-    model = pin.buildModelFromXML(
-        read_urdf_text(physics.robot.urdf_path), pin.JointModelFreeFlyer()
-    )
+    model = free_flyer_model(physics)
     data = model.createData()
     joints = [model.names[j] for j in range(2, model.njoints)]
     falling = 0

@@ -7,6 +7,7 @@ iterations before the objective was scaled for Ipopt
 (:data:`~scalf_opt.optimize.whole_body_nlp.OBJECTIVE_SCALING`).
 """
 
+import casadi as ca
 import numpy as np
 import pytest
 
@@ -65,8 +66,6 @@ def test_every_constraint_row_moves_with_a_free_variable():
     variables' own bounds (a cone row where the force is held at zero) is degenerate."""
     problem = problem_on("go1", 8)
     nlp = build_cycle_nlp(problem, kinematic_start(problem))
-    import casadi as ca
-
     pattern = ca.jacobian_sparsity(nlp.constraints, nlp.variables)
     rows, cols = (np.array(a) for a in pattern.get_triplet())
     free = nlp.lbw != nlp.ubw

@@ -21,14 +21,17 @@ def forces_as_fext(model, data, q, forces, feet):
     return fext
 
 
+def free_flyer_model(physics):
+    """Pinocchio's own model of the robot on a free-flyer root, built from its URDF."""
+    return pin.buildModelFromXML(read_urdf_text(physics.robot.urdf_path), pin.JointModelFreeFlyer())
+
+
 def assert_pinocchio_agrees(problem, plan):
     """At every node, ``pin.rnea`` with the plan's contact forces gives the plan's joint torques
     and no wrench on the trunk, to ``REL_TOL`` of the largest torque, the weight and the weight
     times the stance height."""
     physics = problem.physics
-    model = pin.buildModelFromXML(
-        read_urdf_text(physics.robot.urdf_path), pin.JointModelFreeFlyer()
-    )
+    model = free_flyer_model(physics)
     data = model.createData()
     q, v, a = plan.pinocchio_states
     tau = plan.node_outputs("paper")["tau"]
