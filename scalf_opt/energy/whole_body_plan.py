@@ -74,6 +74,32 @@ class PlanCheck:
 
 
 @dataclass(frozen=True)
+class PlanSamples:
+    """The plan read at some instants through Pinocchio (:meth:`WholeBodyPlan.samples`).
+
+    Attributes:
+        t_s: The instants (n,) [s], in ``[0, T)``.
+        x, xd: The coordinates ``X`` and their rates (nx, n).
+        q, v, a: Pinocchio's free-flyer state ((nq, n), (nv, n), (nv, n)).
+        forces_n: The feet's contact forces (12, n) [N], world axes, on the robot.
+        tau_nm: The joint torques Pinocchio's ``rnea`` gives with those forces (n_joints, n).
+        base_wrench: What ``rnea`` leaves on the trunk (6, n), zero when the forces carry it.
+        feet_m: The feet's world positions (3, 4, n) [m].
+    """
+
+    t_s: np.ndarray
+    x: np.ndarray
+    xd: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    a: np.ndarray
+    forces_n: np.ndarray
+    tau_nm: np.ndarray
+    base_wrench: np.ndarray
+    feet_m: np.ndarray
+
+
+@dataclass(frozen=True)
 class WholeBodyPlan:
     """One periodic trot cycle of the whole robot in 3-D (immutable).
 
@@ -167,13 +193,17 @@ class WholeBodyPlan:
         """The coordinates, rates and second derivatives at times ``t_s`` in ``[0, T)`` (nx, n)."""
         return spline_at(self.x, self.xd, self.xdd, self.schedule.step_s, t_s)
 
-    def check(self, accounting: Accounting, factor: int = 10) -> PlanCheck:
-        """Re-read the plan at ``factor`` times its rate through Pinocchio (module docstring)."""
-        physics, schedule = self.physics, self.schedule
+    def samples(self, t_s: np.ndarray) -> PlanSamples:
+        """The plan at times ``t_s`` in ``[0, T)`` through Pinocchio's own ``rnea``.
+
+        The spline's state and the linear forces at ``t_s``, and what Pinocchio's free-flyer
+        inverse dynamics makes of them, with the forces as external forces on the feet's parent
+        joints (not the CasADi twin the optimizer used).
+        """
+        physics = self.physics
         model = physics.model
         data = model.createData()
-        n = schedule.intervals * factor
-        t_s = np.arange(n) * schedule.period_s / n
+        n = len(t_s)
         x, xd, xdd = self.states_at(t_s)
         forces = self.forces_at(t_s)
         fn = physics.pinocchio_state_function.map(n)
@@ -195,15 +225,23 @@ class WholeBodyPlan:
                 feet[:, i, s] = data.oMf[fid].translation
             out = pin.rnea(model, data, q, vs[:, s], as_[:, s], fext)
             base[:, s], tau[:, s] = out[:6], out[6:]
-        charged = np.array(physics.power_function(accounting).map(n)(x, xd, tau))
+        return PlanSamples(np.asarray(t_s, float), x, xd, qs, vs, as_, forces, tau, base, feet)
+
+    def check(self, accounting: Accounting, factor: int = 10) -> PlanCheck:
+        """Re-read the plan at ``factor`` times its rate through Pinocchio (module docstring)."""
+        schedule = self.schedule
+        n = schedule.intervals * factor
+        fine = self.samples(np.arange(n) * schedule.period_s / n)
+        tau = fine.tau_nm
+        charged = np.array(self.physics.power_function(accounting).map(n)(fine.x, fine.xd, tau))
         energy = PlanEnergy(
-            n / schedule.period_s, charged.sum(axis=1) * schedule.period_s / n, tau, t_s
+            n / schedule.period_s, charged.sum(axis=1) * schedule.period_s / n, tau, fine.t_s
         )
         return PlanCheck(
             energy=energy,
-            base_residual=self._residual(base),
-            stance_slip_m=self._slip(feet, factor),
-            swing_floor_m=self._swing_floor(feet, factor),
+            base_residual=self._residual(fine.base_wrench),
+            stance_slip_m=self._slip(fine.feet_m, factor),
+            swing_floor_m=self._swing_floor(fine.feet_m, factor),
             torque_gap_nm=float(np.abs(tau[:, ::factor] - self.evaluate(accounting).tau_nm).max()),
         )
 

@@ -6,6 +6,9 @@ can re-check it. Columns: ``t_s``; the trunk's (root link's) ``base_pos_{x,y,z}_
 frame), ``base_lin_acc_{x,y,z}_m_s2`` and ``base_ang_acc_{x,y,z}_rad_s2`` (the time derivatives
 of the world-frame velocities); per URDF joint ``<joint>_{q_rad,v_rad_s,a_rad_s2,tau_nm}``; per
 foot frame ``<foot>_force_{x,y,z}_n`` (world axes, on the robot; zero in swing).
+
+:func:`read_plan` rebuilds the :class:`~scalf_opt.energy.whole_body_plan.WholeBodyPlan` the files
+were written from (for a referee that follows it, e.g. a simulator).
 """
 
 from __future__ import annotations
@@ -13,17 +16,20 @@ from __future__ import annotations
 import csv
 import io
 import json
+import math
 from dataclasses import dataclass
+from functools import cache
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
-from scalf_opt.energy.whole_body import rpy_rotation
+from scalf_opt.energy.whole_body import WholeBodyPhysics, body_angular_velocity, rpy_rotation
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.errors import ConfigError
 from scalf_opt.files import write_atomic
-from scalf_opt.types import Accounting
+from scalf_opt.locomotion.contact_schedule import TrotSchedule
+from scalf_opt.types import LEG_NAMES, Accounting
 
 AXES = ("x", "y", "z")
 
@@ -40,8 +46,6 @@ REQUIRED_COLUMNS = (
 
 def plan_columns(plan: WholeBodyPlan, accounting: Accounting) -> dict[str, np.ndarray]:
     """The CSV's columns (module docstring), each (N,) at the plan's nodes."""
-    import casadi as ca
-
     physics = plan.physics
     q, v, a = plan.pinocchio_states
     tau = plan.node_outputs(accounting)["tau"]
@@ -49,7 +53,7 @@ def plan_columns(plan: WholeBodyPlan, accounting: Accounting) -> dict[str, np.nd
     n = plan.schedule.intervals
     ang_vel = np.zeros((3, n))
     ang_acc = np.zeros((3, n))
-    rotation = ca.Function("R", [s := ca.SX.sym("rpy", 3)], [rpy_rotation(s)])
+    rotation = _rotation_function()
     for k in range(n):
         rot = np.array(rotation(plan.x[3:6, k]))
         ang_vel[:, k] = rot @ v[3:6, k]
@@ -161,3 +165,228 @@ def read_cycle(directory: Path) -> SavedCycle:
         if name not in columns:
             raise ConfigError(f"{plan_path}: no column {name!r}", field="from")
     return SavedCycle(directory, summary, columns)
+
+
+MAX_PITCH_RAD = math.radians(80.0)
+"""The largest trunk pitch :func:`read_plan` accepts [rad] (roll-pitch-yaw: singular at 90 deg)."""
+
+TIME_TOLERANCE_S = 1e-9
+"""How far ``t_s`` may lie from the node times ``k T / N`` [s]."""
+
+QUATERNION_NORM_TOLERANCE = 1e-6
+"""How far a saved trunk quaternion's norm may lie from one (the writer's is one to 1e-15)."""
+
+SUMMARY_NUMBERS = ("period_s", "duty_cycle", "nodes", "speed_m_s")
+"""The ``summary.json`` fields :func:`read_plan` rebuilds the schedule and speed from."""
+
+_BASE_RATES = (("lin_vel", "m_s"), ("ang_vel", "rad_s"), ("lin_acc", "m_s2"), ("ang_acc", "rad_s2"))
+"""The trunk's world-frame rate columns ``base_<kind>_{x,y,z}_<unit>``."""
+
+
+def read_plan(directory: Path, physics: WholeBodyPhysics) -> WholeBodyPlan:
+    """The plan ``optimize --model 3d --out DIR`` wrote to ``directory`` (via :func:`read_cycle`).
+
+    The schedule is ``TrotSchedule(period_s, duty_cycle, nodes)`` and the speed ``speed_m_s`` of
+    ``summary.json``. From ``plan.csv`` (SI units), in the optimizer's coordinates ``X``
+    (:mod:`scalf_opt.energy.whole_body`): the trunk's position, velocity and acceleration are the
+    world-frame columns; its roll, pitch, yaw [rad] are the quaternion's
+    (``R = R_z(yaw) R_y(pitch) R_x(roll)``, the sign of the quaternion immaterial; roll and yaw
+    in ``(-pi, pi]``: the optimizer keeps all three within 0.6 rad); their rates
+    solve ``R^T omega_world = E(rpy) rpy_dot`` and their second derivatives
+    ``R^T domega_world/dt = E rpy_ddot + dE/dt rpy_dot`` (``E`` from
+    :func:`~scalf_opt.energy.whole_body.body_angular_velocity`, the one place it is written);
+    the joints follow ``physics.joint_names``, the forces (world axes, on the robot, [N])
+    ``physics.feet``. The files do not hold the footholds: each foot's is where the plan puts it
+    at its touch-down node (world ``x, y`` [m]), as the optimizer's stance rows make it (to
+    Ipopt's constraint tolerance, 1e-8 m, on an optimized plan).
+
+    Raises:
+        ConfigError: (``field="from"``, one line naming the file and the field) what
+            :func:`read_cycle` raises; ``summary.json`` is another robot's or lacks one of
+            :data:`SUMMARY_NUMBERS` (or it is not a number); ``plan.csv`` has not ``nodes`` rows,
+            its ``t_s`` are not the nodes' times, it lacks a column of this robot's joints or
+            feet (or the trunk's), a quaternion is not of unit norm or the trunk pitches more than
+            :data:`MAX_PITCH_RAD`.
+    """
+    saved = read_cycle(directory)
+    summary_path, plan_path = directory / "summary.json", directory / "plan.csv"
+    summary = saved.summary
+    robot = summary.get("robot")
+    if robot != physics.robot.name:
+        raise ConfigError(
+            f"{summary_path}: robot {robot!r} is not the model's {physics.robot.name!r}",
+            field="from",
+        )
+    period, duty, nodes, speed = (
+        _summary_number(summary, key, summary_path) for key in SUMMARY_NUMBERS
+    )
+    if not (period > 0 and nodes >= 1 and nodes == int(nodes)):
+        raise ConfigError(
+            f"{summary_path}: period_s {period!r} must be > 0 and nodes {nodes!r} a whole number "
+            ">= 1",
+            field="from",
+        )
+    schedule = TrotSchedule(period, duty, int(nodes))
+    n = schedule.intervals
+    if abs(duty * n - round(duty * n)) > 1e-9:
+        raise ConfigError(
+            f"{summary_path}: duty_cycle {duty!r} times nodes {n} is not a whole number of "
+            "intervals (a saved cycle's phase edges fall on nodes)",
+            field="from",
+        )
+    columns = _plan_columns_of(saved, physics, plan_path, n)
+    times = columns["t_s"]
+    expected = schedule.times_s
+    worst = int(np.argmax(np.nan_to_num(np.abs(times - expected), nan=np.inf)))
+    if not abs(times[worst] - expected[worst]) <= TIME_TOLERANCE_S:  # NaN too
+        raise ConfigError(
+            f"{plan_path}: t_s in row {worst + 1} is {times[worst]!r} s, not node {worst}'s "
+            f"{expected[worst]!r} s (period_s {period!r} over nodes {n})",
+            field="from",
+        )
+
+    def stack(pattern: str, names: tuple[str, ...]) -> np.ndarray:
+        return np.vstack([columns[pattern.format(name)] for name in names])
+
+    x, xd, xdd = (np.zeros((physics.nx, n)) for _ in range(3))
+    x[:3] = stack("base_pos_{}_m", AXES)
+    xd[:3] = stack("base_lin_vel_{}_m_s", AXES)
+    xdd[:3] = stack("base_lin_acc_{}_m_s2", AXES)
+    x[3:6], xd[3:6], xdd[3:6] = _rpy_states(
+        stack("base_quat_{}", (*AXES, "w")),
+        stack("base_ang_vel_{}_rad_s", AXES),
+        stack("base_ang_acc_{}_rad_s2", AXES),
+        plan_path,
+    )
+    x[6:] = stack("{}_q_rad", physics.joint_names)
+    xd[6:] = stack("{}_v_rad_s", physics.joint_names)
+    xdd[6:] = stack("{}_a_rad_s2", physics.joint_names)
+    forces = np.vstack([stack(f"{foot}_force_{{}}_n", AXES) for foot in physics.feet])
+    footholds = np.zeros((2, len(LEG_NAMES)))
+    feet = physics.feet_function
+    for i, leg in enumerate(LEG_NAMES):
+        node = schedule.touchdown_node(leg)
+        footholds[:, i] = np.array(feet(x[:, node]))[:2, i]
+    return WholeBodyPlan(physics, schedule, speed, x, xd, xdd, forces, footholds)
+
+
+def _summary_number(summary: dict[str, Any], key: str, path: Path) -> float:
+    """``summary[key]``, a finite number (JSON's ``true``/``false`` are not).
+
+    Raises:
+        ConfigError: It is missing or not a finite number (names the file and the key).
+    """
+    if key not in summary:
+        raise ConfigError(f"{path}: no field {key!r}", field="from")
+    value = summary[key]
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        raise ConfigError(f"{path}: {key} is {value!r}, not a number", field="from")
+    return float(value)
+
+
+def _plan_columns_of(
+    saved: SavedCycle, physics: WholeBodyPhysics, path: Path, nodes: int
+) -> dict[str, np.ndarray]:
+    """``plan.csv``'s columns, checked for ``nodes`` rows and every column :func:`read_plan` reads.
+
+    Raises:
+        ConfigError: Another row count, or a missing column (names the file and the column).
+    """
+    columns = saved.columns
+    rows = columns["t_s"].size
+    if rows != nodes:
+        raise ConfigError(f"{path}: {rows} rows, but summary.json's nodes is {nodes}", field="from")
+    needed = [
+        *(f"base_pos_{a}_m" for a in AXES),
+        *(f"base_quat_{a}" for a in (*AXES, "w")),
+        *(f"base_{kind}_{a}_{unit}" for kind, unit in _BASE_RATES for a in AXES),
+        *(f"{j}_{s}" for j in physics.joint_names for s in ("q_rad", "v_rad_s", "a_rad_s2")),
+        *(f"{foot}_force_{a}_n" for foot in physics.feet for a in AXES),
+    ]
+    for name in needed:
+        if name not in columns:
+            raise ConfigError(
+                f"{path}: no column {name!r} (robot {physics.robot.name!r})", field="from"
+            )
+    return columns
+
+
+def _rpy_states(
+    quat_xyzw: np.ndarray, ang_vel: np.ndarray, ang_acc: np.ndarray, path: Path
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Roll-pitch-yaw, their rates and second derivatives (3, N) of the trunk's saved motion.
+
+    Args:
+        quat_xyzw: The trunk's orientation as quaternions ``(x, y, z, w)`` (4, N).
+        ang_vel: Its angular velocity, world frame (3, N) [rad/s].
+        ang_acc: That velocity's time derivative, world frame (3, N) [rad/s^2].
+        path: The file they come from (for the errors).
+
+    Raises:
+        ConfigError: A quaternion is not of unit norm, or the trunk pitches beyond
+            :data:`MAX_PITCH_RAD`.
+    """
+    norm = np.linalg.norm(quat_xyzw, axis=0)
+    bad = np.flatnonzero(~(np.abs(norm - 1.0) <= QUATERNION_NORM_TOLERANCE))  # NaN too
+    if bad.size:
+        raise ConfigError(
+            f"{path}: base_quat_{{x,y,z,w}} in row {bad[0] + 1} has norm {norm[bad[0]]:.9g}, not 1",
+            field="from",
+        )
+    qx, qy, qz, qw = quat_xyzw / norm
+    # R = R_z(yaw) R_y(pitch) R_x(roll) of the unit quaternion: R_20 = -sin(pitch),
+    # R_21 = cos(pitch) sin(roll), R_22 = cos(pitch) cos(roll), R_10 / R_00 = tan(yaw)
+    r00, r10 = 1 - 2 * (qy**2 + qz**2), 2 * (qx * qy + qw * qz)
+    r20, r21, r22 = 2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), 1 - 2 * (qx**2 + qy**2)
+    rpy = np.vstack(
+        [np.arctan2(r21, r22), np.arctan2(-r20, np.hypot(r21, r22)), np.arctan2(r10, r00)]
+    )
+    steep = np.flatnonzero(np.abs(rpy[1]) > MAX_PITCH_RAD)
+    if steep.size:
+        k = steep[0]
+        raise ConfigError(
+            f"{path}: base_quat_{{x,y,z,w}} in row {k + 1} pitches the trunk "
+            f"{math.degrees(rpy[1, k]):.1f} deg, beyond +-{math.degrees(MAX_PITCH_RAD):g} deg "
+            "(roll-pitch-yaw are singular at 90 deg)",
+            field="from",
+        )
+    terms = _rpy_rate_terms()
+    rotation = _rotation_function()
+    rpy_dot, rpy_ddot = np.zeros_like(rpy), np.zeros_like(rpy)
+    zero = np.zeros(3)
+    for k in range(rpy.shape[1]):
+        rot = np.array(rotation(rpy[:, k]))
+        e_matrix = np.array(terms(rpy[:, k], zero)[0])
+        rpy_dot[:, k] = np.linalg.solve(e_matrix, rot.T @ ang_vel[:, k])
+        bias = np.array(terms(rpy[:, k], rpy_dot[:, k])[1]).ravel()
+        rpy_ddot[:, k] = np.linalg.solve(e_matrix, rot.T @ ang_acc[:, k] - bias)
+    return rpy, rpy_dot, rpy_ddot
+
+
+@cache
+def _rpy_rate_terms() -> Any:
+    """``(rpy, rpy_dot) -> (E, dE/dt rpy_dot)`` of :func:`body_angular_velocity` (CasADi).
+
+    ``omega_b = E(rpy) rpy_dot`` (``E`` 3x3, independent of ``rpy_dot``), so
+    ``domega_b/dt = E rpy_ddot + (d omega_b / d rpy) rpy_dot``: the second output.
+    """
+    import casadi as ca
+
+    rpy, rpy_dot = ca.SX.sym("rpy", 3), ca.SX.sym("rpy_dot", 3)
+    omega = body_angular_velocity(rpy, rpy_dot)
+    return ca.Function(
+        "rpy_rate_terms",
+        [rpy, rpy_dot],
+        [ca.jacobian(omega, rpy_dot), ca.jtimes(omega, rpy, rpy_dot)],
+        ["rpy", "rpy_dot"],
+        ["E", "E_dot_rpy_dot"],
+    )
+
+
+@cache
+def _rotation_function() -> Any:
+    """``rpy -> R``: :func:`rpy_rotation` as a CasADi function (world from trunk axes)."""
+    import casadi as ca
+
+    rpy = ca.SX.sym("rpy", 3)
+    return ca.Function("R", [rpy], [rpy_rotation(rpy)])

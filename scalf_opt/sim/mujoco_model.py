@@ -195,8 +195,8 @@ def _child_link(root: ET.Element, joint: str) -> str:
     raise ModelError(f"URDF has no joint {joint!r}")
 
 
-def _sagittal_bodies(root: Any, sagittal: set[str]) -> None:
-    """Strip the URDF tree to its bodies and the sagittal joints.
+def _strip_bodies(root: Any, kept: set[str]) -> None:
+    """Strip the URDF tree to its bodies and the ``kept`` joints.
 
     No visual or collision geometry (the feet are added), every other joint fixed.
     """
@@ -205,7 +205,7 @@ def _sagittal_bodies(root: Any, sagittal: set[str]) -> None:
             for element in link.findall(tag):
                 link.remove(element)
     for joint in root.iter("joint"):
-        if joint.get("name") not in sagittal:
+        if joint.get("name") not in kept:
             joint.set("type", "fixed")
 
 
@@ -241,35 +241,49 @@ def _add_foot_and_motors(
         )
 
 
-def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
-    """Build the sagittal MuJoCo model of ``robot`` from its URDF.
+@dataclass(frozen=True)
+class UrdfSpec:
+    """A robot's URDF as a MuJoCo spec, stripped to its bodies and kept joints, on the ground.
+
+    Attributes:
+        spec: The editable MuJoCo spec (ground plane, time step and energy flag set).
+        trunk_link: The URDF's root link (a body of ``spec``).
+        child_links: Each kept joint's child link.
+        friction: The feet's friction triple (sliding, torsional, rolling).
+        solref: The contact's ``solref`` (time constant [s], damping ratio).
+        repairs: What was changed so that MuJoCo takes the URDF (:attr:`SimModel.repairs`).
+    """
+
+    spec: Any
+    trunk_link: str
+    child_links: dict[str, str]
+    friction: list[float]
+    solref: list[float]
+    repairs: list[str]
+
+
+def urdf_spec(robot: Robot, kept: set[str], settings: SimSettings) -> UrdfSpec:
+    """``robot``'s URDF read by MuJoCo, every joint not in ``kept`` fixed (module docstring).
+
+    ``settings`` must be complete (:meth:`SimSettings.for_leg_length`).
 
     Raises:
-        ModelError: The URDF cannot be read, or MuJoCo refuses the model (the message names
-            the file and gives MuJoCo's reason).
+        ModelError: The URDF cannot be read, or MuJoCo refuses it (the message names the file).
     """
     path = Path(robot.urdf_path)
     # the checked text (size, UTF-8, no DTD, finite numbers), parsed without entities
     root = fromstring(read_urdf_text(path).encode("utf-8"), forbid_dtd=True)
-    legs = {leg: robot.leg(leg) for leg in LEG_NAMES}
-    sagittal = {name for leg in legs.values() for name in leg.joint_names}
-    settings, _ = settings.for_leg_length(robot.leg_length_m)
-    radius = settings.value("foot_radius_m")
     trunk_link = _root_link(root, path)
-    shank_links = {name: _child_link(root, leg.joint_names[1]) for name, leg in legs.items()}
-    _sagittal_bodies(root, sagittal)
+    child_links = {name: _child_link(root, name) for name in kept}
+    _strip_bodies(root, kept)
     repairs = _repair_singular_inertias(root)
     repairs += _unbalanced_inertias(root)
-    repairs += _drop_joint_dynamics(root, sagittal)
+    repairs += _drop_joint_dynamics(root, kept)
     try:
         spec = mujoco.MjSpec.from_string(ET.tostring(root, encoding="unicode"))
     except ValueError as exc:
         raise ModelError(f"{path}: MuJoCo cannot read the URDF ({exc})") from exc
     spec.compiler.balanceinertia = True  # acts only on the tensors _unbalanced_inertias lists
-    trunk = spec.body(trunk_link)
-    trunk.add_joint(name=TRUNK_JOINTS[0], type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[1, 0, 0])
-    trunk.add_joint(name=TRUNK_JOINTS[1], type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1])
-    trunk.add_joint(name=TRUNK_JOINTS[2], type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0])
     friction = [settings.foot_friction, _TORSIONAL_FRICTION, _ROLLING_FRICTION]
     solref = [settings.value("contact_time_constant_s"), settings.contact_damping_ratio]
     spec.worldbody.add_geom(
@@ -281,14 +295,44 @@ def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
         friction=friction,
         solref=solref,
     )
-    for name, leg in legs.items():
-        _add_foot_and_motors(spec, name, leg, shank_links[name], radius, friction, solref)
     spec.option.timestep = settings.value("timestep_s")
     spec.option.enableflags |= mujoco.mjtEnableBit.mjENBL_ENERGY
+    return UrdfSpec(spec, trunk_link, child_links, friction, solref, repairs)
+
+
+def compile_spec(spec: Any, robot: Robot) -> mujoco.MjModel:
+    """Compile ``spec``.
+
+    Raises:
+        ModelError: MuJoCo refuses the model (the message names the URDF and gives the reason).
+    """
     try:
-        model = spec.compile()
+        return spec.compile()
     except ValueError as exc:
-        raise ModelError(f"{path}: MuJoCo cannot compile the model ({exc})") from exc
+        raise ModelError(f"{robot.urdf_path}: MuJoCo cannot compile the model ({exc})") from exc
+
+
+def build_sim_model(robot: Robot, settings: SimSettings) -> SimModel:
+    """Build the sagittal MuJoCo model of ``robot`` from its URDF.
+
+    Raises:
+        ModelError: The URDF cannot be read, or MuJoCo refuses the model (the message names
+            the file and gives MuJoCo's reason).
+    """
+    legs = {leg: robot.leg(leg) for leg in LEG_NAMES}
+    sagittal = {name for leg in legs.values() for name in leg.joint_names}
+    settings, _ = settings.for_leg_length(robot.leg_length_m)
+    radius = settings.value("foot_radius_m")
+    built = urdf_spec(robot, sagittal, settings)
+    spec, friction, solref, repairs = built.spec, built.friction, built.solref, built.repairs
+    shank_links = {name: built.child_links[leg.joint_names[1]] for name, leg in legs.items()}
+    trunk = spec.body(built.trunk_link)
+    trunk.add_joint(name=TRUNK_JOINTS[0], type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[1, 0, 0])
+    trunk.add_joint(name=TRUNK_JOINTS[1], type=mujoco.mjtJoint.mjJNT_SLIDE, axis=[0, 0, 1])
+    trunk.add_joint(name=TRUNK_JOINTS[2], type=mujoco.mjtJoint.mjJNT_HINGE, axis=[0, 1, 0])
+    for name, leg in legs.items():
+        _add_foot_and_motors(spec, name, leg, shank_links[name], radius, friction, solref)
+    model = compile_spec(spec, robot)
 
     def addresses(joints: tuple[str, ...], kind: str) -> np.ndarray:
         field = "jnt_qposadr" if kind == "qpos" else "jnt_dofadr"

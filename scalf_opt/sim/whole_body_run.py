@@ -1,0 +1,236 @@
+"""Step the 3-D referee: a robot free in MuJoCo follows a 3-D plan, and the record of it.
+
+The simulation starts at cycle time 0 in the plan's state (every joint's angle and rate, the
+trunk's pose and velocity), raised by the feet's radius so that a foot the plan puts on the
+ground touches it with its sphere. Each step (semi-implicit Euler) the controller
+(:mod:`scalf_opt.sim.whole_body_control`) sets the joint torques from the state at the step's
+start and the plan at that instant (the plan read through Pinocchio's ``rnea`` at every step's
+time, :meth:`~scalf_opt.energy.whole_body_plan.WholeBodyPlan.samples`; cycle ``c`` shifted
+forward by ``c`` strides). The record holds per step ``k`` the state at its start, the torques
+applied over it and the joint rates at its end (``tau_k qd_{k+1} dt`` is exactly the step's joint
+work), and per foot the ground's force and where the foot is.
+
+The controller's contact schedule is the plan's, its touch-downs shifted by the settings'
+``schedule_shift_s`` (late: a landed leg stays on its swing loop that long; early: a leg switches
+to stance once its foot touches, up to that long before the plan says). The run stops early
+when the robot falls: the trunk lower than half the plan's lowest height, or tilted more than
+:data:`FALL_TILT_RAD` from the plan's orientation.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import mujoco
+import numpy as np
+import pinocchio as pin
+
+from scalf_opt.energy.whole_body_plan import WholeBodyPlan
+from scalf_opt.sim.free_model import FreeSimModel, build_free_model
+from scalf_opt.sim.settings import SimSettings
+from scalf_opt.sim.whole_body_control import WholeBodyController, whole_body_gains
+from scalf_opt.types import LEG_NAMES
+
+FALL_TILT_RAD = math.radians(45.0)
+"""A trunk tilted this far from the plan's orientation has fallen."""
+
+
+@dataclass(frozen=True)
+class WholeBodyRecord:
+    """What the 3-D referee recorded, step by step (``n`` steps; cut short by a fall).
+
+    Attributes:
+        timestep_s: The step [s].
+        t_s: Each step's start (n,) [s].
+        q, v: The robot's state at each step's start, Pinocchio's convention ((nq, n), (nv, n)).
+        qd_next: The joint rates at each step's end (n_joints, n) [rad/s].
+        tau_nm: The torques applied over each step (n_joints, n) [N m].
+        feedback_nm: Their feedback part, before clipping (n_joints, n) [N m].
+        saturated: Which joints asked beyond their effort limit (n_joints, n).
+        q_plan: The plan's state at each step (nq, n), raised by the foot radius.
+        feet_plan_m: The plan's foot positions (3, 4, n) [m], raised likewise.
+        contact_force_n: The ground's force on each foot (3, 4, n) [N], world axes.
+        feet_m: Each foot sphere's centre (3, 4, n) [m], world.
+        stance: The legs the controller held in stance (4, n).
+        plan_stance: The legs the plan puts on the ground (4, n).
+        fell_at_s: When the robot fell [s]; ``None`` when it did not.
+    """
+
+    timestep_s: float
+    t_s: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    qd_next: np.ndarray
+    tau_nm: np.ndarray
+    feedback_nm: np.ndarray
+    saturated: np.ndarray
+    q_plan: np.ndarray
+    feet_plan_m: np.ndarray
+    contact_force_n: np.ndarray
+    feet_m: np.ndarray
+    stance: np.ndarray
+    plan_stance: np.ndarray
+    fell_at_s: float | None
+
+
+def plan_stance(plan: WholeBodyPlan, t_s: np.ndarray) -> np.ndarray:
+    """Which feet the plan puts on the ground at times ``t_s`` (any, periodic) (4, n).
+
+    A foot is on the ground strictly between two of its stance nodes, and at a stance node.
+    """
+    schedule = plan.schedule
+    n = schedule.intervals
+    position = np.mod(t_s, schedule.period_s) / schedule.step_s
+    k = np.minimum(np.floor(position).astype(int), n - 1)
+    at_node = np.isclose(position, k)
+    stance = schedule.stance
+    return (stance[:, k] & stance[:, (k + 1) % n]) | (stance[:, k] & at_node)
+
+
+def swing_progress(plan: WholeBodyPlan, t_s: np.ndarray) -> np.ndarray:
+    """How far each foot's swing has gone at times ``t_s`` (4, n): 0 at lift-off, 1 at touch-down.
+
+    Outside the swing the value means nothing (the stance's share of the cycle past touch-down
+    plus one).
+    """
+    schedule = plan.schedule
+    period = schedule.period_s
+    touchdown = np.array([schedule.touchdown_node(leg) for leg in LEG_NAMES]) * schedule.step_s
+    liftoff = touchdown + schedule.stance_nodes * schedule.step_s
+    swing_s = period - schedule.stance_nodes * schedule.step_s
+    since = np.mod(t_s[None, :] - liftoff[:, None], period)
+    return since / swing_s
+
+
+def follow_plan(
+    plan: WholeBodyPlan, settings: SimSettings, cycles: int, friction: float
+) -> tuple[WholeBodyRecord, FreeSimModel]:
+    """Simulate ``cycles`` cycles of ``plan`` (module docstring).
+
+    Args:
+        plan: The 3-D plan.
+        settings: The referee's settings, complete (:meth:`SimSettings.for_leg_length`).
+        cycles: Gait cycles to simulate.
+        friction: The friction coefficient the controller keeps the forces within (the plan's).
+    """
+    physics = plan.physics
+    sim = build_free_model(physics, settings)
+    model = sim.model
+    data = mujoco.MjData(model)
+    dt = float(model.opt.timestep)
+    period = plan.schedule.period_s
+    n = round(cycles * period / dt)
+    t = np.arange(n) * dt
+    cycle = np.floor(t / period + 1e-12)
+    samples = plan.samples(np.clip(t - cycle * period, 0.0, np.nextafter(period, 0)))
+    radius = sim.foot_radius_m
+    q_plan = samples.q.copy()
+    q_plan[0] += cycle * plan.stride_m
+    q_plan[2] += radius
+    feet_plan = samples.feet_m.copy()
+    feet_plan[0] += cycle * plan.stride_m
+    feet_plan[2] += radius
+    planned = plan_stance(plan, t)
+    progress = swing_progress(plan, t)
+    shift = settings.schedule_shift_s
+    shifted = plan_stance(plan, t - shift)
+    height_floor = 0.5 * float(plan.x[2].min())
+    gains = whole_body_gains(
+        physics, samples.q[:, 0], settings, friction, float(np.mean(plan.x[2]))
+    )
+    controller = WholeBodyController(physics, gains, sim.effort_limit_nm)
+
+    sim.set_state(data, q_plan[:, 0], samples.v[:, 0])
+    mujoco.mj_forward(model, data)
+    nj, feet = physics.n_joints, len(physics.feet)
+    q, v = np.zeros((model.nq, n)), np.zeros((physics.model.nv, n))
+    qd_next, tau, feedback = (np.zeros((nj, n)) for _ in range(3))
+    saturated = np.zeros((nj, n), dtype=bool)
+    stance = np.zeros((feet, n), dtype=bool)
+    force, feet_m = np.zeros((3, feet, n)), np.zeros((3, feet, n))
+    foot_of = {int(g): i for i, g in enumerate(sim.foot_geom)}
+    force6 = np.zeros(6)
+    touching = _contacts(model, data, foot_of, np.zeros((3, feet)), force6)
+    fell = None
+    for k in range(n):
+        q[:, k], v[:, k] = sim.pinocchio_state(data)
+        feet_m[:, :, k] = data.geom_xpos[sim.foot_geom].T
+        stance[:, k] = (
+            (planned[:, k] & shifted[:, k])
+            if shift >= 0
+            else (planned[:, k] | (shifted[:, k] & touching))
+        )
+        if _fallen(q[:, k], q_plan[:, k], height_floor):
+            fell = float(t[k])
+            break
+        out = controller.torques(
+            q[:, k],
+            v[:, k],
+            q_plan[:, k],
+            samples.v[:, k],
+            samples.tau_nm[:, k],
+            samples.forces_n[:, k],
+            feet_plan[:, :, k],
+            stance[:, k],
+            progress[:, k],
+        )
+        data.ctrl[sim.actuators] = out.tau_nm
+        tau[:, k], feedback[:, k], saturated[:, k] = out.tau_nm, out.feedback_nm, out.saturated
+        mujoco.mj_step(model, data)
+        # data now holds the contacts of state k and the velocity of state k + 1; the contact
+        # sensor the next step's schedule reads is this step's (one step late, as a real one)
+        touching = _contacts(model, data, foot_of, force[:, :, k], force6)
+        qd_next[:, k] = data.qvel[sim.joint_dof]
+    end = n if fell is None else k
+    cut = slice(0, end)
+    record = WholeBodyRecord(
+        timestep_s=dt,
+        t_s=t[cut],
+        q=q[:, cut],
+        v=v[:, cut],
+        qd_next=qd_next[:, cut],
+        tau_nm=tau[:, cut],
+        feedback_nm=feedback[:, cut],
+        saturated=saturated[:, cut],
+        q_plan=q_plan[:, cut],
+        feet_plan_m=feet_plan[:, :, cut],
+        contact_force_n=force[:, :, cut],
+        feet_m=feet_m[:, :, cut],
+        stance=stance[:, cut],
+        plan_stance=planned[:, cut],
+        fell_at_s=fell,
+    )
+    return record, sim
+
+
+def _contacts(
+    model: mujoco.MjModel,
+    data: mujoco.MjData,
+    foot_of: dict[int, int],
+    out: np.ndarray,
+    force6: np.ndarray,
+) -> np.ndarray:
+    """Fill ``out`` (3, 4) with the ground's force on each foot (world); which feet touch."""
+    touching = np.zeros(out.shape[1], dtype=bool)
+    for i in range(data.ncon):
+        contact = data.contact[i]
+        g1, g2 = int(contact.geom1), int(contact.geom2)
+        foot = foot_of.get(g2, foot_of.get(g1))
+        if foot is None:
+            continue
+        mujoco.mj_contactForce(model, data, i, force6)
+        # the force of geom1 on geom2, along the contact normal (from geom1 to geom2) first
+        world = contact.frame.reshape(3, 3).T @ force6[:3]
+        out[:, foot] += -world if foot_of.get(g1) == foot else world
+        touching[foot] = True
+    return touching
+
+
+def _fallen(q: np.ndarray, q_plan: np.ndarray, height_floor_m: float) -> bool:
+    """Whether the trunk is below ``height_floor_m`` or tilted :data:`FALL_TILT_RAD` off plan."""
+    if q[2] < height_floor_m:
+        return True
+    rot = pin.Quaternion(q[3:7]).toRotationMatrix()
+    rot_plan = pin.Quaternion(q_plan[3:7]).toRotationMatrix()
+    return float(np.linalg.norm(pin.log3(rot.T @ rot_plan))) > FALL_TILT_RAD
