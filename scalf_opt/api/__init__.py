@@ -21,11 +21,17 @@ from scalf_opt.api.optimization import OptimizationResult, optimize_swing
 from scalf_opt.api.presentation import NotSolvedError, figures, view
 from scalf_opt.api.reproduction import PaperResult, paper
 from scalf_opt.api.robot_logs import RobotLogResult, analyze_robot_log
-from scalf_opt.api.simulation import SimulationResult, simulate
+from scalf_opt.api.simulation import (
+    CycleSimulationResult,
+    SimulationResult,
+    simulate,
+    simulate_cycle,
+)
 from scalf_opt.locomotion.gait import Gait
 from scalf_opt.robots.loading import load_robot
 
 __all__ = [
+    "CycleSimulationResult",
     "EvaluationResult",
     "ExportResult",
     "Gait",
@@ -48,6 +54,7 @@ __all__ = [
     "paper",
     "read_gait",
     "simulate",
+    "simulate_cycle",
     "sweep_gaits",
     "view",
 ]

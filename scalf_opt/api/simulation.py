@@ -226,3 +226,101 @@ def simulate(
         f"{data['settings']['servo_bandwidth_hz']:.3g} Hz"
     )
     return SimulationResult(robot, data, run.record, title)
+
+
+@dataclass(frozen=True)
+class CycleSimulationResult:
+    """A 3-D cycle refereed in MuJoCo (extra ``sim``), beside the plan's own energy.
+
+    Attributes:
+        robot: The robot.
+        data: ``simulation.json``: provenance, settings, the controller's gains and every figure
+            (:mod:`scalf_opt.sim.whole_body_metrics`), the ensemble's verdict when it ran.
+        record: The nominal referee's step-by-step record
+            (:class:`~scalf_opt.sim.whole_body_run.WholeBodyRecord`).
+        title: A one-line description, for reports and the figure.
+    """
+
+    robot: Robot
+    data: dict[str, Any]
+    record: Any
+    title: str
+
+    def to_dict(self) -> dict[str, Any]:
+        """Plain data: ``simulation.json``."""
+        return self.data
+
+    def write(self, out_dir: str | Path) -> list[Path]:
+        """Write ``simulation.json``, ``simulation.png`` and ``report.txt`` (each atomically)."""
+        from scalf_opt.sim.whole_body_report import cycle_simulation_report
+        from scalf_opt.viz.figures import save_atomic
+        from scalf_opt.viz.whole_body_sim_figure import cycle_simulation_figure
+
+        out = Path(out_dir)
+        figure = cycle_simulation_figure(
+            self.record, float(self.data["gait"]["period_s"]), self.title
+        )
+        return [
+            write_atomic(out / "simulation.json", to_json(self.data)),
+            save_atomic(figure, out / "simulation.png"),
+            write_atomic(out / "report.txt", cycle_simulation_report(self.data, self.title) + "\n"),
+        ]
+
+
+def simulate_cycle(
+    cycle_from: str | Path,
+    robot: str | Robot | None = None,
+    *,
+    cycles: int = 10,
+    accounting: Accounting | None = None,
+    servo_bandwidth_hz: float | None = None,
+    ensemble: bool = True,
+    command: Sequence[str] | None = None,
+    workers: int | None = None,
+) -> CycleSimulationResult:
+    """Referee a saved 3-D cycle in MuJoCo, the whole robot free (needs the ``sim`` extra).
+
+    Args:
+        cycle_from: The directory ``optimize --model 3d --out DIR`` wrote.
+        robot: The robot (default: the cycle's, from the catalog).
+        cycles: Gait cycles to simulate (2..:data:`MAX_SIM_CYCLES`; the first is the start-up).
+        accounting: Power accounting of both sides (default: the cycle's own).
+        servo_bandwidth_hz: Natural frequency of the swing joints' loops [Hz] (default: derived
+            from the leg length; the trunk loop follows, :mod:`scalf_opt.sim.whole_body_control`).
+        ensemble: The verdict is the median over the referee ensemble with its spread
+            (:mod:`scalf_opt.sim.ensemble`); ``False``: the nominal referee alone.
+        command: The command line, recorded in the result's provenance.
+        workers: Processes for the ensemble's members (default: one per core).
+
+    Raises:
+        ConfigError: Fewer than 2 cycles, a directory that is not a 3-D cycle, a robot other than
+            the cycle's, a servo too fast for the time step.
+    """
+    from scalf_opt.io.whole_body_export import read_cycle
+    from scalf_opt.sim.settings import SimSettings
+    from scalf_opt.sim.whole_body_experiment import CycleReferee, cycle_simulation_file
+
+    if isinstance(cycles, bool) or not isinstance(cycles, int) or not 2 <= cycles <= MAX_SIM_CYCLES:
+        raise ConfigError(
+            f"cycles must be an integer in 2..{MAX_SIM_CYCLES} (the first is the start-up), got "
+            f"{cycles!r}",
+            field="cycles",
+        )
+    saved = read_cycle(Path(cycle_from))
+    robot = as_robot(robot if robot is not None else str(saved.summary.get("robot")))
+    accounting = accounting or saved.summary.get("accounting", "paper")
+    settings = (
+        SimSettings()
+        if servo_bandwidth_hz is None
+        else SimSettings(servo_bandwidth_hz=servo_bandwidth_hz)
+    )
+    referee = CycleReferee(robot, str(cycle_from), cycles, accounting)
+    data, record = cycle_simulation_file(referee, settings, ensemble, workers)
+    data = {"provenance": provenance(robot, command), **data}
+    gait = data["gait"]
+    title = (
+        f"MuJoCo {data['mujoco_version']} referee of {robot.name}'s 3-D cycle {Path(cycle_from)}: "
+        f"T={gait['period_s']:.3g} s, duty {gait['duty_cycle']:g}, {gait['speed_m_s']:.3g} m/s, "
+        f"{cycles} cycles, dt={1e3 * data['settings']['timestep_s']:g} ms"
+    )
+    return CycleSimulationResult(robot, data, record, title)

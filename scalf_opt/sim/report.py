@@ -91,16 +91,16 @@ def simulation_report(result: dict[str, Any], title: str, details: bool = True) 
         + ", ".join(
             f"{leg} {1e3 * result['touchdown_timing_s'][leg]:+.1f} ms" for leg in LEG_NAMES
         ),
-        _energy_goal_line(result),
+        energy_goal_line(result),
     ]
     if details:
         lines += _details(result)
         if ensemble:
-            lines += _members(result)
+            lines += ensemble_lines(result)
     return "\n".join(lines + _checks_and_saving(result))
 
 
-def _energy_goal_line(result: dict[str, Any]) -> str:
+def energy_goal_line(result: dict[str, Any]) -> str:
     """The joint-energy verdict: the nominal referee's, or the ensemble's median and spread."""
     goals = result["goals"]
     goal = goals["joint_energy_relative_difference_at_most"]
@@ -130,7 +130,7 @@ def _fall(result: dict[str, Any]) -> str | None:
     return None
 
 
-def _members(result: dict[str, Any]) -> list[str]:
+def ensemble_lines(result: dict[str, Any]) -> list[str]:
     """The ensemble's members: each one's differences and saving."""
     lines = [
         "",

@@ -7,9 +7,12 @@ forces: a model that were exact would need nothing else) plus feedback, clipped 
 effort limit:
 
 * **swing legs** (and every leg in flight): joint impedance ``K_p (q_t - q) + K_d (qd_plan -
-  qd)``, ``K_p = I (2 pi f)^2``, ``K_d = 2 zeta I (2 pi f)`` on each joint's own inertia ``I``
-  (the diagonal of the mass matrix at the plan's start), ``f`` and ``zeta`` the servo's
-  (:mod:`scalf_opt.sim.settings`). The target ``q_t`` steers the foot in the world, not the
+  qd)``, ``K_p = I (2 pi f)^2``, ``K_d = 2 zeta I (2 pi f)`` on the inertia ``I`` each joint
+  meets with everything else free, ``1 / (M^-1)_jj`` at the plan's start, ``f`` and ``zeta``
+  the servo's (:mod:`scalf_opt.sim.settings`). The trunk is free to turn about the line of its
+  stance feet, so a swing joint moves less inertia than the locked ``M_jj`` (about half, on
+  Go1): gains on ``M_jj`` made Go1's abduction joints and the trunk's roll ring at the time
+  step's Nyquist frequency at twice the servo's gains. The target ``q_t`` steers the foot in the world, not the
   joints: the plan's foot position moved by the trunk's horizontal offset from its plan and by
   Raibert's ``sqrt(h / g)`` times the trunk's horizontal velocity error (``h`` the stance
   height), blended in over the swing, one Newton step of the leg's inverse kinematics from where
@@ -99,7 +102,9 @@ def whole_body_gains(
 ) -> WholeBodyGains:
     """The gains at the plan's start ``q_start`` (Pinocchio's ``q``); ``settings`` complete."""
     model = physics.model
-    inertia = np.diag(pin.crba(model, model.createData(), q_start))[6:].copy()
+    mass = pin.crba(model, model.createData(), q_start)
+    mass = np.triu(mass) + np.triu(mass, 1).T
+    inertia = 1.0 / np.diag(np.linalg.inv(mass))[6:]
     omega = 2 * math.pi * settings.value("servo_bandwidth_hz")
     zeta = settings.servo_damping_ratio
     return WholeBodyGains(

@@ -29,7 +29,11 @@ import pinocchio as pin
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.sim.free_model import FreeSimModel, build_free_model
 from scalf_opt.sim.settings import SimSettings
-from scalf_opt.sim.whole_body_control import WholeBodyController, whole_body_gains
+from scalf_opt.sim.whole_body_control import (
+    WholeBodyController,
+    WholeBodyGains,
+    whole_body_gains,
+)
 from scalf_opt.types import LEG_NAMES
 
 FALL_TILT_RAD = math.radians(45.0)
@@ -51,6 +55,7 @@ class WholeBodyRecord:
         q_plan: The plan's state at each step (nq, n), raised by the foot radius.
         feet_plan_m: The plan's foot positions (3, 4, n) [m], raised likewise.
         contact_force_n: The ground's force on each foot (3, 4, n) [N], world axes.
+        plan_force_n: The plan's force on each foot (3, 4, n) [N], world axes.
         feet_m: Each foot sphere's centre (3, 4, n) [m], world.
         stance: The legs the controller held in stance (4, n).
         plan_stance: The legs the plan puts on the ground (4, n).
@@ -68,6 +73,7 @@ class WholeBodyRecord:
     q_plan: np.ndarray
     feet_plan_m: np.ndarray
     contact_force_n: np.ndarray
+    plan_force_n: np.ndarray
     feet_m: np.ndarray
     stance: np.ndarray
     plan_stance: np.ndarray
@@ -105,8 +111,8 @@ def swing_progress(plan: WholeBodyPlan, t_s: np.ndarray) -> np.ndarray:
 
 def follow_plan(
     plan: WholeBodyPlan, settings: SimSettings, cycles: int, friction: float
-) -> tuple[WholeBodyRecord, FreeSimModel]:
-    """Simulate ``cycles`` cycles of ``plan`` (module docstring).
+) -> tuple[WholeBodyRecord, FreeSimModel, WholeBodyGains]:
+    """Simulate ``cycles`` cycles of ``plan`` (module docstring); the record, model and gains.
 
     Args:
         plan: The 3-D plan.
@@ -196,12 +202,13 @@ def follow_plan(
         q_plan=q_plan[:, cut],
         feet_plan_m=feet_plan[:, :, cut],
         contact_force_n=force[:, :, cut],
+        plan_force_n=samples.forces_n[:, cut].reshape(feet, 3, -1).transpose(1, 0, 2),
         feet_m=feet_m[:, :, cut],
         stance=stance[:, cut],
         plan_stance=planned[:, cut],
         fell_at_s=fell,
     )
-    return record, sim
+    return record, sim, gains
 
 
 def _contacts(

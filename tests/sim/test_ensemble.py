@@ -123,9 +123,9 @@ def test_a_spread_beyond_the_goal_is_not_refereeable_never_agreeing():
     data = ensemble_verdict(_nominal_data(), members, 0.05)
     assert data["joint_energy_per_cycle_j"]["RF"]["relative_difference"] == 0.01
     assert data["goals"]["refereeable"] is False and data["goals"]["joint_energy_met"] is False
-    from scalf_opt.sim.report import _energy_goal_line
+    from scalf_opt.sim.report import energy_goal_line
 
-    assert _energy_goal_line(data).endswith(
+    assert energy_goal_line(data).endswith(
         "NOT refereeable (the referees disagree by up to 6.00 points)"
     )
 
@@ -207,12 +207,12 @@ def test_a_member_whose_robot_fell_makes_the_plan_not_refereeable():
     assert data["goals"]["refereeable"] is False and data["goals"]["joint_energy_met"] is False
     assert data["ensemble"]["fell"] == ["foot radius x3"]
     assert data["ensemble"]["members"][-1]["fell_at_s"] == 1.25
-    from scalf_opt.sim.report import _energy_goal_line, _members
+    from scalf_opt.sim.report import energy_goal_line, ensemble_lines
 
-    assert _energy_goal_line(data).endswith(
+    assert energy_goal_line(data).endswith(
         "NOT refereeable (the robot fell under: foot radius x3)"
     )
-    assert _members(data)[-1].endswith("fell at 1.250 s")
+    assert ensemble_lines(data)[-1].endswith("fell at 1.250 s")
 
 
 def test_a_fall_is_the_first_time_the_trunk_leaves_its_plan_by_a_fall():

@@ -50,8 +50,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         metavar="DIR",
         help="simulate the swings and gait of DIR/summary.json (as `optimize --out DIR` "
         "writes it, a free stance included; its robot by default when the catalog has it), "
-        "and the reference beside them where it is possible at that stance (default: the reference "
-        "swing)",
+        "and the reference beside them where it is possible at that stance; a 3-D cycle "
+        "(`optimize --model 3d --out DIR`: DIR/plan.csv) is refereed by the 3-D referee, the "
+        "whole robot free (default: the reference swing)",
     )
     parser.add_argument(
         "--cycles",
@@ -108,9 +109,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.api import simulate
+    from scalf_opt.io.whole_body_export import is_cycle_dir
     from scalf_opt.sim.report import DETAILS, simulation_report
 
     check_output_dir(args.out)
+    if args.source is not None and is_cycle_dir(args.source):
+        return run_cycle(args)
     check_output_file(args.log, "--log")
     check_not_the_source(args.log, args.source, "--log")
     if args.log is not None and args.log.suffix not in (".csv", ".mcap"):
@@ -155,3 +159,45 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
 def outputs(args: argparse.Namespace) -> Outputs:
     """The folder and the log, moved into place together."""
     return Outputs(folders={"--out": args.out}, files={"--log": args.log})
+
+
+def run_cycle(args: argparse.Namespace) -> int:
+    """``simulate --from DIR`` of a 3-D cycle: the 3-D referee (exit 0)."""
+    from scalf_opt.api import simulate_cycle
+    from scalf_opt.io.whole_body_export import read_cycle
+    from scalf_opt.sim.whole_body_report import cycle_simulation_report
+
+    if args.log is not None:
+        raise ConfigError("--log: a 3-D cycle's simulation writes no sensor log", field="log")
+    if args.gait is not None or gait_overrides(args):
+        raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
+    if args.loads is not None:
+        raise ConfigError(
+            "--loads: a 3-D cycle carries its own contact forces (leave it out)", field="loads"
+        )
+    saved = read_cycle(args.source)
+    robot = load_robot(args) if (args.robot or args.urdf) else None
+    given = any(a == "--accounting" or a.startswith("--accounting=") for a in args.argv)
+    result = simulate_cycle(
+        args.source,
+        robot,
+        cycles=args.cycles,
+        accounting=args.accounting if given else None,
+        servo_bandwidth_hz=args.servo_bandwidth,
+        ensemble=args.ensemble == "on",
+        command=args.argv,
+    )
+    written = result.write(args.out)
+    args.console.text(
+        f"the 3-D cycle of {args.source} ({saved.summary.get('robot')}, "
+        f"{saved.summary.get('nodes')} nodes), whole robot free in MuJoCo"
+    )
+    args.console.text(cycle_simulation_report(result.data, result.title, details=args.details))
+    if not args.details:
+        args.console.text(
+            f"the whole report: {args.out / 'report.txt'} (the controller and the ensemble's "
+            "members; --details)"
+        )
+    args.console.text("wrote " + ", ".join(str(p) for p in written))
+    args.console.json(result.to_dict())
+    return 0

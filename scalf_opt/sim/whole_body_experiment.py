@@ -1,0 +1,110 @@
+"""The 3-D referee's runs: one plan at one setting, the ensemble, and ``simulation.json``."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import mujoco
+
+from scalf_opt.energy.whole_body import WholeBodyPhysics
+from scalf_opt.io.whole_body_export import read_cycle, read_plan
+from scalf_opt.model.robot import Robot
+from scalf_opt.sim.ensemble import run_members, with_ensemble_verdicts
+from scalf_opt.sim.settings import SimSettings
+from scalf_opt.sim.whole_body_control import TRUNK_BANDWIDTH_OVER_SERVO
+from scalf_opt.sim.whole_body_metrics import cycle_run_summary
+from scalf_opt.sim.whole_body_run import WholeBodyRecord, follow_plan
+from scalf_opt.types import Accounting
+
+
+@dataclass(frozen=True)
+class CycleReferee:
+    """One referee's work on a saved 3-D cycle, at the referee's settings.
+
+    It pickles (plain data: the robot, the cycle's directory), so that a worker process can run
+    an ensemble's member (:func:`~scalf_opt.sim.ensemble.run_members`); each process rebuilds
+    the 3-D model and reads the plan itself.
+
+    Attributes:
+        robot: The robot (the cycle's).
+        directory: The cycle's directory (``optimize --model 3d --out DIR``).
+        cycles: Gait cycles to simulate (the first is the start-up).
+        accounting: The power accounting of both sides of the comparison.
+    """
+
+    robot: Robot
+    directory: str
+    cycles: int
+    accounting: Accounting
+
+    def __call__(self, settings: SimSettings) -> dict[str, Any]:
+        """The referee's ``simulation.json`` content at ``settings`` (an ensemble member's)."""
+        return self.run(settings)[0]
+
+    def run(self, settings: SimSettings) -> tuple[dict[str, Any], WholeBodyRecord]:
+        """The referee's ``simulation.json`` content at ``settings``, and its record."""
+        physics = WholeBodyPhysics.of(self.robot)
+        plan = read_plan(Path(self.directory), physics)
+        friction = float(read_cycle(Path(self.directory)).summary["friction"])
+        complete, derivation = settings.for_leg_length(self.robot.leg_length_m)
+        record, sim, gains = follow_plan(plan, complete, self.cycles, friction)
+        data: dict[str, Any] = {
+            "source": self.directory,
+            "model": "3d",
+            "mujoco_version": mujoco.__version__,
+            "gait": {
+                "period_s": plan.schedule.period_s,
+                "duty_cycle": plan.schedule.duty_cycle,
+                "speed_m_s": plan.speed_m_s,
+                "stride_m": plan.stride_m,
+                "nodes": plan.schedule.intervals,
+            },
+            "accounting": self.accounting,
+            "cycles": self.cycles,
+            "settings": complete.to_dict(),
+            "settings_derivation": derivation,
+            "controller": {
+                "joint_kp_nm_per_rad": dict(zip(physics.joint_names, gains.joint_kp, strict=True)),
+                "joint_kd_nms_per_rad": dict(zip(physics.joint_names, gains.joint_kd, strict=True)),
+                "trunk_bandwidth_hz": gains.trunk_omega_rad_s / (2 * math.pi),
+                "trunk_bandwidth_derivation": f"{TRUNK_BANDWIDTH_OVER_SERVO:g} times the servo's",
+                "trunk_damping_ratio": gains.trunk_damping_ratio,
+                "friction_pyramid": gains.friction,
+                "foot_placement_s": gains.placement_time_s,
+                "foot_placement_derivation": "sqrt(h / g), h the plan's mean trunk height",
+            },
+            "model_repairs": list(sim.repairs),
+            **cycle_run_summary(record, plan, self.accounting, self.robot.name),
+        }
+        return data, record
+
+
+def cycle_simulation_file(
+    referee: CycleReferee,
+    settings: SimSettings,
+    ensemble: bool = True,
+    workers: int | None = None,
+) -> tuple[dict[str, Any], WholeBodyRecord]:
+    """The content of ``simulation.json`` for a 3-D cycle, and the nominal referee's record.
+
+    With ``ensemble`` every member of :data:`~scalf_opt.sim.ensemble.ENSEMBLE` referees the
+    plan and the verdict is their median with its spread
+    (:func:`~scalf_opt.sim.ensemble.with_ensemble_verdicts`), the members side by side on
+    ``workers`` processes.
+    """
+    if not ensemble:
+        return referee.run(settings)
+    nominal: list[tuple[dict[str, Any], WholeBodyRecord]] = []
+
+    def run_nominal() -> dict[str, Any]:
+        nominal.append(referee.run(settings))
+        return nominal[0][0]
+
+    derived, _ = settings.for_leg_length(referee.robot.leg_length_m)
+    runs = run_members(referee, run_nominal, settings, derived, workers=workers)
+    data, record = nominal[0]
+    goal = float(data["goals"]["joint_energy_relative_difference_at_most"])
+    return with_ensemble_verdicts(data, runs, goal), record

@@ -1,0 +1,187 @@
+"""What the 3-D referee measured, beside what the 3-D plan predicts (``simulation.json``).
+
+Every figure is taken after the first gait cycle (the start-up), over the whole cycles that
+follow (fewer when the robot fell):
+
+* ``joint_energy_per_cycle_j``: per leg, the simulated joint torques and rates charged through the
+  3-D model's own power formula (:meth:`~scalf_opt.energy.whole_body.WholeBodyPhysics.
+  power_function`: each joint's drive, the plan's accounting), ``tau_k qd_{k+1} dt`` per step,
+  beside the plan's energy at ten times its node rate (Pinocchio's torques,
+  :meth:`~scalf_opt.energy.whole_body_plan.WholeBodyPlan.check`) and their relative difference;
+  ``joint_energy_per_joint_j`` the same per joint;
+* ``feedback_work_share``: per leg, the feedback's gross work over the applied torques' (both
+  ``sum |tau qd| dt``): what the controller adds because the plan's torques do not carry the
+  robot along it on their own;
+* ``torque_saturation_fraction``: per joint, the share of steps it asked beyond its effort limit;
+* ``trunk``: its height and roll/pitch ranges beside the plan's, the largest position and
+  orientation errors against the plan, and its mean forward speed beside the plan's;
+* ``foot_slip_m``: per leg, the largest horizontal distance a foot moves while it touches the
+  ground in one contact;
+* ``unplanned_contact_fraction``: per leg, the share of its planned swing its foot touches the
+  ground (a foot that skims the ground between the plan's samples);
+* ``stance_force_peak_n``: per leg, the largest vertical ground force, simulated and planned.
+"""
+
+from __future__ import annotations
+
+from typing import Any
+
+import numpy as np
+import pinocchio as pin
+
+from scalf_opt.energy.whole_body_plan import WholeBodyPlan
+from scalf_opt.sim.metrics import energy_goal
+from scalf_opt.sim.whole_body_run import WholeBodyRecord
+from scalf_opt.types import LEG_NAMES, Accounting
+
+
+def _relative(simulated: float, model: float) -> float:
+    return simulated / model - 1.0 if model else float("nan")
+
+
+def measured_cycles(record: WholeBodyRecord, period_s: float) -> tuple[int, int]:
+    """The steps per cycle and the number of whole cycles measured after the first."""
+    per_cycle = round(period_s / record.timestep_s)
+    return per_cycle, max(0, record.t_s.size // per_cycle - 1)
+
+
+def _rpy(q: np.ndarray) -> np.ndarray:
+    """Roll, pitch, yaw (3, n) [rad] of Pinocchio configurations ``q`` (nq, n)."""
+    return np.array(
+        [
+            pin.rpy.matrixToRpy(pin.Quaternion(q[3:7, k]).toRotationMatrix())
+            for k in range(q.shape[1])
+        ]
+    ).T
+
+
+def _orientation_error(q: np.ndarray, q_plan: np.ndarray) -> float:
+    worst = 0.0
+    for k in range(q.shape[1]):
+        rot = pin.Quaternion(q[3:7, k]).toRotationMatrix()
+        rot_plan = pin.Quaternion(q_plan[3:7, k]).toRotationMatrix()
+        worst = max(worst, float(np.linalg.norm(pin.log3(rot.T @ rot_plan))))
+    return worst
+
+
+def _slip(record: WholeBodyRecord, window: slice) -> list[float]:
+    """Per foot, the largest horizontal travel [m] within one unbroken contact."""
+    touching = np.linalg.norm(record.contact_force_n[:, :, window], axis=0) > 0
+    feet = record.feet_m[:2, :, window]
+    out = []
+    for i in range(touching.shape[0]):
+        worst, start = 0.0, None
+        for k in range(touching.shape[1]):
+            if not touching[i, k]:
+                start = None
+                continue
+            if start is None:
+                start = feet[:, i, k]
+            worst = max(worst, float(np.linalg.norm(feet[:, i, k] - start)))
+        out.append(worst)
+    return out
+
+
+def cycle_run_summary(
+    record: WholeBodyRecord,
+    plan: WholeBodyPlan,
+    accounting: Accounting,
+    robot_name: str,
+) -> dict[str, Any]:
+    """The measurements (module docstring) of one run of the 3-D referee.
+
+    ``robot_name`` sets the per-leg energy goal (:func:`~scalf_opt.sim.metrics.energy_goal`).
+    """
+    physics = plan.physics
+    period = plan.schedule.period_s
+    per_cycle, whole = measured_cycles(record, period)
+    window = slice(per_cycle, per_cycle * (1 + whole))
+    n = record.t_s.size
+    x, xd = np.zeros((physics.nx, n)), np.zeros((physics.nx, n))
+    x[6:], xd[6:] = record.q[7:], record.qd_next  # the drives read their own joint only
+    charged = np.array(physics.power_function(accounting).map(n)(x, xd, record.tau_nm))
+    dt = record.timestep_s
+    simulated = (
+        charged[:, window].sum(axis=1) * dt / whole if whole else np.full(physics.n_joints, np.nan)
+    )
+    model = plan.check(accounting).energy.joint_energy_j
+    legs = np.array(physics.joint_legs)
+    gross = np.abs(record.tau_nm[:, window] * record.qd_next[:, window]).sum(axis=1)
+    fed_back = np.abs(record.feedback_nm[:, window] * record.qd_next[:, window]).sum(axis=1)
+    goal = energy_goal(robot_name)
+    energy = {}
+    feedback = {}
+    for i, leg in enumerate(LEG_NAMES):
+        mine = legs == i
+        m, s = float(model[mine].sum()), float(simulated[mine].sum())
+        energy[leg] = {"model": m, "simulated": s, "relative_difference": _relative(s, m)}
+        feedback[leg] = (
+            float(fed_back[mine].sum() / gross[mine].sum()) if gross[mine].sum() else 0.0
+        )
+    total_model, total_sim = float(model.sum()), float(simulated.sum())
+    q, q_plan = record.q[:, window], record.q_plan[:, window]
+    rpy, rpy_plan = _rpy(q[:, ::10]), _rpy(q_plan[:, ::10])
+    planned_swing = ~record.plan_stance[:, window]
+    touching = np.linalg.norm(record.contact_force_n[:, :, window], axis=0) > 0
+    forward = (
+        float((q[0, -1] - q[0, 0]) / (record.t_s[window][-1] - record.t_s[window][0]))
+        if whole
+        else float("nan")
+    )
+    largest = max((abs(e["relative_difference"]) for e in energy.values()), default=np.nan)
+    return {
+        "fell_at_s": record.fell_at_s,
+        "cycles_measured": whole,
+        "joint_energy_per_cycle_j": energy,
+        "joint_energy_per_joint_j": {
+            name: {"model": float(model[j]), "simulated": float(simulated[j])}
+            for j, name in enumerate(physics.joint_names)
+        },
+        "total_energy_per_cycle_j": {
+            "model": total_model,
+            "simulated": total_sim,
+            "relative_difference": _relative(total_sim, total_model),
+        },
+        "feedback_work_share": feedback,
+        "torque_saturation_fraction": {
+            name: float(record.saturated[j, window].mean()) if whole else 0.0
+            for j, name in enumerate(physics.joint_names)
+        },
+        "trunk": {
+            "height_m": [float(q[2].min()), float(q[2].max())] if whole else None,
+            "plan_height_m": [float(q_plan[2].min()), float(q_plan[2].max())] if whole else None,
+            "roll_rad": [float(rpy[0].min()), float(rpy[0].max())] if whole else None,
+            "plan_roll_rad": [float(rpy_plan[0].min()), float(rpy_plan[0].max())]
+            if whole
+            else None,
+            "pitch_rad": [float(rpy[1].min()), float(rpy[1].max())] if whole else None,
+            "plan_pitch_rad": [float(rpy_plan[1].min()), float(rpy_plan[1].max())]
+            if whole
+            else None,
+            "position_error_max_m": float(np.linalg.norm(q[:3] - q_plan[:3], axis=0).max())
+            if whole
+            else None,
+            "orientation_error_max_rad": _orientation_error(q[:, ::10], q_plan[:, ::10])
+            if whole
+            else None,
+            "forward_speed_m_s": forward,
+            "plan_forward_speed_m_s": plan.speed_m_s,
+        },
+        "foot_slip_m": dict(zip(LEG_NAMES, _slip(record, window), strict=True)),
+        "unplanned_contact_fraction": {
+            leg: float((touching[i] & planned_swing[i]).sum() / max(1, planned_swing[i].sum()))
+            for i, leg in enumerate(LEG_NAMES)
+        },
+        "stance_force_peak_n": {
+            leg: {
+                "simulated": float(record.contact_force_n[2, i, window].max()) if whole else None,
+                "model": float(plan.forces_n[3 * i + 2].max()),
+            }
+            for i, leg in enumerate(LEG_NAMES)
+        },
+        "goals": {
+            "joint_energy_relative_difference_at_most": goal,
+            "did_not_fall": record.fell_at_s is None,
+            "joint_energy_met": bool(record.fell_at_s is None and whole and largest <= goal),
+        },
+    }

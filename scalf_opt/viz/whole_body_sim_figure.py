@@ -1,0 +1,68 @@
+"""The 3-D referee's run over time: the trunk and the feet's forces, simulated beside the plan.
+
+Four panels over the simulated time: the trunk's height, roll and pitch, and each foot's vertical
+ground force, the simulation solid and the plan dashed. The first cycle (the start-up, not
+measured) is shaded. Angles in degrees (converted here, at the edge).
+"""
+
+from __future__ import annotations
+
+import matplotlib.pyplot as plt
+import numpy as np
+import pinocchio as pin
+from matplotlib.figure import Figure
+
+from scalf_opt.sim.whole_body_run import WholeBodyRecord
+from scalf_opt.types import LEG_NAMES
+from scalf_opt.viz.colors import LEG_COLORS
+from scalf_opt.viz.plotting import SWING_SHADE, style
+
+_EVERY = 5
+"""Plot every fifth step (the steps are far finer than the figure)."""
+
+
+def _roll_pitch_deg(q: np.ndarray) -> np.ndarray:
+    rpy = [
+        pin.rpy.matrixToRpy(pin.Quaternion(q[3:7, k]).toRotationMatrix()) for k in range(q.shape[1])
+    ]
+    return np.degrees(np.array(rpy).T[:2])
+
+
+def cycle_simulation_figure(record: WholeBodyRecord, period_s: float, title: str) -> Figure:
+    """The run (module docstring)."""
+    t = record.t_s[::_EVERY]
+    q, q_plan = record.q[:, ::_EVERY], record.q_plan[:, ::_EVERY]
+    angles, angles_plan = _roll_pitch_deg(q), _roll_pitch_deg(q_plan)
+    with style():
+        fig, axes = plt.subplots(4, 1, figsize=(9.0, 8.5), sharex=True)
+        sim_kw = {"color": "black", "lw": 1.2}
+        plan_kw = {"color": "tab:orange", "lw": 1.2, "linestyle": "--"}
+        axes[0].plot(t, q[2], label="simulated", **sim_kw)
+        axes[0].plot(t, q_plan[2], label="plan", **plan_kw)
+        for row, ax in enumerate(axes[1:3]):
+            ax.plot(t, angles[row], **sim_kw)
+            ax.plot(t, angles_plan[row], **plan_kw)
+        for i, leg in enumerate(LEG_NAMES):
+            color = LEG_COLORS.get(leg, "black")
+            axes[3].plot(t, record.contact_force_n[2, i, ::_EVERY], color=color, lw=1.0, label=leg)
+            axes[3].plot(t, record.plan_force_n[2, i, ::_EVERY], color=color, lw=1.0, ls="--")
+        for ax in axes:
+            ax.axvspan(0.0, min(period_s, float(record.t_s[-1])), color=SWING_SHADE, lw=0)
+        if record.fell_at_s is not None:
+            for ax in axes:
+                ax.axvline(record.fell_at_s, color="tab:red", lw=1.0)
+        axes[0].set_ylabel("trunk height [m]")
+        axes[1].set_ylabel("roll [deg]")
+        axes[2].set_ylabel("pitch [deg]")
+        axes[3].set_ylabel("vertical force [N]")
+        axes[3].set_xlabel(
+            "time [s] (shaded: the first cycle, not measured; dashed: the plan"
+            + ("; red: the fall" if record.fell_at_s is not None else "")
+            + ")"
+        )
+        axes[0].legend(loc="upper right", ncol=2)
+        axes[3].legend(loc="upper right", ncol=4)
+        axes[0].set_title(title, fontsize=9)
+        axes[3].set_xlim(float(record.t_s[0]), float(record.t_s[-1]))
+        fig.tight_layout()
+    return fig
