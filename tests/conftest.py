@@ -47,3 +47,28 @@ def cheapest_trot(scalf):
     return optimize_gait(
         EnergyPipeline(scalf, Gait(), loads="trunk"), GaitGoal(1.0, make_family("paper"))
     )
+
+
+@pytest.fixture(scope="session")
+def go1_cycle():
+    """Go1's 3-D trot cycle solved on 10 nodes: ``(problem, solution)`` (about a minute).
+
+    Shared by the modules of the ``whole_body_cycle`` xdist group, which run on one worker.
+    """
+    from scalf_opt.energy.whole_body import WholeBodyPhysics
+    from scalf_opt.locomotion.contact_schedule import trot_schedule
+    from scalf_opt.locomotion.scaling import default_gait_for
+    from scalf_opt.optimize.whole_body_nlp import CycleProblem, solve_cycle
+    from scalf_opt.robots.loading import load_robot
+
+    robot = load_robot("go1")
+    gait = default_gait_for(robot)
+    schedule = trot_schedule(gait.period_s, 0.5, 25.0)  # 10 nodes
+    problem = CycleProblem(
+        WholeBodyPhysics.of(robot),
+        schedule,
+        gait.speed_m_s,
+        gait.stance_height_m,
+        gait.clearance_m,
+    )
+    return problem, solve_cycle(problem)

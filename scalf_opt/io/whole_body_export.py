@@ -214,7 +214,7 @@ def read_plan(directory: Path, physics: WholeBodyPhysics) -> WholeBodyPlan:
     robot = summary.get("robot")
     if robot != physics.robot.name:
         raise ConfigError(
-            f"{summary_path}: robot {robot!r} is not the model's {physics.robot.name!r}",
+            f"{summary_path}: the cycle of robot {robot!r}, not of {physics.robot.name!r}",
             field="from",
         )
     period, duty, nodes, speed = (

@@ -7,19 +7,19 @@ forces: a model that were exact would need nothing else) plus feedback, clipped 
 effort limit:
 
 * **swing legs** (and every leg in flight): joint impedance ``K_p (q_t - q) + K_d (qd_plan -
-  qd)``, ``K_p = I (2 pi f)^2``, ``K_d = 2 zeta I (2 pi f)`` on the inertia ``I`` each joint
-  meets with everything else free, ``1 / (M^-1)_jj`` at the plan's start, ``f`` and ``zeta``
-  the servo's (:mod:`scalf_opt.sim.settings`). The trunk is free to turn about the line of its
-  stance feet, so a swing joint moves less inertia than the locked ``M_jj`` (about half, on
-  Go1): gains on ``M_jj`` made Go1's abduction joints and the trunk's roll ring at the time
-  step's Nyquist frequency at twice the servo's gains. The target ``q_t`` steers the foot in the world, not the
+  qd)``, ``K_p = I (2 pi f)^2``, ``K_d = 2 zeta I (2 pi f)`` on the inertia ``I`` each joint meets
+  with everything else free, ``1 / (M^-1)_jj`` at the plan's start, ``f`` and ``zeta`` the servo's
+  (:mod:`scalf_opt.sim.settings`). The trunk is free to turn about the line of its stance feet, so
+  a swing joint moves less inertia than the locked ``M_jj`` (about half, on Go1): gains on
+  ``M_jj`` made Go1's abduction joints and the trunk's roll ring at the time step's Nyquist
+  frequency at twice the servo's gains. The target ``q_t`` steers the foot in the world, not the
   joints: the plan's foot position moved by the trunk's horizontal offset from its plan and by
-  Raibert's ``sqrt(h / g)`` times the trunk's horizontal velocity error (``h`` the stance
-  height), blended in over the swing, one Newton step of the leg's inverse kinematics from where
-  its joints are. Tracking the plan's joint angles instead puts a foot on the wrong side of a
-  trunk that rolls (the leg turns with it): on Go1's 3-D optimum the trunk then fell sideways,
-  its error growing about sevenfold per cycle, the rate at which a body ``h`` high topples
-  about the line of its two stance feet;
+  Raibert's ``sqrt(h / g)`` times the trunk's horizontal velocity error (``h`` the stance height),
+  blended in over the swing, one Newton step of the leg's inverse kinematics from where its joints
+  are. Tracking the plan's joint angles instead puts a foot on the wrong side of a trunk that
+  rolls (the leg turns with it): on Go1's 3-D optimum the trunk then fell sideways, its error
+  growing about sevenfold per cycle, the rate at which a body ``h`` high topples about the line of
+  its two stance feet;
 * **stance legs**: no joint loop (four joint loops on one trunk fight each other through the
   ground, :mod:`scalf_opt.sim.control`), but the trunk's posture and momentum feedback: the
   generalized force on the trunk

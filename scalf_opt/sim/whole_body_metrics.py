@@ -39,10 +39,18 @@ def _relative(simulated: float, model: float) -> float:
     return simulated / model - 1.0 if model else float("nan")
 
 
-def measured_cycles(record: WholeBodyRecord, period_s: float) -> tuple[int, int]:
-    """The steps per cycle and the number of whole cycles measured after the first."""
-    per_cycle = round(period_s / record.timestep_s)
-    return per_cycle, max(0, record.t_s.size // per_cycle - 1)
+def measured_window(record: WholeBodyRecord, period_s: float) -> tuple[slice, int]:
+    """The steps measured (every whole cycle after the first) and how many cycles they span.
+
+    The period need not be a whole number of steps: the window holds the steps that start in
+    ``[T, (1 + cycles) T)``, and a quantity per cycle is its mean rate over the window times
+    ``T``.
+    """
+    dt = record.timestep_s
+    whole = max(0, int(np.floor(record.t_s.size * dt / period_s + 1e-9)) - 1)
+    first = int(np.ceil(period_s / dt - 1e-9))
+    last = int(np.ceil((1 + whole) * period_s / dt - 1e-9))
+    return slice(first, last if whole else first), whole
 
 
 def _rpy(q: np.ndarray) -> np.ndarray:
@@ -94,15 +102,16 @@ def cycle_run_summary(
     """
     physics = plan.physics
     period = plan.schedule.period_s
-    per_cycle, whole = measured_cycles(record, period)
-    window = slice(per_cycle, per_cycle * (1 + whole))
+    window, whole = measured_window(record, period)
+    steps = window.stop - window.start
     n = record.t_s.size
     x, xd = np.zeros((physics.nx, n)), np.zeros((physics.nx, n))
     x[6:], xd[6:] = record.q[7:], record.qd_next  # the drives read their own joint only
     charged = np.array(physics.power_function(accounting).map(n)(x, xd, record.tau_nm))
-    dt = record.timestep_s
     simulated = (
-        charged[:, window].sum(axis=1) * dt / whole if whole else np.full(physics.n_joints, np.nan)
+        charged[:, window].sum(axis=1) * period / steps
+        if whole
+        else np.full(physics.n_joints, np.nan)
     )
     model = plan.check(accounting).energy.joint_energy_j
     legs = np.array(physics.joint_legs)

@@ -9,12 +9,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from scalf_opt.energy.whole_body import WholeBodyPhysics
-from scalf_opt.locomotion.contact_schedule import trot_schedule
 from scalf_opt.locomotion.periodic_spline import continuity_rows
-from scalf_opt.locomotion.scaling import default_gait_for
-from scalf_opt.optimize.whole_body_nlp import CycleProblem, solve_cycle
-from scalf_opt.robots.loading import load_robot
 from tests.optimize.whole_body_checks import (
     assert_contacts_hold,
     assert_pinocchio_agrees,
@@ -25,19 +20,8 @@ pytestmark = [pytest.mark.slow, pytest.mark.xdist_group(name="whole_body_cycle")
 
 
 @pytest.fixture(scope="module")
-def solved():
-    robot = load_robot("go1")
-    gait = default_gait_for(robot)
-    physics = WholeBodyPhysics.of(robot)
-    schedule = trot_schedule(gait.period_s, 0.5, 25.0)  # 10 nodes
-    problem = CycleProblem(
-        physics,
-        schedule,
-        gait.speed_m_s,
-        gait.stance_height_m,
-        gait.clearance_m,
-    )
-    return problem, solve_cycle(problem)
+def solved(go1_cycle):
+    return go1_cycle
 
 
 def test_the_optimum_converges_and_saves_on_its_start(solved):

@@ -109,11 +109,10 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.api import simulate
-    from scalf_opt.io.whole_body_export import is_cycle_dir
     from scalf_opt.sim.report import DETAILS, simulation_report
 
     check_output_dir(args.out)
-    if args.source is not None and is_cycle_dir(args.source):
+    if args.source is not None and _is_3d_cycle(args.source):
         return run_cycle(args)
     check_output_file(args.log, "--log")
     check_not_the_source(args.log, args.source, "--log")
@@ -159,6 +158,21 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
 def outputs(args: argparse.Namespace) -> Outputs:
     """The folder and the log, moved into place together."""
     return Outputs(folders={"--out": args.out}, files={"--log": args.log})
+
+
+def _is_3d_cycle(directory: Path) -> bool:
+    """Whether ``directory`` holds a 3-D cycle: a ``plan.csv``, or a ``summary.json`` saying so."""
+    import json
+
+    from scalf_opt.io.whole_body_export import is_cycle_dir
+
+    if is_cycle_dir(directory):
+        return True
+    try:
+        summary = json.loads((directory / "summary.json").read_text())
+    except (OSError, ValueError):
+        return False
+    return isinstance(summary, dict) and summary.get("model") == "3d"
 
 
 def run_cycle(args: argparse.Namespace) -> int:
