@@ -5,8 +5,9 @@ A :class:`WholeBodyPlan` holds one periodic trot cycle of the 3-D model at the n
 and second derivatives (a periodic C2 cubic spline, :mod:`~scalf_opt.locomotion.periodic_spline`)
 and the four feet's contact forces (world axes, on the robot; linear between nodes, zero in swing).
 
-:meth:`WholeBodyPlan.evaluate` gives the energy the optimizer saw: each joint's drawn power at the
-nodes (exact accounting and losses) summed over the periodic grid (the trapezoidal rule).
+:meth:`WholeBodyPlan.evaluate` gives the energy the optimizer saw: each joint's drawn power (exact
+accounting and losses) at the nodes, quarter points and midpoints, summed over the periodic grid
+by Simpson's rule on the half intervals.
 :meth:`WholeBodyPlan.check` is the independent re-evaluation: the spline and the forces read at
 ``factor`` times the rate and pushed through Pinocchio's own ``rnea`` (with the forces as external
 forces on the feet's parent joints, not the CasADi twin the optimizer used), giving the joint
@@ -24,8 +25,8 @@ import pinocchio as pin
 
 from scalf_opt.energy.whole_body import WholeBodyPhysics
 from scalf_opt.locomotion.contact_schedule import TrotSchedule
+from scalf_opt.locomotion.periodic_spline import READ_POINTS, inner_points, interval_points
 from scalf_opt.locomotion.periodic_spline import evaluate as spline_at
-from scalf_opt.locomotion.periodic_spline import interval_means, midpoints
 from scalf_opt.types import Accounting
 
 
@@ -148,13 +149,14 @@ class WholeBodyPlan:
         """Every output of :meth:`WholeBodyPhysics.node_function` at the nodes (exact losses)."""
         return self._outputs(accounting, (self.x, self.xd, self.xdd), self.forces_n)
 
-    def midpoint_outputs(self, accounting: Accounting) -> dict[str, np.ndarray]:
-        """Every output of :meth:`WholeBodyPhysics.node_function` halfway between the nodes.
+    def inner_outputs(self, accounting: Accounting, fraction: float) -> dict[str, np.ndarray]:
+        """Every output of :meth:`WholeBodyPhysics.node_function` inside the intervals.
 
-        Column ``k`` is the middle of ``[t_k, t_{k+1}]`` (the spline there, the forces' mean).
+        Column ``k`` is ``fraction`` of the way through ``[t_k, t_{k+1}]`` (the spline there, the
+        forces interpolated linearly).
         """
-        states = midpoints(self.x, self.xd, self.xdd, self.schedule.step_s, self.shift)
-        return self._outputs(accounting, states, interval_means(self.forces_n))
+        states = inner_points(self.x, self.xd, self.xdd, self.schedule.step_s, self.shift, fraction)
+        return self._outputs(accounting, states, interval_points(self.forces_n, fraction))
 
     def _outputs(
         self, accounting: Accounting, states: tuple[np.ndarray, ...], forces: np.ndarray
@@ -168,15 +170,18 @@ class WholeBodyPlan:
         return np.roll(self.forces_n, -1, axis=1)
 
     def evaluate(self, accounting: Accounting) -> PlanEnergy:
-        """The energy at the nodes and midpoints, with the exact losses.
+        """The energy the optimizer sees, with the exact losses.
 
-        Simpson's rule on the periodic grid: ``h / 3`` times the nodes' sum plus twice the
-        midpoints' (the rate it reports is the nodes').
+        Simpson's rule on the half intervals of the periodic grid
+        (:data:`~scalf_opt.locomotion.periodic_spline.READ_POINTS`: the nodes, quarter points and
+        midpoints); the rate it reports is the nodes'.
         """
-        nodes = self.node_outputs(accounting)
-        middle = self.midpoint_outputs(accounting)
         step = self.schedule.step_s
-        energy = step * (nodes["charged"].sum(axis=1) + 2 * middle["charged"].sum(axis=1)) / 3
+        nodes = self.node_outputs(accounting)
+        energy = READ_POINTS[0][1] * step * nodes["charged"].sum(axis=1)
+        for fraction, weight in READ_POINTS[1:]:
+            inner = self.inner_outputs(accounting, fraction)
+            energy = energy + weight * step * inner["charged"].sum(axis=1)
         return PlanEnergy(1.0 / step, energy, nodes["tau"], self.schedule.times_s)
 
     def forces_at(self, t_s: np.ndarray) -> np.ndarray:

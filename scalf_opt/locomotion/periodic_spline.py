@@ -88,28 +88,62 @@ def evaluate(
     return values, rates, accelerations
 
 
-def interval_means(y: Any) -> Any:
-    """Each node's values averaged with the next node's (m, N), periodic without drift.
+READ_POINTS: tuple[tuple[float, float], ...] = (
+    (0.0, 1 / 6),
+    (0.25, 1 / 3),
+    (0.5, 1 / 6),
+    (0.75, 1 / 3),
+)
+"""Where a quantity on the periodic grid is read, and its weight: composite Simpson's rule on the
+half intervals. Each pair is a fraction of the interval ``[t_k, t_{k+1}]`` and the weight of the
+reading there in units of the interval ``h``: nodes and midpoints ``h / 6``, quarter points
+``h / 3`` (the weights of one interval sum to ``h``)."""
 
-    Column ``k`` is the middle of ``[t_k, t_{k+1}]`` of a quantity linear between the nodes
-    (the contact forces; CasADi or numpy).
+
+def interval_points(y: Any, fraction: float) -> Any:
+    """A quantity linear between the nodes, ``fraction`` of the way through each interval (m, N).
+
+    Column ``k`` is at ``t_k + fraction h``; periodic without drift (the contact forces; CasADi
+    or numpy).
     """
     n = y.shape[1]
-    return (y + y[:, [*range(1, n), 0]]) / 2
+    return (1 - fraction) * y + fraction * y[:, [*range(1, n), 0]]
 
 
-def midpoints(y: Any, yd: Any, ydd: Any, step_s: float, shift: Any) -> tuple[Any, Any, Any]:
-    """Values, rates and second derivatives of the spline halfway through each interval (m, N).
+def interval_means(y: Any) -> Any:
+    """Each node's values averaged with the next node's (m, N): :func:`interval_points` at 1/2."""
+    return interval_points(y, 0.5)
 
-    The cubic Hermite midpoint ``(Y_k + Y_{k+1}) / 2 + h (Yd_k - Yd_{k+1}) / 8``, its rate
-    ``3 (Y_{k+1} - Y_k) / (2 h) - (Yd_k + Yd_{k+1}) / 4`` and the linear second derivative (CasADi
-    or numpy; column ``k`` is the middle of ``[t_k, t_{k+1}]``).
+
+def inner_points(
+    y: Any, yd: Any, ydd: Any, step_s: float, shift: Any, fraction: float
+) -> tuple[Any, Any, Any]:
+    """Values, rates and second derivatives of the spline ``fraction`` through each interval.
+
+    The cubic Hermite form on ``[t_k, t_{k+1}]`` at ``s = fraction`` (values and rates of both
+    nodes; the second derivative linear, as the C2 spline's is), CasADi or numpy; column ``k`` is
+    at ``t_k + s h``. At ``s = 1/2``: ``(Y_k + Y_{k+1}) / 2 + h (Yd_k - Yd_{k+1}) / 8`` and
+    ``3 (Y_{k+1} - Y_k) / (2 h) - (Yd_k + Yd_{k+1}) / 4``.
     """
     n = y.shape[1]
     order = [*range(1, n), 0]
     y_next = y[:, order] + _last_column(shift, n)
     yd_next, ydd_next = yd[:, order], ydd[:, order]
-    h = step_s
-    values = (y + y_next) / 2 + (h / 8) * (yd - yd_next)
-    rates = (3 / (2 * h)) * (y_next - y) - (yd + yd_next) / 4
-    return values, rates, (ydd + ydd_next) / 2
+    h, t = step_s, fraction
+    values = (
+        (2 * t**3 - 3 * t**2 + 1) * y
+        + (t**3 - 2 * t**2 + t) * h * yd
+        + (-2 * t**3 + 3 * t**2) * y_next
+        + (t**3 - t**2) * h * yd_next
+    )
+    rates = (
+        (6 * t**2 - 6 * t) * (y - y_next) / h
+        + (3 * t**2 - 4 * t + 1) * yd
+        + (3 * t**2 - 2 * t) * yd_next
+    )
+    return values, rates, (1 - t) * ydd + t * ydd_next
+
+
+def midpoints(y: Any, yd: Any, ydd: Any, step_s: float, shift: Any) -> tuple[Any, Any, Any]:
+    """The spline halfway through each interval: :func:`inner_points` at 1/2."""
+    return inner_points(y, yd, ydd, step_s, shift, 0.5)

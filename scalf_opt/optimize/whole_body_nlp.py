@@ -23,16 +23,20 @@ Constraints:
   foot keeps to its side of the trunk (at least half its start's lateral offset from the trunk's
   midline: the legs cannot cross);
 * **the limits**: every joint's range, velocity and effort limit and every drive bound, less the
-  margins (:class:`~scalf_opt.energy.margins.LimitMargins`), at the nodes and at the intervals'
-  midpoints (there the spline's midpoint and the mean of the two nodes' forces).
+  margins (:class:`~scalf_opt.energy.margins.LimitMargins`), at every read point: the nodes, and
+  the quarter points and midpoints of the intervals (there the spline's value and the forces
+  interpolated linearly); the swing feet's floor too.
 
-Objective: the drive energy of every joint over the cycle by Simpson's rule over the nodes and
-the midpoints (their drawn power: the accounting's slack form of the charged joint power plus the
-drives' losses, smoothed as in the sagittal NLP), over the start's energy. Read at the nodes
-alone, a joint could rest at every node and move between them for free. The dynamics are not
-imposed at the midpoints: there the trunk's rows are nearly the mean of the neighbouring nodes'
-(forces and trunk acceleration are both linear in between), and such nearly dependent rows stall
-Ipopt (measured: the multipliers grew to 1e10 and the energy fourfold); the ten-times check
+Objective: the drive energy of every joint over the cycle by Simpson's rule on the half intervals
+(:data:`~scalf_opt.locomotion.periodic_spline.READ_POINTS`: their drawn power, the accounting's
+slack form of the charged joint power plus the drives' losses, smoothed as in the sagittal NLP),
+over the start's energy. Read at the nodes alone, a joint could rest at every node and move between
+them for free; read at the nodes and midpoints only (Simpson's rule on whole intervals, this model's
+first version), SCalf's optimum kept torque or rate near zero at those points and its energy at ten
+times the rate was still 5 % higher on 26 nodes (3 % with the quarter points read too). The dynamics
+are not imposed inside the intervals: there the trunk's rows are nearly the mean of the neighbouring
+nodes' (forces and trunk acceleration are both linear in between), and such nearly dependent rows
+stall Ipopt (measured: the multipliers grew to 1e10 and the energy fourfold); the ten-times check
 reports what is left between the nodes.
 """
 
@@ -50,7 +54,12 @@ from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
 from scalf_opt.energy.whole_body import WholeBodyPhysics
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION, TrotSchedule
-from scalf_opt.locomotion.periodic_spline import continuity_rows, interval_means, midpoints
+from scalf_opt.locomotion.periodic_spline import (
+    READ_POINTS,
+    continuity_rows,
+    inner_points,
+    interval_points,
+)
 from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S
 from scalf_opt.optimize.nlp import MUMPS_WORK_SPACE
 from scalf_opt.optimize.whole_body_start import starting_plan
@@ -66,7 +75,7 @@ OBJECTIVE_SCALING = 1e3
 """Ipopt's factor on the objective (the energy over the start's).
 
 Without it each variable's share of the objective's gradient is about 1e-4 (the energy is spread
-over every node's and midpoint's power), small beside the dynamics' curvature: Ipopt then
+over every read point's power), small beside the dynamics' curvature: Ipopt then
 regularised the Hessian at every iteration and crept (SCalf on 12 nodes: 1,500 iterations, the
 energy still falling by 1 % every 20). Scaled by 1e3 the same solve converged in 396 iterations
 at 156 J instead of 257 J."""
@@ -161,11 +170,13 @@ def lift_floor_m(problem: CycleProblem, phase: float) -> float:
     return height * min(edge, 1.0) ** 2
 
 
-def mid_swing_phase(schedule: TrotSchedule, leg: str, intervals: np.ndarray) -> np.ndarray:
-    """The swing phase in (0, 1) of ``leg`` halfway through each of the given intervals."""
+def inner_swing_phase(
+    schedule: TrotSchedule, leg: str, intervals: np.ndarray, fraction: float
+) -> np.ndarray:
+    """The swing phase in (0, 1) of ``leg`` ``fraction`` through each of the given intervals."""
     lift = schedule.touchdown_node(leg) + schedule.stance_nodes
     swing = schedule.intervals - schedule.stance_nodes
-    return ((intervals + 0.5 - lift) % schedule.intervals) / swing
+    return ((intervals + fraction - lift) % schedule.intervals) / swing
 
 
 @dataclass(frozen=True)
@@ -175,7 +186,7 @@ class CycleNlp:
     Attributes:
         problem: What it optimises.
         variables: Every decision variable, scaled to order one (see :meth:`plan_of`).
-        objective: The energy over the start's (Simpson's rule over nodes and midpoints).
+        objective: The energy over the start's (Simpson's rule on the half intervals).
         constraints: Every constraint row.
         row_names: Each row's block name (``"RF cone"``, ``"base force"``, ...).
         lbw, ubw: The variables' bounds (scaled).
@@ -228,8 +239,9 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     x, steps, bends = (ca.MX.sym(name, nx, n) for name in ("X", "h_Xd", "h2_Xdd"))
     shares = ca.MX.sym("f_over_weight", nf, n)
     holds = ca.MX.sym("footholds", 2, len(LEG_NAMES))
-    # the slacks of the nodes (first n columns), then of the midpoints
-    slacks = [ca.MX.sym(f"s{m}", len(charging), 2 * n) for m in range(acc.slacks)]
+    # the slacks of the read points: the nodes (first n columns), then each inner point's
+    points = len(READ_POINTS)
+    slacks = [ca.MX.sym(f"s{m}", len(charging), points * n) for m in range(acc.slacks)]
     blocks = [x, steps, bends, shares, holds, *slacks]
     xd, xdd, forces = steps / h, bends / h**2, shares * weight
     scales = (1.0, h, h**2, 1.0 / weight, 1.0)
@@ -237,8 +249,10 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     shift = physics.stride_shift(stride)
     node = physics.node_function(problem.accounting, HEAT_SMOOTHING_EPS_M_S)
     out = _mapped(node, (x, xd, xdd), forces)
-    mid_states = midpoints(x, xd, xdd, h, shift)
-    mid = _mapped(node, mid_states, interval_means(forces))
+    inner = {}
+    for fraction, _ in READ_POINTS[1:]:
+        states = inner_points(x, xd, xdd, h, shift, fraction)
+        inner[fraction] = (states, _mapped(node, states, interval_points(forces, fraction)))
     rows = _Rows()
     values, rates = continuity_rows(x, xd, xdd, h, shift)
     rows.add(values, 0.0, 0.0, "spline values")
@@ -247,25 +261,28 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     rows.add(out["base_wrench"][:3, :] / weight, 0.0, 0.0, "base force")
     rows.add(out["base_wrench"][3:, :] / (weight * height), 0.0, 0.0, "base moment")
     _limit_rows(problem, rows, out)
-    _limit_rows(problem, rows, mid)
-    _midpoint_range_rows(problem, rows, mid_states)
-    _contact_rows(problem, rows, out, mid, x, forces, holds, stride, start)
+    for fraction, (states, outputs) in inner.items():
+        _limit_rows(problem, rows, outputs, f" (at {fraction:g})")
+        _inner_range_rows(problem, rows, states, fraction)
+    _contact_rows(problem, rows, out, inner, x, forces, holds, stride, start)
     bounds = _variable_bounds(problem, start)
-    # Simpson's rule on the periodic grid: h (sum of the nodes + 2 sum of the midpoints) / 3
-    power = ca.horzcat(out["p_joint"][charging, :], mid["p_joint"][charging, :])
+    # Simpson's rule on the half intervals (READ_POINTS): each reading's weight times h
+    power = ca.horzcat(
+        out["p_joint"][charging, :], *(o["p_joint"][charging, :] for _, o in inner.values())
+    )
+    loss = ca.horzcat(out["loss"], *(o["loss"] for _, o in inner.values()))
     if acc.slacks:
         slack_rows = acc.slack_rows(power, slacks)
         assert slack_rows is not None  # an accounting with slacks has their rows
         rows.add(slack_rows, *acc.slack_row_bounds(), "slacks")
-    cost = ca.sum1(acc.smooth_cost(power, slacks)) + ca.sum1(ca.horzcat(out["loss"], mid["loss"]))
+    cost = ca.sum1(acc.smooth_cost(power, slacks)) + ca.sum1(loss)
     scale = max(start.evaluate(problem.accounting).total_j, 1e-6)
-    objective = (ca.sum2(cost[:, :n]) + 2 * ca.sum2(cost[:, n:])) * h / (3 * scale)
+    weights = np.repeat([w for _, w in READ_POINTS], n)
+    objective = ca.mtimes(cost, ca.DM(weights)) * (h / scale)
 
     start_power = np.hstack(
-        [
-            start.node_outputs(problem.accounting)["p_joint"],
-            start.midpoint_outputs(problem.accounting)["p_joint"],
-        ]
+        [start.node_outputs(problem.accounting)["p_joint"]]
+        + [start.inner_outputs(problem.accounting, f)["p_joint"] for f, _ in READ_POINTS[1:]]
     )
     start_slacks = acc.initial_slacks(start_power[charging])
     start_blocks = (start.x, start.xd, start.xdd, start.forces_n, start.footholds_m)
@@ -351,7 +368,7 @@ def _contact_rows(
     problem: CycleProblem,
     rows: _Rows,
     out: dict[str, ca.MX],
-    mid: dict[str, ca.MX],
+    inner: dict[float, tuple[Any, dict[str, ca.MX]]],
     x: ca.MX,
     forces: ca.MX,
     holds: ca.MX,
@@ -382,7 +399,7 @@ def _contact_rows(
         f = forces[3 * i : 3 * i + 3, np.flatnonzero(schedule.loaded[i])]
         rows.add(mu2 * f[2, :] ** 2 - f[0, :] ** 2 - f[1, :] ** 2, 0.0, np.inf, f"{leg} cone")
         inside = np.flatnonzero(schedule.stance[i] & np.roll(schedule.stance[i], -1))
-        # the swing, at its nodes and at the midpoints of its intervals
+        # the swing, at its nodes and inside its intervals (the read points)
         swing = np.flatnonzero(~schedule.stance[i])
         phase = schedule.swing_phase(leg)[swing]
         floor = np.array([lift_floor_m(problem, s) for s in phase])
@@ -391,13 +408,14 @@ def _contact_rows(
         columns = [int(4 * k + i) for k in swing]
         rows.add(feet_pos[2, columns], floor, np.inf, f"{leg} swing floor")
         airborne = np.setdiff1d(np.arange(n), inside)
-        mid_phase = mid_swing_phase(schedule, leg, airborne)
-        rows.add(
-            mid["feet_pos"][2, [int(4 * k + i) for k in airborne]],
-            np.array([lift_floor_m(problem, s) for s in mid_phase]),
-            np.inf,
-            f"{leg} swing floor (midpoints)",
-        )
+        for fraction, (_, outputs) in inner.items():
+            inner_phase = inner_swing_phase(schedule, leg, airborne, fraction)
+            rows.add(
+                outputs["feet_pos"][2, [int(4 * k + i) for k in airborne]],
+                np.array([lift_floor_m(problem, s) for s in inner_phase]),
+                np.inf,
+                f"{leg} swing floor (at {fraction:g})",
+            )
         landing_nodes = [c for c, s in zip(columns, phase, strict=True) if s > 1 - lift.fraction]
         if landing_nodes and np.isfinite(landing):
             rows.add(feet_vel[2, landing_nodes], -landing, np.inf, f"{leg} landing speed")
@@ -430,7 +448,7 @@ def _variable_bounds(problem: CycleProblem, start: WholeBodyPlan) -> tuple[np.nd
         f_hi[3 * i : 3 * i + 3, schedule.loaded[i]] = inf
     acc = power_accounting(problem.accounting)
     charging = sum(d.charges_joint_power for d in physics.drives)
-    slack = np.zeros(acc.slacks * charging * 2 * n)  # nodes and midpoints
+    slack = np.zeros(acc.slacks * charging * len(READ_POINTS) * n)  # at every read point
     lower = [x_lo, xd_lo, -free, f_lo, np.full(2 * len(LEG_NAMES), -inf), slack]
     upper = [x_hi, xd_hi, free, f_hi, np.full(2 * len(LEG_NAMES), inf), slack + inf]
     return (
@@ -439,23 +457,26 @@ def _variable_bounds(problem: CycleProblem, start: WholeBodyPlan) -> tuple[np.nd
     )
 
 
-def _midpoint_range_rows(
-    problem: CycleProblem, rows: _Rows, states: tuple[ca.MX, ca.MX, ca.MX]
+def _inner_range_rows(
+    problem: CycleProblem, rows: _Rows, states: tuple[ca.MX, ca.MX, ca.MX], fraction: float
 ) -> None:
-    """Every joint's range and velocity limit (less margins) at the intervals' midpoints."""
+    """Every joint's range and velocity limit (less margins) inside the intervals."""
     for bound in problem.margins.apply(problem.physics.joint_bounds()):
         if bound.output in ("q", "qd"):
             values = states[0 if bound.output == "q" else 1]
             rows.add(
-                values[6 + bound.joint, :], bound.lower, bound.upper, f"{bound.output} (midpoints)"
+                values[6 + bound.joint, :],
+                bound.lower,
+                bound.upper,
+                f"{bound.output} (at {fraction:g})",
             )
 
 
-def _limit_rows(problem: CycleProblem, rows: _Rows, out: dict[str, ca.MX]) -> None:
-    """Effort limits and drive bounds (less margins) at every node (or midpoint)."""
+def _limit_rows(problem: CycleProblem, rows: _Rows, out: dict[str, ca.MX], where: str = "") -> None:
+    """Effort limits and drive bounds (less margins) at every node (or inner point, ``where``)."""
     for bound in problem.margins.apply(problem.physics.joint_bounds()):
         if bound.output in ("q", "qd"):
             continue
         name = "tau" if bound.output == "tau" else f"{bound.output}_{bound.joint}"
         expr = out[name][bound.joint, :] if bound.output == "tau" else out[name]
-        rows.add(expr, bound.lower, bound.upper, f"{name} {bound.source}")
+        rows.add(expr, bound.lower, bound.upper, f"{name} {bound.source}{where}")

@@ -31,14 +31,30 @@ def test_the_fit_satisfies_the_nlps_continuity_rows():
     assert np.abs(a).max() < 1e-14 and np.abs(b).max() < 1e-12
 
 
-def test_between_nodes_the_spline_is_its_cubic_and_midpoints_agree():
+@pytest.mark.parametrize("fraction", [0.25, 0.5, 0.75])
+def test_between_nodes_the_spline_is_its_cubic_and_inner_points_agree(fraction):
     values, rates, second, step, shift = fitted(24)
     at_nodes = spline.evaluate(values, rates, second, step, np.arange(24) * step)
     np.testing.assert_allclose(at_nodes[0], values, atol=1e-15)
-    middle = spline.midpoints(values, rates, second, step, shift)
-    read = spline.evaluate(values, rates, second, step, (np.arange(24) + 0.5) * step)
-    for m, r in zip(middle, read, strict=True):
+    inner = spline.inner_points(values, rates, second, step, shift, fraction)
+    read = spline.evaluate(values, rates, second, step, (np.arange(24) + fraction) * step)
+    for m, r in zip(inner, read, strict=True):
         np.testing.assert_allclose(m, r, rtol=0, atol=1e-11 * max(1, np.abs(r).max()))
+
+
+def test_the_read_points_are_simpson_s_rule_on_half_intervals():
+    """On one interval (a node's weight shared by the two intervals it ends) the rule is exact
+    for a cubic; summed over the periodic grid the weights add up to the period."""
+    assert sum(w for _, w in spline.READ_POINTS) == pytest.approx(1.0, abs=1e-15)
+    h = 0.1
+    node_weight = dict(spline.READ_POINTS)[0.0]
+    points = [(0.0, node_weight / 2), *spline.READ_POINTS[1:], (1.0, node_weight / 2)]
+    for cubic, exact in (
+        (lambda t: (t - 0.03) ** 3, ((h - 0.03) ** 4 - 0.03**4) / 4),
+        (lambda t: 2.0 + t - t**2, 2 * h + h**2 / 2 - h**3 / 3),
+    ):
+        rule = sum(w * h * cubic(f * h) for f, w in points)
+        assert rule == pytest.approx(exact, rel=1e-13)
 
 
 def test_the_spline_converges_at_fourth_order_in_value_and_third_in_rate():
