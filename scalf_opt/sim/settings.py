@@ -63,8 +63,8 @@ class SimSettings:
             ``joint``: every joint's own loop, in stance too (:mod:`scalf_opt.sim.control`).
         schedule_shift_s: How late the controller detects a touch-down against the plan [s]
             (negative: early): it switches a leg from its swing loop to the stance loop this
-            much after the planned touch-down (early: once the foot touches, from this much
-            before); lift-off, the feed-forward and the measurements keep the plan's times.
+            much after the planned touch-down (early: this much before it, the foot still in
+            the air); lift-off, the feed-forward and the measurements keep the plan's times.
     """
 
     timestep_s: float | None = None

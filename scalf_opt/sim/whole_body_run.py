@@ -12,9 +12,9 @@ work), and per foot the ground's force and where the foot is.
 
 The controller's contact schedule is the plan's, its touch-downs shifted by the settings'
 ``schedule_shift_s`` (late: a landed leg stays on its swing loop that long; early: a leg switches
-to stance once its foot touches, up to that long before the plan says). The run stops early
-when the robot falls: the trunk lower than half the plan's lowest height, or tilted more than
-:data:`FALL_TILT_RAD` from the plan's orientation.
+to stance that long before the plan says, its foot still in the air), as the sagittal referee's.
+The run stops early when the robot falls: the trunk lower than half the plan's lowest height, or
+tilted more than :data:`FALL_TILT_RAD` from the plan's orientation.
 """
 
 from __future__ import annotations
@@ -157,15 +157,12 @@ def follow_plan(
     force, feet_m = np.zeros((3, feet, n)), np.zeros((3, feet, n))
     foot_of = {int(g): i for i, g in enumerate(sim.foot_geom)}
     force6 = np.zeros(6)
-    touching = _contacts(model, data, foot_of, np.zeros((3, feet)), force6)
     fell = None
     for k in range(n):
         q[:, k], v[:, k] = sim.pinocchio_state(data)
         feet_m[:, :, k] = data.geom_xpos[sim.foot_geom].T
         stance[:, k] = (
-            (planned[:, k] & shifted[:, k])
-            if shift >= 0
-            else (planned[:, k] | (shifted[:, k] & touching))
+            planned[:, k] & shifted[:, k] if shift >= 0 else planned[:, k] | shifted[:, k]
         )
         if _fallen(q[:, k], q_plan[:, k], height_floor):
             fell = float(t[k])
@@ -184,9 +181,8 @@ def follow_plan(
         data.ctrl[sim.actuators] = out.tau_nm
         tau[:, k], feedback[:, k], saturated[:, k] = out.tau_nm, out.feedback_nm, out.saturated
         mujoco.mj_step(model, data)
-        # data now holds the contacts of state k and the velocity of state k + 1; the contact
-        # sensor the next step's schedule reads is this step's (one step late, as a real one)
-        touching = _contacts(model, data, foot_of, force[:, :, k], force6)
+        # data now holds the contacts of state k and the velocity of state k + 1
+        _contacts(model, data, foot_of, force[:, :, k], force6)
         qd_next[:, k] = data.qvel[sim.joint_dof]
     end = n if fell is None else k
     cut = slice(0, end)

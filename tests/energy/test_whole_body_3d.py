@@ -184,10 +184,10 @@ def test_the_plan_check_reads_pinocchios_torques_at_ten_times_the_rate():
 
 @pytest.mark.parametrize("name", ["scalf", "go1"])
 def test_a_joint_that_rests_at_every_node_is_charged_for_moving_between_them(name):
-    """The plan's energy is Simpson's rule over the nodes and the midpoints, so a motion that
-    stops at every node (zero rates there, a C2 spline that moves between them) is charged as
-    the ten-times re-reading through Pinocchio charges it; the nodes alone would charge none of
-    it (the gap an optimizer exploits)."""
+    """The plan's energy is Simpson's rule on the half intervals (nodes, quarter points and
+    midpoints), so a motion that stops at every node (zero rates there, a C2 spline that moves
+    between them) is charged as the ten-times re-reading through Pinocchio charges it; the nodes
+    alone would charge none of it (the gap an optimizer exploits)."""
     from dataclasses import replace
 
     from scalf_opt.locomotion.contact_schedule import trot_schedule
