@@ -33,11 +33,11 @@ slack form of the charged joint power plus the drives' losses, smoothed as in th
 over the start's energy. Read at the nodes alone, a joint could rest at every node and move between
 them for free; read at the nodes and midpoints only (Simpson's rule on whole intervals, this model's
 first version), SCalf's optimum kept torque or rate near zero at those points and its energy at ten
-times the rate was still 5 % higher on 26 nodes (3 % with the quarter points read too). The dynamics
-are not imposed inside the intervals: there the trunk's rows are nearly the mean of the neighbouring
-nodes' (forces and trunk acceleration are both linear in between), and such nearly dependent rows
-stall Ipopt (measured: the multipliers grew to 1e10 and the energy fourfold); the ten-times check
-reports what is left between the nodes.
+times the rate was still 5 % higher on 26 nodes and 3.7 % on 50 (with the quarter points read too:
+2.0 % and 0.8 %). The dynamics are not imposed inside the intervals: there the trunk's rows are
+nearly the mean of the neighbouring nodes' (forces and trunk acceleration are both linear in
+between), and such nearly dependent rows stall Ipopt (measured: the multipliers grew to 1e10 and the
+energy fourfold); the ten-times check reports what is left between the nodes.
 """
 
 from __future__ import annotations
