@@ -28,15 +28,13 @@ MAX_SIM_CYCLES = 200
 
 
 @dataclass(frozen=True)
-class SimulationResult:
-    """A MuJoCo simulation of the planned trot (extra ``sim``), beside the model's prediction.
+class _Simulated:
+    """What every simulation gives: the robot, ``simulation.json``, the record and a title.
 
     Attributes:
         robot: The robot.
-        data: ``simulation.json``: provenance, settings and every figure
-            (:mod:`scalf_opt.sim.metrics`), with ``reference`` and ``saving_vs_reference`` when
-            the swings are not the reference.
-        record: The step-by-step record (:class:`scalf_opt.sim.run.SimRecord`).
+        data: ``simulation.json`` (the subclass says what is in it).
+        record: The step-by-step record.
         title: A one-line description, for reports and the figure.
     """
 
@@ -48,6 +46,16 @@ class SimulationResult:
     def to_dict(self) -> dict[str, Any]:
         """Plain data: ``simulation.json``."""
         return self.data
+
+
+@dataclass(frozen=True)
+class SimulationResult(_Simulated):
+    """A MuJoCo simulation of the planned trot (extra ``sim``), beside the model's prediction.
+
+    ``data`` holds provenance, settings and every figure (:mod:`scalf_opt.sim.metrics`), with
+    ``reference`` and ``saving_vs_reference`` when the swings are not the reference; ``record``
+    is a :class:`scalf_opt.sim.run.SimRecord`.
+    """
 
     def figure(self) -> Any:
         """The figure of ``simulation.png`` (a matplotlib ``Figure``)."""
@@ -229,26 +237,13 @@ def simulate(
 
 
 @dataclass(frozen=True)
-class CycleSimulationResult:
+class CycleSimulationResult(_Simulated):
     """A 3-D cycle refereed in MuJoCo (extra ``sim``), beside the plan's own energy.
 
-    Attributes:
-        robot: The robot.
-        data: ``simulation.json``: provenance, settings, the controller's gains and every figure
-            (:mod:`scalf_opt.sim.whole_body_metrics`), the ensemble's verdict when it ran.
-        record: The nominal referee's step-by-step record
-            (:class:`~scalf_opt.sim.whole_body_run.WholeBodyRecord`).
-        title: A one-line description, for reports and the figure.
+    ``data`` holds provenance, settings, the controller's gains and every figure
+    (:mod:`scalf_opt.sim.whole_body_metrics`), the ensemble's verdict when it ran; ``record`` is
+    the nominal referee's :class:`~scalf_opt.sim.whole_body_run.WholeBodyRecord`.
     """
-
-    robot: Robot
-    data: dict[str, Any]
-    record: Any
-    title: str
-
-    def to_dict(self) -> dict[str, Any]:
-        """Plain data: ``simulation.json``."""
-        return self.data
 
     def write(self, out_dir: str | Path) -> list[Path]:
         """Write ``simulation.json``, ``simulation.png`` and ``report.txt`` (each atomically)."""

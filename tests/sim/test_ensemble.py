@@ -209,9 +209,7 @@ def test_a_member_whose_robot_fell_makes_the_plan_not_refereeable():
     assert data["ensemble"]["members"][-1]["fell_at_s"] == 1.25
     from scalf_opt.sim.report import energy_goal_line, ensemble_lines
 
-    assert energy_goal_line(data).endswith(
-        "NOT refereeable (the robot fell under: foot radius x3)"
-    )
+    assert energy_goal_line(data).endswith("NOT refereeable (the robot fell under: foot radius x3)")
     assert ensemble_lines(data)[-1].endswith("fell at 1.250 s")
 
 

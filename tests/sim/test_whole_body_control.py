@@ -45,22 +45,20 @@ def _jacobians(physics, q):
     ]
 
 
-def test_on_the_plan_the_torques_are_the_plan_s(setup):
+def _torques(setup, q, stance, progress):
+    """The controller's output at configuration ``q``, the plan's rates, plan and feet."""
     physics, s, controller = setup
-    stance = np.array([True, True, False, False])
-    data, _ = _jacobians(physics, s.q[:, 0])
+    data, _ = _jacobians(physics, q)
     feet = np.array([data.oMf[physics.model.getFrameId(f)].translation for f in physics.feet]).T
-    out = controller.torques(
-        s.q[:, 0],
-        s.v[:, 0],
-        s.q[:, 0],
-        s.v[:, 0],
-        s.tau_nm[:, 0],
-        s.forces_n[:, 0],
-        feet,
-        stance,
-        np.array([0.0, 0.0, 0.5, 0.5]),
+    return controller.torques(
+        q, s.v[:, 0], s.q[:, 0], s.v[:, 0], s.tau_nm[:, 0], s.forces_n[:, 0], feet, stance, progress
     )
+
+
+def test_on_the_plan_the_torques_are_the_plan_s(setup):
+    _, s, _ = setup
+    stance = np.array([True, True, False, False])
+    out = _torques(setup, s.q[:, 0], stance, np.array([0.0, 0.0, 0.5, 0.5]))
     # no error: no feedback, no extra force; a swing target's Newton step is zero
     np.testing.assert_allclose(out.feedback_nm, 0.0, atol=1e-9)
     np.testing.assert_allclose(out.extra_force_n, 0.0, atol=1e-9)
@@ -103,23 +101,12 @@ def test_the_qp_s_forces_fit_the_trunk_s_wrench_inside_the_pyramid(setup, stance
 
 
 def test_stance_joints_carry_the_extra_forces(setup):
-    physics, s, controller = setup
+    physics, s, _ = setup
     stance = np.array([True, True, False, False])
     q = s.q[:, 0].copy()
     q[2] -= 0.01  # the trunk 1 cm low: the loop asks for more upward force
-    data, jacobians = _jacobians(physics, q)
-    feet = np.array([data.oMf[physics.model.getFrameId(f)].translation for f in physics.feet]).T
-    out = controller.torques(
-        q,
-        s.v[:, 0],
-        s.q[:, 0],
-        s.v[:, 0],
-        s.tau_nm[:, 0],
-        s.forces_n[:, 0],
-        feet,
-        stance,
-        np.zeros(4),
-    )
+    _, jacobians = _jacobians(physics, q)
+    out = _torques(setup, q, stance, np.zeros(4))
     assert out.extra_force_n[2] > 0 and out.extra_force_n[5] > 0
     legs = np.array(physics.joint_legs)
     for i in (0, 1):
