@@ -25,6 +25,7 @@ from scalf_opt.api.simulation import (
     CycleSimulationResult,
     SimulationResult,
     simulate,
+    simulate_3d,
     simulate_cycle,
 )
 from scalf_opt.locomotion.gait import Gait
@@ -54,6 +55,7 @@ __all__ = [
     "paper",
     "read_gait",
     "simulate",
+    "simulate_3d",
     "simulate_cycle",
     "sweep_gaits",
     "view",

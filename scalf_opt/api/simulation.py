@@ -161,6 +161,61 @@ class SimulationResult(_Simulated):
         return write_bag(path, series)
 
 
+@dataclass(frozen=True)
+class _SagittalPlan:
+    """A sagittal plan ready to simulate: the robot, its energy model, swings and settings."""
+
+    robot: Robot
+    pipeline: EnergyPipeline
+    swings: dict[str, Any]
+    source: str | None
+    settings: Any
+
+
+def _sagittal_plan(
+    robot: str | Robot,
+    gait: Gait | None,
+    swings_from: str | Path | None,
+    cycles: int,
+    accounting: Accounting,
+    servo_bandwidth_hz: float | None,
+    loads: str | None,
+) -> _SagittalPlan:
+    """The checked inputs of :func:`simulate` and :func:`simulate_3d`, as one plan.
+
+    Raises:
+        ConfigError: As :func:`simulate` says.
+    """
+    from scalf_opt.io.saved import read_saved_swings
+    from scalf_opt.sim.plan import REFERENCE_SWINGS
+    from scalf_opt.sim.settings import SimSettings
+
+    robot = as_robot(robot)
+    if isinstance(cycles, bool) or not isinstance(cycles, int) or not 2 <= cycles <= MAX_SIM_CYCLES:
+        raise ConfigError(
+            f"cycles must be an integer in 2..{MAX_SIM_CYCLES} (the first is the start-up), got "
+            f"{cycles!r}",
+            field="cycles",
+        )
+    if swings_from is not None and gait is not None:
+        raise ConfigError("the gait comes with the swings' summary.json: give one", field="gait")
+    settings = (
+        SimSettings()
+        if servo_bandwidth_hz is None
+        else SimSettings(servo_bandwidth_hz=servo_bandwidth_hz)
+    )
+    if swings_from is not None:
+        saved = read_saved_swings(swings_from)
+        saved.check_robot(robot)
+        gait, swings = saved.gait, saved.require_all_legs()
+        loads = loads or saved.loads
+    else:
+        gait, swings = gait or read_gait(robot=robot), dict(REFERENCE_SWINGS)
+    pipeline = EnergyPipeline(robot, gait, accounting, loads=loads or DEFAULT_LOADS)
+    source = str(swings_from) if swings_from is not None else None
+    return _SagittalPlan(robot, pipeline, dict(swings), source, settings)
+
+
 def simulate(
     robot: str | Robot,
     gait: Gait | None = None,
@@ -196,44 +251,63 @@ def simulate(
         ConfigError: Fewer than 2 cycles, a gait given with ``swings_from``, a bad
             ``summary.json`` or one of another robot, a servo too fast for the time step.
     """
-    from scalf_opt.io.saved import read_saved_swings
     from scalf_opt.sim.experiment import simulation_file
-    from scalf_opt.sim.plan import REFERENCE_SWINGS
-    from scalf_opt.sim.settings import SimSettings
 
-    robot = as_robot(robot)
-
-    if isinstance(cycles, bool) or not isinstance(cycles, int) or not 2 <= cycles <= MAX_SIM_CYCLES:
-        raise ConfigError(
-            f"cycles must be an integer in 2..{MAX_SIM_CYCLES} (the first is the start-up), got "
-            f"{cycles!r}",
-            field="cycles",
-        )
-    if swings_from is not None and gait is not None:
-        raise ConfigError("the gait comes with the swings' summary.json: give one", field="gait")
-    settings = (
-        SimSettings()
-        if servo_bandwidth_hz is None
-        else SimSettings(servo_bandwidth_hz=servo_bandwidth_hz)
+    p = _sagittal_plan(robot, gait, swings_from, cycles, accounting, servo_bandwidth_hz, loads)
+    data, run = simulation_file(
+        p.robot, p.pipeline, p.swings, p.settings, cycles, p.source, ensemble
     )
-    if swings_from is not None:
-        saved = read_saved_swings(swings_from)
-        saved.check_robot(robot)
-        gait, swings = saved.gait, saved.require_all_legs()
-        loads = loads or saved.loads
-    else:
-        gait, swings = gait or read_gait(robot=robot), dict(REFERENCE_SWINGS)
-    pipeline = EnergyPipeline(robot, gait, accounting, loads=loads or DEFAULT_LOADS)
-    source = str(swings_from) if swings_from is not None else None
-    data, run = simulation_file(robot, pipeline, swings, settings, cycles, source, ensemble)
-    data = {"provenance": provenance(robot, command), **data}
-    families = ", ".join(sorted({family for family, _ in swings.values()}))
+    data = {"provenance": provenance(p.robot, command), **data}
+    families = ", ".join(sorted({family for family, _ in p.swings.values()}))
     title = (
-        f"MuJoCo {data['mujoco_version']} simulation of {robot.name}, {families} swing: "
-        f"{gait.trot_text}, {cycles} cycles, dt={1e3 * data['settings']['timestep_s']:g} ms, servo "
+        f"MuJoCo {data['mujoco_version']} simulation of {p.robot.name}, {families} swing: "
+        f"{p.pipeline.gait.trot_text}, {cycles} cycles, "
+        f"dt={1e3 * data['settings']['timestep_s']:g} ms, servo "
         f"{data['settings']['servo_bandwidth_hz']:.3g} Hz"
     )
-    return SimulationResult(robot, data, run.record, title)
+    return SimulationResult(p.robot, data, run.record, title)
+
+
+def simulate_3d(
+    robot: str | Robot,
+    gait: Gait | None = None,
+    *,
+    swings_from: str | Path | None = None,
+    cycles: int = 10,
+    accounting: Accounting = "paper",
+    servo_bandwidth_hz: float | None = None,
+    loads: str | None = None,
+    ensemble: bool = True,
+    command: Sequence[str] | None = None,
+) -> CycleSimulationResult:
+    """A sagittal plan in the 3-D referee, the whole robot free (needs the ``sim`` extra).
+
+    The plan (the reference swing, or the swings and gait of ``swings_from``) becomes a 3-D plan
+    (:mod:`scalf_opt.sim.sagittal_cycle`: the trunk level at constant height, the abduction joints
+    at zero, the minimum-norm stance forces, the moment about the diagonal left unbalanced) and
+    the 3-D referee runs it; no reference beside it. The arguments are :func:`simulate`'s.
+
+    Raises:
+        ConfigError: As :func:`simulate` says.
+    """
+    from scalf_opt.sim.whole_body_experiment import (
+        CycleReferee,
+        SagittalTrot,
+        cycle_simulation_file,
+    )
+
+    p = _sagittal_plan(robot, gait, swings_from, cycles, accounting, servo_bandwidth_hz, loads)
+    trot = SagittalTrot(p.pipeline, p.swings, p.source)
+    referee = CycleReferee(p.robot, trot, cycles, p.pipeline.accounting)
+    data, record = cycle_simulation_file(referee, p.settings, ensemble)
+    data = {"provenance": provenance(p.robot, command), **data}
+    families = ", ".join(sorted({family for family, _ in p.swings.values()}))
+    title = (
+        f"MuJoCo {data['mujoco_version']} 3-D referee of {p.robot.name}'s sagittal plan, "
+        f"{families} swing: {p.pipeline.gait.trot_text}, {cycles} cycles, "
+        f"dt={1e3 * data['settings']['timestep_s']:g} ms"
+    )
+    return CycleSimulationResult(p.robot, data, record, title)
 
 
 @dataclass(frozen=True)
@@ -293,7 +367,11 @@ def simulate_cycle(
     """
     from scalf_opt.io.whole_body_export import read_cycle
     from scalf_opt.sim.settings import SimSettings
-    from scalf_opt.sim.whole_body_experiment import CycleReferee, cycle_simulation_file
+    from scalf_opt.sim.whole_body_experiment import (
+        CycleReferee,
+        SavedCycle,
+        cycle_simulation_file,
+    )
 
     if isinstance(cycles, bool) or not isinstance(cycles, int) or not 2 <= cycles <= MAX_SIM_CYCLES:
         raise ConfigError(
@@ -309,7 +387,7 @@ def simulate_cycle(
         if servo_bandwidth_hz is None
         else SimSettings(servo_bandwidth_hz=servo_bandwidth_hz)
     )
-    referee = CycleReferee(robot, str(cycle_from), cycles, accounting)
+    referee = CycleReferee(robot, SavedCycle(str(cycle_from)), cycles, accounting)
     data, record = cycle_simulation_file(referee, settings, ensemble, workers)
     data = {"provenance": provenance(robot, command), **data}
     gait = data["gait"]

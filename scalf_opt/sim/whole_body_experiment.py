@@ -1,4 +1,7 @@
-"""The 3-D referee's runs: one plan at one setting, the ensemble, and ``simulation.json``."""
+"""The 3-D referee's runs: a plan at one setting, the ensemble, and ``simulation.json``.
+
+The plan is a saved 3-D cycle (:class:`SavedCycle`) or a sagittal plan (:class:`SagittalTrot`).
+"""
 
 from __future__ import annotations
 
@@ -9,34 +12,91 @@ from typing import Any
 
 import mujoco
 
+from scalf_opt.energy.pipeline import EnergyPipeline
+from scalf_opt.energy.swings import SwingChoice, planned_cycle
 from scalf_opt.energy.whole_body import WholeBodyPhysics
+from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.io.whole_body_export import read_cycle, read_plan
+from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION
 from scalf_opt.model.robot import Robot
 from scalf_opt.sim.ensemble import run_members, with_ensemble_verdicts
+from scalf_opt.sim.sagittal_cycle import sagittal_cycle_plan
 from scalf_opt.sim.settings import SimSettings
 from scalf_opt.sim.whole_body_control import TRUNK_BANDWIDTH_OVER_SERVO
 from scalf_opt.sim.whole_body_metrics import cycle_run_summary
 from scalf_opt.sim.whole_body_run import WholeBodyRecord, follow_plan
-from scalf_opt.types import Accounting
+from scalf_opt.types import LEG_NAMES, Accounting
+
+
+@dataclass(frozen=True)
+class SavedCycle:
+    """A 3-D cycle saved by ``optimize --model 3d --out DIR``: the plan the referee follows.
+
+    Attributes:
+        directory: The cycle's directory.
+    """
+
+    directory: str
+
+    def plan(self, physics: WholeBodyPhysics) -> tuple[WholeBodyPlan, dict[str, Any]]:
+        """The plan, and what ``simulation.json`` says of where it came from."""
+        saved = read_cycle(Path(self.directory))
+        return read_plan(Path(self.directory), physics), {
+            "source": self.directory,
+            "plan": "3-D cycle",
+            "friction": float(saved.summary["friction"]),
+        }
+
+
+@dataclass(frozen=True)
+class SagittalTrot:
+    """A sagittal plan (the pipeline's gait and loads, and the swings) as a 3-D plan.
+
+    Attributes:
+        pipeline: The sagittal energy model.
+        swings: Every leg's swing.
+        source: Where the swings come from (``None``: the reference), for ``simulation.json``.
+    """
+
+    pipeline: EnergyPipeline
+    swings: dict[str, SwingChoice]
+    source: str | None = None
+
+    def plan(self, physics: WholeBodyPhysics) -> tuple[WholeBodyPlan, dict[str, Any]]:
+        """The plan (:func:`~scalf_opt.sim.sagittal_cycle.sagittal_cycle_plan`), and its origin.
+
+        The origin holds the sagittal model's own energy per leg beside the 3-D model's.
+        """
+        plan = sagittal_cycle_plan(self.pipeline, self.swings, physics)
+        cycle = planned_cycle(self.pipeline, self.swings)
+        return plan, {
+            "source": self.source,
+            "plan": "sagittal",
+            "loads": self.pipeline.loads,
+            "friction": DEFAULT_FRICTION,
+            "sagittal_model_energy_per_cycle_j": {
+                leg: float(cycle.legs[leg].energy_j) for leg in LEG_NAMES
+            },
+        }
 
 
 @dataclass(frozen=True)
 class CycleReferee:
-    """One referee's work on a saved 3-D cycle, at the referee's settings.
+    """One referee's work on a 3-D plan, at the referee's settings.
 
-    It pickles (plain data: the robot, the cycle's directory), so that a worker process can run
-    an ensemble's member (:func:`~scalf_opt.sim.ensemble.run_members`); each process rebuilds
-    the 3-D model and reads the plan itself.
+    It pickles (plain data: the robot and where the plan comes from), so that a worker process
+    can run an ensemble's member (:func:`~scalf_opt.sim.ensemble.run_members`); each process
+    rebuilds the 3-D model and the plan itself.
 
     Attributes:
-        robot: The robot (the cycle's).
-        directory: The cycle's directory (``optimize --model 3d --out DIR``).
+        robot: The robot.
+        source: The plan: a :class:`SavedCycle` or a :class:`SagittalTrot`.
         cycles: Gait cycles to simulate (the first is the start-up).
         accounting: The power accounting of both sides of the comparison.
     """
 
     robot: Robot
-    directory: str
+    source: SavedCycle | SagittalTrot
     cycles: int
     accounting: Accounting
 
@@ -47,12 +107,12 @@ class CycleReferee:
     def run(self, settings: SimSettings) -> tuple[dict[str, Any], WholeBodyRecord]:
         """The referee's ``simulation.json`` content at ``settings``, and its record."""
         physics = WholeBodyPhysics.of(self.robot)
-        plan = read_plan(Path(self.directory), physics)
-        friction = float(read_cycle(Path(self.directory)).summary["friction"])
+        plan, origin = self.source.plan(physics)
+        friction = float(origin.pop("friction"))
         complete, derivation = settings.for_leg_length(self.robot.leg_length_m)
         record, sim, gains = follow_plan(plan, complete, self.cycles, friction)
         data: dict[str, Any] = {
-            "source": self.directory,
+            **origin,
             "model": "3d",
             "mujoco_version": mujoco.__version__,
             "gait": {

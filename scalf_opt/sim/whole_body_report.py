@@ -23,10 +23,16 @@ def cycle_simulation_report(result: dict[str, Any], title: str, details: bool = 
     ensemble = "ensemble" in result
     trunk = result["trunk"]
     deg = math.degrees(1.0)
+    sagittal = result.get("sagittal_model_energy_per_cycle_j")
+    compared = (
+        "the 3-D model's energy of the sagittal plan (trunk level, abduction at zero, "
+        f"minimum-norm forces) at 10x its node rate, accounting '{result['accounting']}'"
+        if sagittal
+        else f"the 3-D plan's energy at 10x its node rate, accounting '{result['accounting']}'"
+    )
     lines = [
         title,
-        f"the model it is compared with: the 3-D plan's energy at 10x its node rate, accounting "
-        f"'{result['accounting']}'",
+        f"the model it is compared with: {compared}",
         "",
         f"trunk height   {_range(trunk['height_m'], 1.0, 'm', 4)} "
         f"(plan {_range(trunk['plan_height_m'], 1.0, 'm', 4)})",
@@ -70,6 +76,11 @@ def cycle_simulation_report(result: dict[str, Any], title: str, details: bool = 
         + f"; torque beyond an effort limit {100 * saturated:.2f} % of steps (worst joint)",
         energy_goal_line(result),
     ]
+    if sagittal:
+        lines.append(
+            "the sagittal model's own energy per cycle (its loads, no abduction joints): "
+            + ", ".join(f"{leg} {sagittal[leg]:.3f} J" for leg in LEG_NAMES)
+        )
     if details:
         controller = result["controller"]
         lines += [

@@ -7,6 +7,8 @@ measured) is shaded. Angles in degrees (converted here, at the edge).
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib.pyplot as plt
 import numpy as np
 import pinocchio as pin
@@ -62,7 +64,7 @@ def cycle_simulation_figure(record: WholeBodyRecord, period_s: float, title: str
         )
         axes[0].legend(loc="upper right", ncol=2)
         axes[3].legend(loc="upper right", ncol=4)
-        axes[0].set_title(title, fontsize=9)
+        axes[0].set_title(textwrap.fill(title, 110), fontsize=9)
         axes[3].set_xlim(float(record.t_s[0]), float(record.t_s[-1]))
         fig.tight_layout()
     return fig

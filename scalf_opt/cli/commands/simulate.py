@@ -55,6 +55,16 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "whole robot free (default: the reference swing)",
     )
     parser.add_argument(
+        "--model",
+        choices=("sagittal", "3d"),
+        default="sagittal",
+        help="the referee: sagittal (default), the trunk in its sagittal plane, the plan beside "
+        "the reference; 3d, the whole robot free (trunk in six degrees of freedom, every joint, "
+        "stance forces from a QP in friction cones), the sagittal plan as a 3-D plan whose "
+        "moment about the diagonal acts; a 3-D cycle (--from DIR of optimize --model 3d) is "
+        "refereed in 3-D",
+    )
+    parser.add_argument(
         "--cycles",
         type=int,
         metavar="N",
@@ -113,7 +123,14 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
 
     check_output_dir(args.out)
     if args.source is not None and _is_3d_cycle(args.source):
+        if args.model == "sagittal" and "--model" in " ".join(args.argv):
+            raise ConfigError(
+                f"--model sagittal: {args.source} holds a 3-D cycle (leave --model out)",
+                field="model",
+            )
         return run_cycle(args)
+    if args.model == "3d":
+        return run_sagittal_in_3d(args)
     check_output_file(args.log, "--log")
     check_not_the_source(args.log, args.source, "--log")
     if args.log is not None and args.log.suffix not in (".csv", ".mcap"):
@@ -206,6 +223,42 @@ def run_cycle(args: argparse.Namespace) -> int:
         f"the 3-D cycle of {args.source} ({saved.summary.get('robot')}, "
         f"{saved.summary.get('nodes')} nodes), whole robot free in MuJoCo"
     )
+    args.console.text(cycle_simulation_report(result.data, result.title, details=args.details))
+    if not args.details:
+        args.console.text(
+            f"the whole report: {args.out / 'report.txt'} (the controller and the ensemble's "
+            "members; --details)"
+        )
+    args.console.text("wrote " + ", ".join(str(p) for p in written))
+    args.console.json(result.to_dict())
+    return 0
+
+
+def run_sagittal_in_3d(args: argparse.Namespace) -> int:
+    """``simulate --model 3d`` of a sagittal plan: the 3-D referee (exit 0)."""
+    from scalf_opt.api import simulate_3d
+    from scalf_opt.sim.whole_body_report import cycle_simulation_report
+
+    if args.log is not None:
+        raise ConfigError("--log: the 3-D referee writes no sensor log", field="log")
+    if args.source is not None and (args.gait is not None or gait_overrides(args)):
+        raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
+    robot = load_robot(args, args.source)
+    warn_without_effect(args, robot)
+    result = simulate_3d(
+        robot,
+        None if args.source is not None else load_gait(args, robot),
+        swings_from=args.source,
+        cycles=args.cycles,
+        accounting=args.accounting,
+        servo_bandwidth_hz=args.servo_bandwidth,
+        loads=args.loads,
+        ensemble=args.ensemble == "on",
+        command=args.argv,
+    )
+    written = result.write(args.out)
+    saved = f"the gait saved with the swings of {args.source}" if args.source else None
+    args.console.text(gait_origin(args, robot, saved))
     args.console.text(cycle_simulation_report(result.data, result.title, details=args.details))
     if not args.details:
         args.console.text(
