@@ -11,10 +11,10 @@ share the whole robot's loads by the minimum-norm distribution. Written as a
   (:func:`~scalf_opt.locomotion.periodic_spline.fit`); every other joint at zero;
 * the contact forces: at each node, the minimum-norm forces of the feet on the ground (both pairs
   at the instant one lands and the other lifts off) that carry the floating base's wrench, which
-  Pinocchio's ``rnea`` of that motion gives. Two diagonal feet cannot push a moment about the
-  line joining them: the plan leaves that part unbalanced (its ``check`` reports it), as the
-  sagittal model does, and in the 3-D referee it acts on the trunk, which the sagittal referee's
-  planar trunk never lets it do.
+  Pinocchio's ``rnea`` of that motion gives. Two diagonal feet carry every wrench but a moment
+  along the line joining them: the plan leaves exactly that moment unbalanced (its ``check``
+  reports it), as the sagittal model does, and in the 3-D referee it acts on the trunk, which the
+  sagittal referee's planar trunk never lets it do.
 
 Its energy (the 3-D model's drives and accounting on that motion and those forces) is what the
 3-D referee's verdict compares with; the sagittal model's own energy is reported beside it.
@@ -127,8 +127,13 @@ def _minimum_norm_forces(
                 for i in on
             ]
         )
-        # least squares, least norm: exact where the feet can carry the wrench, the moment about
-        # the line of two diagonal feet left over
+        if on.size == 2:
+            # two feet carry every wrench but a moment along the line joining them, and nothing
+            # else is missing: that moment is a seventh unknown, left unbalanced (in the trunk's
+            # axes, as the wrench), the least norm choosing no force along the line
+            line = data.oMf[frames[on[1]]].translation - data.oMf[frames[on[0]]].translation
+            axis = data.oMi[1].rotation.T @ line / np.linalg.norm(line)
+            carry = np.hstack([carry, np.r_[np.zeros(3), axis][:, None]])
         shares = np.linalg.lstsq(carry, wrench, rcond=None)[0]
         for j, i in enumerate(on):
             forces[3 * i : 3 * i + 3, k] = shares[3 * j : 3 * j + 3]

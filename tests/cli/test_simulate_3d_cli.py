@@ -67,3 +67,28 @@ def test_a_cycle_without_its_plan_is_named(capsys, tmp_path, cycle_dir):
     err = capsys.readouterr().err
     assert code == 2 and "plan.csv: cannot be read" in err and err.count("\n") == 1
     assert json.loads((broken / "summary.json").read_text())["model"] == "3d"
+
+
+def test_a_sagittal_plan_in_the_3d_referee(capsys, tmp_path):
+    """SCalf's reference trot with the whole robot free: it holds (measured: -0.6 to -0.3 % per
+    leg), and the report names both models' energies."""
+    out = tmp_path / "sim"
+    code = main(
+        ["simulate", "--model", "3d", "--ensemble", "off", "--cycles", "2", "--out", str(out)]
+    )
+    text = capsys.readouterr().out
+    assert code == 0
+    assert "3-D referee of scalf's sagittal plan" in text
+    assert "the sagittal model's own energy per cycle" in text
+    assert "goal: joint energy within 5 % of the model's on every leg: met" in text
+    data = json.loads((out / "simulation.json").read_text())
+    assert data["model"] == "3d" and data["plan"] == "sagittal"
+    assert {p.name for p in out.iterdir()} == {"simulation.json", "simulation.png", "report.txt"}
+
+
+def test_a_3d_cycle_is_not_refereed_by_the_sagittal_referee(capsys, tmp_path, cycle_dir):
+    code = main(
+        ["simulate", "--model", "sagittal", "--from", str(cycle_dir), "--out", str(tmp_path / "o")]
+    )
+    err = capsys.readouterr().err
+    assert code == 2 and "--model sagittal:" in err and "holds a 3-D cycle" in err
