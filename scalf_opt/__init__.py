@@ -29,6 +29,7 @@ if "numpy" in sys.modules or "scipy" in sys.modules:  # too late for the pin to 
 
 __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "__version__",
+    "CycleSimulationResult",
     "EvaluationResult",
     "ExportResult",
     "Gait",
@@ -51,12 +52,15 @@ __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "paper",
     "read_gait",
     "simulate",
+    "simulate_3d",
+    "simulate_cycle",
     "sweep_gaits",
     "view",
 ]
 
 if TYPE_CHECKING:
     from scalf_opt.api import (
+        CycleSimulationResult,
         EvaluationResult,
         ExportResult,
         Gait,
@@ -79,6 +83,8 @@ if TYPE_CHECKING:
         paper,
         read_gait,
         simulate,
+        simulate_3d,
+        simulate_cycle,
         sweep_gaits,
         view,
     )

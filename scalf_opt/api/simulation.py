@@ -325,9 +325,16 @@ class CycleSimulationResult(_Simulated):
         from scalf_opt.viz.figures import save_atomic
         from scalf_opt.viz.whole_body_sim_figure import cycle_simulation_figure
 
-        out = Path(out_dir)
+        out, r = Path(out_dir), self.record
         figure = cycle_simulation_figure(
-            self.record, float(self.data["gait"]["period_s"]), self.title
+            r.t_s,
+            r.q,
+            r.q_plan,
+            r.contact_force_n,
+            r.plan_force_n,
+            r.fell_at_s,
+            float(self.data["gait"]["period_s"]),
+            self.title,
         )
         return [
             write_atomic(out / "simulation.json", to_json(self.data)),

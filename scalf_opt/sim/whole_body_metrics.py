@@ -90,6 +90,66 @@ def _slip(record: WholeBodyRecord, window: slice) -> list[float]:
     return out
 
 
+def _span(values: np.ndarray) -> list[float] | None:
+    """``[min, max]`` of ``values``, ``None`` when there are none (no cycle measured)."""
+    return [float(values.min()), float(values.max())] if values.size else None
+
+
+def _peak(values: np.ndarray) -> float | None:
+    return float(values.max()) if values.size else None
+
+
+def _mean(values: np.ndarray) -> float:
+    return float(values.mean()) if values.size else 0.0
+
+
+def _trunk(record: WholeBodyRecord, plan: WholeBodyPlan, window: slice) -> dict[str, Any]:
+    """The trunk's ranges beside the plan's, its largest errors and its speed (window's)."""
+    q, q_plan = record.q[:, window], record.q_plan[:, window]
+    rpy, rpy_plan = _rpy(q[:, ::10]), _rpy(q_plan[:, ::10])
+    t = record.t_s[window]
+    return {
+        "height_m": _span(q[2]),
+        "plan_height_m": _span(q_plan[2]),
+        "roll_rad": _span(rpy[0]),
+        "plan_roll_rad": _span(rpy_plan[0]),
+        "pitch_rad": _span(rpy[1]),
+        "plan_pitch_rad": _span(rpy_plan[1]),
+        "position_error_max_m": _peak(np.linalg.norm(q[:3] - q_plan[:3], axis=0)),
+        "orientation_error_max_rad": _orientation_error(q[:, ::10], q_plan[:, ::10])
+        if t.size
+        else None,
+        "forward_speed_m_s": float((q[0, -1] - q[0, 0]) / (t[-1] - t[0]))
+        if t.size > 1
+        else float("nan"),
+        "plan_forward_speed_m_s": plan.speed_m_s,
+    }
+
+
+def _energies(
+    record: WholeBodyRecord, plan: WholeBodyPlan, accounting: Accounting, window: slice
+) -> tuple[np.ndarray, np.ndarray, dict[str, float]]:
+    """Each joint's simulated and planned energy per cycle [J], each leg's feedback share."""
+    physics = plan.physics
+    n, steps = record.t_s.size, window.stop - window.start
+    x, xd = np.zeros((physics.nx, n)), np.zeros((physics.nx, n))
+    x[6:], xd[6:] = record.q[7:], record.qd_next  # the drives read their own joint only
+    charged = np.array(physics.power_function(accounting).map(n)(x, xd, record.tau_nm))
+    simulated = (
+        charged[:, window].sum(axis=1) * plan.schedule.period_s / steps
+        if steps
+        else np.full(physics.n_joints, np.nan)
+    )
+    gross = np.abs(record.tau_nm[:, window] * record.qd_next[:, window]).sum(axis=1)
+    fed_back = np.abs(record.feedback_nm[:, window] * record.qd_next[:, window]).sum(axis=1)
+    legs = np.array(physics.joint_legs)
+    feedback = {
+        leg: float(fed_back[legs == i].sum() / max(gross[legs == i].sum(), 1e-300))
+        for i, leg in enumerate(LEG_NAMES)
+    }
+    return simulated, plan.check(accounting).energy.joint_energy_j, feedback
+
+
 def cycle_run_summary(
     record: WholeBodyRecord,
     plan: WholeBodyPlan,
@@ -101,43 +161,18 @@ def cycle_run_summary(
     ``robot_name`` sets the per-leg energy goal (:func:`~scalf_opt.sim.metrics.energy_goal`).
     """
     physics = plan.physics
-    period = plan.schedule.period_s
-    window, whole = measured_window(record, period)
-    steps = window.stop - window.start
-    n = record.t_s.size
-    x, xd = np.zeros((physics.nx, n)), np.zeros((physics.nx, n))
-    x[6:], xd[6:] = record.q[7:], record.qd_next  # the drives read their own joint only
-    charged = np.array(physics.power_function(accounting).map(n)(x, xd, record.tau_nm))
-    simulated = (
-        charged[:, window].sum(axis=1) * period / steps
-        if whole
-        else np.full(physics.n_joints, np.nan)
-    )
-    model = plan.check(accounting).energy.joint_energy_j
+    window, whole = measured_window(record, plan.schedule.period_s)
+    simulated, model, feedback = _energies(record, plan, accounting, window)
     legs = np.array(physics.joint_legs)
-    gross = np.abs(record.tau_nm[:, window] * record.qd_next[:, window]).sum(axis=1)
-    fed_back = np.abs(record.feedback_nm[:, window] * record.qd_next[:, window]).sum(axis=1)
-    goal = energy_goal(robot_name)
     energy = {}
-    feedback = {}
     for i, leg in enumerate(LEG_NAMES):
-        mine = legs == i
-        m, s = float(model[mine].sum()), float(simulated[mine].sum())
+        m, s = float(model[legs == i].sum()), float(simulated[legs == i].sum())
         energy[leg] = {"model": m, "simulated": s, "relative_difference": _relative(s, m)}
-        feedback[leg] = (
-            float(fed_back[mine].sum() / gross[mine].sum()) if gross[mine].sum() else 0.0
-        )
     total_model, total_sim = float(model.sum()), float(simulated.sum())
-    q, q_plan = record.q[:, window], record.q_plan[:, window]
-    rpy, rpy_plan = _rpy(q[:, ::10]), _rpy(q_plan[:, ::10])
     planned_swing = ~record.plan_stance[:, window]
     touching = np.linalg.norm(record.contact_force_n[:, :, window], axis=0) > 0
-    forward = (
-        float((q[0, -1] - q[0, 0]) / (record.t_s[window][-1] - record.t_s[window][0]))
-        if whole
-        else float("nan")
-    )
-    largest = max((abs(e["relative_difference"]) for e in energy.values()), default=np.nan)
+    goal = energy_goal(robot_name)
+    largest = max(abs(e["relative_difference"]) for e in energy.values())
     return {
         "fell_at_s": record.fell_at_s,
         "cycles_measured": whole,
@@ -153,29 +188,9 @@ def cycle_run_summary(
         },
         "feedback_work_share": feedback,
         "torque_saturation_fraction": {
-            name: float(record.saturated[j, window].mean()) if whole else 0.0
-            for j, name in enumerate(physics.joint_names)
+            name: _mean(record.saturated[j, window]) for j, name in enumerate(physics.joint_names)
         },
-        "trunk": {
-            "height_m": [float(q[2].min()), float(q[2].max())] if whole else None,
-            "plan_height_m": [float(q_plan[2].min()), float(q_plan[2].max())] if whole else None,
-            "roll_rad": [float(rpy[0].min()), float(rpy[0].max())] if whole else None,
-            "plan_roll_rad": [float(rpy_plan[0].min()), float(rpy_plan[0].max())]
-            if whole
-            else None,
-            "pitch_rad": [float(rpy[1].min()), float(rpy[1].max())] if whole else None,
-            "plan_pitch_rad": [float(rpy_plan[1].min()), float(rpy_plan[1].max())]
-            if whole
-            else None,
-            "position_error_max_m": float(np.linalg.norm(q[:3] - q_plan[:3], axis=0).max())
-            if whole
-            else None,
-            "orientation_error_max_rad": _orientation_error(q[:, ::10], q_plan[:, ::10])
-            if whole
-            else None,
-            "forward_speed_m_s": forward,
-            "plan_forward_speed_m_s": plan.speed_m_s,
-        },
+        "trunk": _trunk(record, plan, window),
         "foot_slip_m": dict(zip(LEG_NAMES, _slip(record, window), strict=True)),
         "unplanned_contact_fraction": {
             leg: float((touching[i] & planned_swing[i]).sum() / max(1, planned_swing[i].sum()))
@@ -183,7 +198,7 @@ def cycle_run_summary(
         },
         "stance_force_peak_n": {
             leg: {
-                "simulated": float(record.contact_force_n[2, i, window].max()) if whole else None,
+                "simulated": _peak(record.contact_force_n[2, i, window]),
                 "model": float(plan.forces_n[3 * i + 2].max()),
             }
             for i, leg in enumerate(LEG_NAMES)

@@ -14,7 +14,6 @@ import numpy as np
 import pinocchio as pin
 from matplotlib.figure import Figure
 
-from scalf_opt.sim.whole_body_run import WholeBodyRecord
 from scalf_opt.types import LEG_NAMES
 from scalf_opt.viz.colors import LEG_COLORS
 from scalf_opt.viz.plotting import SWING_SHADE, style
@@ -30,10 +29,30 @@ def _roll_pitch_deg(q: np.ndarray) -> np.ndarray:
     return np.degrees(np.array(rpy).T[:2])
 
 
-def cycle_simulation_figure(record: WholeBodyRecord, period_s: float, title: str) -> Figure:
-    """The run (module docstring)."""
-    t = record.t_s[::_EVERY]
-    q, q_plan = record.q[:, ::_EVERY], record.q_plan[:, ::_EVERY]
+def cycle_simulation_figure(
+    t_s: np.ndarray,
+    q: np.ndarray,
+    q_plan: np.ndarray,
+    force_n: np.ndarray,
+    plan_force_n: np.ndarray,
+    fell_at_s: float | None,
+    period_s: float,
+    title: str,
+) -> Figure:
+    """The run (module docstring).
+
+    Args:
+        t_s: The steps' times (n,) [s].
+        q: The robot's configurations, Pinocchio's free-flyer ``q`` (nq, n).
+        q_plan: The plan's (nq, n).
+        force_n: The ground's force on each foot (3, 4, n) [N], world axes.
+        plan_force_n: The plan's (3, 4, n) [N].
+        fell_at_s: When the robot fell [s], or ``None``.
+        period_s: The gait period [s] (the first cycle is shaded).
+        title: The figure's title.
+    """
+    t = t_s[::_EVERY]
+    q, q_plan = q[:, ::_EVERY], q_plan[:, ::_EVERY]
     angles, angles_plan = _roll_pitch_deg(q), _roll_pitch_deg(q_plan)
     with style():
         fig, axes = plt.subplots(4, 1, figsize=(9.0, 8.5), sharex=True)
@@ -46,25 +65,25 @@ def cycle_simulation_figure(record: WholeBodyRecord, period_s: float, title: str
             ax.plot(t, angles_plan[row], **plan_kw)
         for i, leg in enumerate(LEG_NAMES):
             color = LEG_COLORS.get(leg, "black")
-            axes[3].plot(t, record.contact_force_n[2, i, ::_EVERY], color=color, lw=1.0, label=leg)
-            axes[3].plot(t, record.plan_force_n[2, i, ::_EVERY], color=color, lw=1.0, ls="--")
+            axes[3].plot(t, force_n[2, i, ::_EVERY], color=color, lw=1.0, label=leg)
+            axes[3].plot(t, plan_force_n[2, i, ::_EVERY], color=color, lw=1.0, ls="--")
         for ax in axes:
-            ax.axvspan(0.0, min(period_s, float(record.t_s[-1])), color=SWING_SHADE, lw=0)
-        if record.fell_at_s is not None:
+            ax.axvspan(0.0, min(period_s, float(t_s[-1])), color=SWING_SHADE, lw=0)
+        if fell_at_s is not None:
             for ax in axes:
-                ax.axvline(record.fell_at_s, color="tab:red", lw=1.0)
+                ax.axvline(fell_at_s, color="tab:red", lw=1.0)
         axes[0].set_ylabel("trunk height [m]")
         axes[1].set_ylabel("roll [deg]")
         axes[2].set_ylabel("pitch [deg]")
         axes[3].set_ylabel("vertical force [N]")
         axes[3].set_xlabel(
             "time [s] (shaded: the first cycle, not measured; dashed: the plan"
-            + ("; red: the fall" if record.fell_at_s is not None else "")
+            + ("; red: the fall" if fell_at_s is not None else "")
             + ")"
         )
         axes[0].legend(loc="upper right", ncol=2)
         axes[3].legend(loc="upper right", ncol=4)
         axes[0].set_title(textwrap.fill(title, 110), fontsize=9)
-        axes[3].set_xlim(float(record.t_s[0]), float(record.t_s[-1]))
+        axes[3].set_xlim(float(t_s[0]), float(t_s[-1]))
         fig.tight_layout()
     return fig
