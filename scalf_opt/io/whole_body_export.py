@@ -129,6 +129,17 @@ def is_cycle_dir(directory: Path) -> bool:
     return (directory / "plan.csv").is_file() and (directory / "summary.json").is_file()
 
 
+def _bad_cell(header: list[str], body: list[list[str]]) -> str | None:
+    """Where the first cell that is not a number is (``row 3, column 't_s': 'oops'``)."""
+    for r, row in enumerate(body, start=2):
+        for name, cell in zip(header, row, strict=False):
+            try:
+                float(cell)
+            except ValueError:
+                return f"row {r}, column {name!r}: {cell!r} is not a number"
+    return None
+
+
 def read_cycle(directory: Path) -> SavedCycle:
     """Read a 3-D cycle's ``summary.json`` and ``plan.csv``.
 
@@ -157,7 +168,7 @@ def read_cycle(directory: Path) -> SavedCycle:
     try:
         values = np.array(body, dtype=float)
     except ValueError as exc:
-        raise ConfigError(f"{plan_path}: {exc}", field="from") from exc
+        raise ConfigError(f"{plan_path}: {_bad_cell(header, body) or exc}", field="from") from exc
     if values.shape[1] != len(header):
         raise ConfigError(f"{plan_path}: rows and header differ in length", field="from")
     columns = {name: values[:, c] for c, name in enumerate(header)}

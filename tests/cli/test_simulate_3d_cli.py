@@ -92,3 +92,17 @@ def test_a_3d_cycle_is_not_refereed_by_the_sagittal_referee(capsys, tmp_path, cy
     )
     err = capsys.readouterr().err
     assert code == 2 and "--model sagittal:" in err and "holds a 3-D cycle" in err
+
+
+def test_a_cell_that_is_not_a_number_is_named_by_row_and_column(capsys, tmp_path, cycle_dir):
+    broken = tmp_path / "broken"
+    shutil.copytree(cycle_dir, broken)
+    lines = (broken / "plan.csv").read_text().splitlines()
+    cells = lines[2].split(",")
+    cells[0] = "oops"
+    lines[2] = ",".join(cells)
+    (broken / "plan.csv").write_text("\n".join(lines) + "\n")
+    code = main(["simulate", "--from", str(broken), "--out", str(tmp_path / "o")])
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1
+    assert "plan.csv: row 3, column 't_s': 'oops' is not a number" in err
