@@ -87,6 +87,21 @@ def rpy_quaternion(rpy: ca.SX) -> ca.SX:
     )
 
 
+def quaternion_rpy(quat_xyzw: np.ndarray) -> np.ndarray:
+    """Roll, pitch, yaw [rad] (3, n) of quaternions ``(x, y, z, w)`` (4, n), numeric.
+
+    The inverse of :func:`rpy_quaternion` for pitch inside +-90 deg (normalised first):
+    ``R_20 = -sin(pitch)``, ``R_21 = cos(pitch) sin(roll)``, ``R_22 = cos(pitch) cos(roll)``,
+    ``R_10 / R_00 = tan(yaw)``.
+    """
+    qx, qy, qz, qw = quat_xyzw / np.linalg.norm(quat_xyzw, axis=0)
+    r00, r10 = 1 - 2 * (qy**2 + qz**2), 2 * (qx * qy + qw * qz)
+    r20, r21, r22 = 2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), 1 - 2 * (qx**2 + qy**2)
+    return np.vstack(
+        [np.arctan2(r21, r22), np.arctan2(-r20, np.hypot(r21, r22)), np.arctan2(r10, r00)]
+    )
+
+
 def body_angular_velocity(rpy: ca.SX, rpy_dot: ca.SX) -> ca.SX:
     """The trunk's angular velocity in its own axes [rad/s] from the roll-pitch-yaw rates."""
     cr, sr = ca.cos(rpy[0]), ca.sin(rpy[0])

@@ -24,7 +24,12 @@ from typing import Any
 
 import numpy as np
 
-from scalf_opt.energy.whole_body import WholeBodyPhysics, body_angular_velocity, rpy_rotation
+from scalf_opt.energy.whole_body import (
+    WholeBodyPhysics,
+    body_angular_velocity,
+    quaternion_rpy,
+    rpy_rotation,
+)
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.errors import ConfigError
 from scalf_opt.files import write_atomic
@@ -344,14 +349,7 @@ def _rpy_states(
             f"{path}: base_quat_{{x,y,z,w}} in row {bad[0] + 1} has norm {norm[bad[0]]:.9g}, not 1",
             field="from",
         )
-    qx, qy, qz, qw = quat_xyzw / norm
-    # R = R_z(yaw) R_y(pitch) R_x(roll) of the unit quaternion: R_20 = -sin(pitch),
-    # R_21 = cos(pitch) sin(roll), R_22 = cos(pitch) cos(roll), R_10 / R_00 = tan(yaw)
-    r00, r10 = 1 - 2 * (qy**2 + qz**2), 2 * (qx * qy + qw * qz)
-    r20, r21, r22 = 2 * (qx * qz - qw * qy), 2 * (qy * qz + qw * qx), 1 - 2 * (qx**2 + qy**2)
-    rpy = np.vstack(
-        [np.arctan2(r21, r22), np.arctan2(-r20, np.hypot(r21, r22)), np.arctan2(r10, r00)]
-    )
+    rpy = quaternion_rpy(quat_xyzw)
     steep = np.flatnonzero(np.abs(rpy[1]) > MAX_PITCH_RAD)
     if steep.size:
         k = steep[0]

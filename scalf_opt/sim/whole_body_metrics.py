@@ -29,6 +29,7 @@ from typing import Any
 import numpy as np
 import pinocchio as pin
 
+from scalf_opt.energy.whole_body import quaternion_rpy
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.sim.metrics import energy_goal
 from scalf_opt.sim.whole_body_run import WholeBodyRecord
@@ -51,16 +52,6 @@ def measured_window(record: WholeBodyRecord, period_s: float) -> tuple[slice, in
     first = int(np.ceil(period_s / dt - 1e-9))
     last = int(np.ceil((1 + whole) * period_s / dt - 1e-9))
     return slice(first, last if whole else first), whole
-
-
-def _rpy(q: np.ndarray) -> np.ndarray:
-    """Roll, pitch, yaw (3, n) [rad] of Pinocchio configurations ``q`` (nq, n)."""
-    return np.array(
-        [
-            pin.rpy.matrixToRpy(pin.Quaternion(q[3:7, k]).toRotationMatrix())
-            for k in range(q.shape[1])
-        ]
-    ).T
 
 
 def _orientation_error(q: np.ndarray, q_plan: np.ndarray) -> float:
@@ -106,7 +97,7 @@ def _mean(values: np.ndarray) -> float:
 def _trunk(record: WholeBodyRecord, plan: WholeBodyPlan, window: slice) -> dict[str, Any]:
     """The trunk's ranges beside the plan's, its largest errors and its speed (window's)."""
     q, q_plan = record.q[:, window], record.q_plan[:, window]
-    rpy, rpy_plan = _rpy(q[:, ::10]), _rpy(q_plan[:, ::10])
+    rpy, rpy_plan = quaternion_rpy(q[3:7, ::10]), quaternion_rpy(q_plan[3:7, ::10])
     t = record.t_s[window]
     return {
         "height_m": _span(q[2]),

@@ -14,6 +14,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
+from scalf_opt.energy.whole_body import quaternion_rpy
 from scalf_opt.io.whole_body_export import SavedCycle
 from scalf_opt.types import LEG_NAMES
 from scalf_opt.viz.colors import LEG_COLORS, trajectory_color
@@ -23,12 +24,11 @@ from scalf_opt.viz.plotting import DASHES, SWING_SHADE, style
 def roll_pitch_rad(quat_xyzw: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Roll and pitch [rad] of unit quaternions (4, n) as ``(x, y, z, w)``.
 
-    The angles of ``R = R_z(yaw) R_y(pitch) R_x(roll)``, the 3-D model's own convention.
+    The angles of ``R = R_z(yaw) R_y(pitch) R_x(roll)``, the 3-D model's own convention
+    (:func:`~scalf_opt.energy.whole_body.quaternion_rpy`).
     """
-    x, y, z, w = quat_xyzw
-    roll = np.arctan2(2 * (w * x + y * z), 1 - 2 * (x**2 + y**2))
-    pitch = np.arcsin(np.clip(2 * (w * y - z * x), -1.0, 1.0))
-    return roll, pitch
+    rpy = quaternion_rpy(quat_xyzw)
+    return rpy[0], rpy[1]
 
 
 def _label(cycle: SavedCycle) -> str:

@@ -11,9 +11,9 @@ import textwrap
 
 import matplotlib.pyplot as plt
 import numpy as np
-import pinocchio as pin
 from matplotlib.figure import Figure
 
+from scalf_opt.energy.whole_body import quaternion_rpy
 from scalf_opt.types import LEG_NAMES
 from scalf_opt.viz.colors import LEG_COLORS
 from scalf_opt.viz.plotting import SWING_SHADE, style
@@ -23,10 +23,8 @@ _EVERY = 5
 
 
 def _roll_pitch_deg(q: np.ndarray) -> np.ndarray:
-    rpy = [
-        pin.rpy.matrixToRpy(pin.Quaternion(q[3:7, k]).toRotationMatrix()) for k in range(q.shape[1])
-    ]
-    return np.degrees(np.array(rpy).T[:2])
+    """Roll and pitch [deg] (2, n) of Pinocchio configurations ``q`` (nq, n)."""
+    return np.degrees(quaternion_rpy(q[3:7])[:2])
 
 
 def cycle_simulation_figure(
