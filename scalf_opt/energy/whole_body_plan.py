@@ -258,12 +258,7 @@ class WholeBodyPlan:
 
     def _stance_mask_fine(self, factor: int) -> np.ndarray:
         """Stance at the fine samples (4, n): strictly between two stance nodes, or on one."""
-        stance = self.schedule.stance
-        following = np.roll(stance, -1, axis=1)
-        inside = stance & following
-        fine = np.repeat(inside, factor, axis=1)
-        fine[:, ::factor] |= stance
-        return fine
+        return self.schedule.stance_at(np.arange(self.schedule.intervals * factor) / factor)
 
     def _slip(self, feet: np.ndarray, factor: int) -> float:
         stance = self._stance_mask_fine(factor)

@@ -104,12 +104,34 @@ class TrotSchedule:
         """Nodes at which no foot is on the ground (N,) bool."""
         return np.logical_not(self.stance.any(axis=0))
 
-    def swing_phase(self, leg: str) -> np.ndarray:
-        """The swing phase ``s`` in (0, 1) of ``leg`` at each node (N,); NaN in stance."""
+    def swing_progress(self, leg: str, position: np.ndarray) -> np.ndarray:
+        """How far ``leg``'s swing has gone at ``position``: 0 at lift-off, 1 at touch-down.
+
+        ``position`` (any shape) counts nodes from the cycle's start (any real: ``t / h``,
+        periodic). In stance the value goes past 1 and means nothing.
+        """
         lift = self.touchdown_node(leg) + self.stance_nodes
         swing = self.intervals - self.stance_nodes
-        s = ((np.arange(self.intervals) - lift) % self.intervals) / swing
+        return ((np.asarray(position, dtype=float) - lift) % self.intervals) / swing
+
+    def swing_phase(self, leg: str) -> np.ndarray:
+        """The swing phase ``s`` in (0, 1) of ``leg`` at each node (N,); NaN in stance."""
+        s = self.swing_progress(leg, np.arange(self.intervals))
         return np.where(self.stance[LEG_NAMES.index(leg)], np.nan, s)
+
+    def stance_at(self, position: np.ndarray) -> np.ndarray:
+        """Which feet are on the ground at ``position`` (n,), counted in nodes (any real) (4, n).
+
+        Strictly between two stance nodes, or at a stance node (within 1e-9 of a node's
+        position: times divided by the step are not exact).
+        """
+        n = self.intervals
+        position = np.mod(np.asarray(position, dtype=float), n)
+        nearest = np.round(position)
+        at_node = np.abs(position - nearest) < 1e-9
+        k = np.where(at_node, nearest, np.floor(position)).astype(int) % n
+        stance = self.stance
+        return (stance[:, k] & stance[:, (k + 1) % n]) | (stance[:, k] & at_node)
 
 
 def trot_schedule(period_s: float, duty_cycle: float, sample_rate_hz: float) -> TrotSchedule:

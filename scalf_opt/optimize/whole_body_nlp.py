@@ -170,15 +170,6 @@ def lift_floor_m(problem: CycleProblem, phase: float) -> float:
     return height * min(edge, 1.0) ** 2
 
 
-def inner_swing_phase(
-    schedule: TrotSchedule, leg: str, intervals: np.ndarray, fraction: float
-) -> np.ndarray:
-    """The swing phase in (0, 1) of ``leg`` ``fraction`` through each of the given intervals."""
-    lift = schedule.touchdown_node(leg) + schedule.stance_nodes
-    swing = schedule.intervals - schedule.stance_nodes
-    return ((intervals + fraction - lift) % schedule.intervals) / swing
-
-
 @dataclass(frozen=True)
 class CycleNlp:
     """The NLP of a :class:`CycleProblem`, built for Ipopt.
@@ -409,7 +400,7 @@ def _contact_rows(
         rows.add(feet_pos[2, columns], floor, np.inf, f"{leg} swing floor")
         airborne = np.setdiff1d(np.arange(n), inside)
         for fraction, (_, outputs) in inner.items():
-            inner_phase = inner_swing_phase(schedule, leg, airborne, fraction)
+            inner_phase = schedule.swing_progress(leg, airborne + fraction)
             rows.add(
                 outputs["feet_pos"][2, [int(4 * k + i) for k in airborne]],
                 np.array([lift_floor_m(problem, s) for s in inner_phase]),

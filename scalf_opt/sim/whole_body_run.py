@@ -80,35 +80,6 @@ class WholeBodyRecord:
     fell_at_s: float | None
 
 
-def plan_stance(plan: WholeBodyPlan, t_s: np.ndarray) -> np.ndarray:
-    """Which feet the plan puts on the ground at times ``t_s`` (any, periodic) (4, n).
-
-    A foot is on the ground strictly between two of its stance nodes, and at a stance node.
-    """
-    schedule = plan.schedule
-    n = schedule.intervals
-    position = np.mod(t_s, schedule.period_s) / schedule.step_s
-    k = np.minimum(np.floor(position).astype(int), n - 1)
-    at_node = np.isclose(position, k)
-    stance = schedule.stance
-    return (stance[:, k] & stance[:, (k + 1) % n]) | (stance[:, k] & at_node)
-
-
-def swing_progress(plan: WholeBodyPlan, t_s: np.ndarray) -> np.ndarray:
-    """How far each foot's swing has gone at times ``t_s`` (4, n): 0 at lift-off, 1 at touch-down.
-
-    Outside the swing the value means nothing (the stance's share of the cycle past touch-down
-    plus one).
-    """
-    schedule = plan.schedule
-    period = schedule.period_s
-    touchdown = np.array([schedule.touchdown_node(leg) for leg in LEG_NAMES]) * schedule.step_s
-    liftoff = touchdown + schedule.stance_nodes * schedule.step_s
-    swing_s = period - schedule.stance_nodes * schedule.step_s
-    since = np.mod(t_s[None, :] - liftoff[:, None], period)
-    return since / swing_s
-
-
 def follow_plan(
     plan: WholeBodyPlan, settings: SimSettings, cycles: int, friction: float
 ) -> tuple[WholeBodyRecord, FreeSimModel, WholeBodyGains]:
@@ -137,10 +108,12 @@ def follow_plan(
     feet_plan = samples.feet_m.copy()
     feet_plan[0] += cycle * plan.stride_m
     feet_plan[2] += radius
-    planned = plan_stance(plan, t)
-    progress = swing_progress(plan, t)
+    schedule = plan.schedule
+    position = t / schedule.step_s  # in nodes
+    planned = schedule.stance_at(position)
+    progress = np.vstack([schedule.swing_progress(leg, position) for leg in LEG_NAMES])
     shift = settings.schedule_shift_s
-    shifted = plan_stance(plan, t - shift)
+    shifted = schedule.stance_at((t - shift) / schedule.step_s)
     height_floor = 0.5 * float(plan.x[2].min())
     gains = whole_body_gains(
         physics, samples.q[:, 0], settings, friction, float(np.mean(plan.x[2]))

@@ -56,3 +56,28 @@ def test_a_duty_factor_out_of_range_is_named(duty):
 def test_a_duty_factor_no_grid_resolves_is_named():
     with pytest.raises(GaitError, match="three decimals"):
         trot_schedule(0.4, 0.3333333, 100.0)
+
+
+def test_stance_between_nodes_and_at_them_despite_rounding():
+    s = trot_schedule(0.5, 0.4, 40.0)
+    n = s.intervals
+    nodes = np.arange(n, dtype=float)
+    np.testing.assert_array_equal(s.stance_at(nodes), s.stance)
+    # a time divided by the step lands a hair off the node: still the node
+    np.testing.assert_array_equal(s.stance_at(nodes - 1e-12), s.stance)
+    np.testing.assert_array_equal(s.stance_at(nodes + 1e-12), s.stance)
+    inside = s.stance & np.roll(s.stance, -1, axis=1)
+    np.testing.assert_array_equal(s.stance_at(nodes + 0.5), inside)
+    np.testing.assert_array_equal(s.stance_at(nodes + n), s.stance)  # periodic
+
+
+def test_swing_progress_runs_from_lift_off_to_touch_down():
+    s = trot_schedule(0.5, 0.4, 40.0)
+    for leg in ("RF", "LH", "LF", "RH"):
+        phase = s.swing_phase(leg)
+        swing = ~np.isnan(phase)
+        progress = s.swing_progress(leg, np.arange(s.intervals))
+        np.testing.assert_allclose(progress[swing], phase[swing], rtol=0, atol=1e-15)
+        lift = s.touchdown_node(leg) + s.stance_nodes
+        assert s.swing_progress(leg, lift) == 0.0
+        assert s.swing_progress(leg, lift + s.intervals - s.stance_nodes - 1e-9) == pytest.approx(1)
