@@ -161,6 +161,20 @@ class SimulationResult(_Simulated):
         return write_bag(path, series)
 
 
+def _check_cycles(cycles: int) -> None:
+    """Refuse a cycle count outside 2..:data:`MAX_SIM_CYCLES` (the first is the start-up).
+
+    Raises:
+        ConfigError: Naming ``cycles``.
+    """
+    if isinstance(cycles, bool) or not isinstance(cycles, int) or not 2 <= cycles <= MAX_SIM_CYCLES:
+        raise ConfigError(
+            f"cycles must be an integer in 2..{MAX_SIM_CYCLES} (the first is the start-up), got "
+            f"{cycles!r}",
+            field="cycles",
+        )
+
+
 @dataclass(frozen=True)
 class _SagittalPlan:
     """A sagittal plan ready to simulate: the robot, its energy model, swings and settings."""
@@ -170,6 +184,11 @@ class _SagittalPlan:
     swings: dict[str, Any]
     source: str | None
     settings: Any
+
+    @property
+    def families(self) -> str:
+        """The swings' families, for titles (``joint-6, reference``)."""
+        return ", ".join(sorted({family for family, _ in self.swings.values()}))
 
 
 def _sagittal_plan(
@@ -191,12 +210,7 @@ def _sagittal_plan(
     from scalf_opt.sim.settings import SimSettings
 
     robot = as_robot(robot)
-    if isinstance(cycles, bool) or not isinstance(cycles, int) or not 2 <= cycles <= MAX_SIM_CYCLES:
-        raise ConfigError(
-            f"cycles must be an integer in 2..{MAX_SIM_CYCLES} (the first is the start-up), got "
-            f"{cycles!r}",
-            field="cycles",
-        )
+    _check_cycles(cycles)
     if swings_from is not None and gait is not None:
         raise ConfigError("the gait comes with the swings' summary.json: give one", field="gait")
     settings = (
@@ -258,9 +272,8 @@ def simulate(
         p.robot, p.pipeline, p.swings, p.settings, cycles, p.source, ensemble
     )
     data = {"provenance": provenance(p.robot, command), **data}
-    families = ", ".join(sorted({family for family, _ in p.swings.values()}))
     title = (
-        f"MuJoCo {data['mujoco_version']} simulation of {p.robot.name}, {families} swing: "
+        f"MuJoCo {data['mujoco_version']} simulation of {p.robot.name}, {p.families} swing: "
         f"{p.pipeline.gait.trot_text}, {cycles} cycles, "
         f"dt={1e3 * data['settings']['timestep_s']:g} ms, servo "
         f"{data['settings']['servo_bandwidth_hz']:.3g} Hz"
@@ -301,10 +314,9 @@ def simulate_3d(
     referee = CycleReferee(p.robot, trot, cycles, p.pipeline.accounting)
     data, record = cycle_simulation_file(referee, p.settings, ensemble)
     data = {"provenance": provenance(p.robot, command), **data}
-    families = ", ".join(sorted({family for family, _ in p.swings.values()}))
     title = (
         f"MuJoCo {data['mujoco_version']} 3-D referee of {p.robot.name}'s sagittal plan, "
-        f"{families} swing: {p.pipeline.gait.trot_text}, {cycles} cycles, "
+        f"{p.families} swing: {p.pipeline.gait.trot_text}, {cycles} cycles, "
         f"dt={1e3 * data['settings']['timestep_s']:g} ms"
     )
     return CycleSimulationResult(p.robot, data, record, title)
@@ -380,12 +392,7 @@ def simulate_cycle(
         cycle_simulation_file,
     )
 
-    if isinstance(cycles, bool) or not isinstance(cycles, int) or not 2 <= cycles <= MAX_SIM_CYCLES:
-        raise ConfigError(
-            f"cycles must be an integer in 2..{MAX_SIM_CYCLES} (the first is the start-up), got "
-            f"{cycles!r}",
-            field="cycles",
-        )
+    _check_cycles(cycles)
     saved = read_cycle(Path(cycle_from))
     robot = as_robot(robot if robot is not None else str(saved.summary.get("robot")))
     accounting = accounting or saved.summary.get("accounting", "paper")

@@ -166,6 +166,11 @@ def add_accept_unconverged(parser: argparse.ArgumentParser) -> None:
     )
 
 
+def option_given(args: argparse.Namespace, option: str) -> bool:
+    """Whether ``option`` is on the command line (``--x V`` or ``--x=V``), not at its default."""
+    return any(a == option or a.startswith(option + "=") for a in args.argv)
+
+
 def warn_without_effect(args: argparse.Namespace, robot: Robot) -> None:
     """One line on stderr when ``--accounting`` was given but none of the robot's drives uses it.
 
@@ -173,8 +178,7 @@ def warn_without_effect(args: argparse.Namespace, robot: Robot) -> None:
     not charge the joint's mechanical power through the accounting, so the option changes
     nothing on a robot that has only such drives.
     """
-    given = any(a == "--accounting" or a.startswith("--accounting=") for a in args.argv)
-    if not given:
+    if not option_given(args, "--accounting"):
         return
     from scalf_opt.actuators.sidecar import drives_for
 

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 from pathlib import Path
+from typing import Any
 
 from scalf_opt.cli.options import (
     Outputs,
@@ -18,6 +19,7 @@ from scalf_opt.cli.options import (
     gait_overrides,
     load_gait,
     load_robot,
+    option_given,
     warn_without_effect,
 )
 from scalf_opt.errors import ConfigError
@@ -122,8 +124,10 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.sim.report import DETAILS, simulation_report
 
     check_output_dir(args.out)
+    if args.source is not None and (args.gait is not None or gait_overrides(args)):
+        raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
     if args.source is not None and _is_3d_cycle(args.source):
-        if args.model == "sagittal" and "--model" in " ".join(args.argv):
+        if args.model == "sagittal" and option_given(args, "--model"):
             raise ConfigError(
                 f"--model sagittal: {args.source} holds a 3-D cycle (leave --model out)",
                 field="model",
@@ -135,8 +139,6 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     check_not_the_source(args.log, args.source, "--log")
     if args.log is not None and args.log.suffix not in (".csv", ".mcap"):
         raise ConfigError(f"--log {args.log}: give a .csv or an .mcap file")
-    if args.source is not None and (args.gait is not None or gait_overrides(args)):
-        raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
     robot = load_robot(args, args.source)
     warn_without_effect(args, robot)
     if args.log is not None and args.log.suffix == ".csv":
@@ -196,53 +198,38 @@ def run_cycle(args: argparse.Namespace) -> int:
     """``simulate --from DIR`` of a 3-D cycle: the 3-D referee (exit 0)."""
     from scalf_opt.api import simulate_cycle
     from scalf_opt.io.whole_body_export import read_cycle
-    from scalf_opt.sim.whole_body_report import cycle_simulation_report
 
     if args.log is not None:
         raise ConfigError("--log: a 3-D cycle's simulation writes no sensor log", field="log")
-    if args.gait is not None or gait_overrides(args):
-        raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
     if args.loads is not None:
         raise ConfigError(
             "--loads: a 3-D cycle carries its own contact forces (leave it out)", field="loads"
         )
     saved = read_cycle(args.source)
     robot = load_robot(args) if (args.robot or args.urdf) else None
-    given = any(a == "--accounting" or a.startswith("--accounting=") for a in args.argv)
     result = simulate_cycle(
         args.source,
         robot,
         cycles=args.cycles,
-        accounting=args.accounting if given else None,
+        accounting=args.accounting if option_given(args, "--accounting") else None,
         servo_bandwidth_hz=args.servo_bandwidth,
         ensemble=args.ensemble == "on",
         command=args.argv,
     )
-    written = result.write(args.out)
-    args.console.text(
+    return _report_3d(
+        args,
+        result,
         f"the 3-D cycle of {args.source} ({saved.summary.get('robot')}, "
-        f"{saved.summary.get('nodes')} nodes), whole robot free in MuJoCo"
+        f"{saved.summary.get('nodes')} nodes), whole robot free in MuJoCo",
     )
-    args.console.text(cycle_simulation_report(result.data, result.title, details=args.details))
-    if not args.details:
-        args.console.text(
-            f"the whole report: {args.out / 'report.txt'} (the controller and the ensemble's "
-            "members; --details)"
-        )
-    args.console.text("wrote " + ", ".join(str(p) for p in written))
-    args.console.json(result.to_dict())
-    return 0
 
 
 def run_sagittal_in_3d(args: argparse.Namespace) -> int:
     """``simulate --model 3d`` of a sagittal plan: the 3-D referee (exit 0)."""
     from scalf_opt.api import simulate_3d
-    from scalf_opt.sim.whole_body_report import cycle_simulation_report
 
     if args.log is not None:
         raise ConfigError("--log: the 3-D referee writes no sensor log", field="log")
-    if args.source is not None and (args.gait is not None or gait_overrides(args)):
-        raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
     robot = load_robot(args, args.source)
     warn_without_effect(args, robot)
     result = simulate_3d(
@@ -256,9 +243,19 @@ def run_sagittal_in_3d(args: argparse.Namespace) -> int:
         ensemble=args.ensemble == "on",
         command=args.argv,
     )
-    written = result.write(args.out)
     saved = f"the gait saved with the swings of {args.source}" if args.source else None
-    args.console.text(gait_origin(args, robot, saved))
+    return _report_3d(args, result, gait_origin(args, robot, saved))
+
+
+def _report_3d(args: argparse.Namespace, result: Any, first_line: str) -> int:
+    """Write a 3-D referee's files, then print ``first_line``, its report and the files (0).
+
+    The files first: a reader that closes the pipe early (``| head``) loses no result.
+    """
+    from scalf_opt.sim.whole_body_report import cycle_simulation_report
+
+    written = result.write(args.out)
+    args.console.text(first_line)
     args.console.text(cycle_simulation_report(result.data, result.title, details=args.details))
     if not args.details:
         args.console.text(
