@@ -202,8 +202,10 @@ class WholeBodyController:
             pin.getFrameJacobian(model, data, fid, pin.LOCAL_WORLD_ALIGNED)[:3]
             for fid in self._feet
         ]
+        rot = pin.Quaternion(q[3:7]).toRotationMatrix()
+        rot_plan = pin.Quaternion(q_plan[3:7]).toRotationMatrix()
         target = self._swing_targets(
-            q, v, q_plan, v_plan, plan_feet, jacobians, stance, swing_progress
+            q, v, q_plan, v_plan, (rot, rot_plan), plan_feet, jacobians, stance, swing_progress
         )
         swing_joint = ~stance[self._joint_leg]
         feedback = np.where(
@@ -216,7 +218,10 @@ class WholeBodyController:
             inertia = pin.crba(model, data, q)[:6, :6]
             inertia = np.triu(inertia) + np.triu(inertia, 1).T
             extra = self._extra_forces(
-                self._trunk_force(inertia, q, v, q_plan, v_plan), jacobians, plan_forces, stance
+                self._trunk_force(inertia, q, v, q_plan, v_plan, (rot, rot_plan)),
+                jacobians,
+                plan_forces,
+                stance,
             )
             for i, jac in enumerate(jacobians):
                 if stance[i]:
@@ -231,6 +236,7 @@ class WholeBodyController:
         v: np.ndarray,
         q_plan: np.ndarray,
         v_plan: np.ndarray,
+        rotations: tuple[np.ndarray, np.ndarray],
         plan_feet: np.ndarray,
         jacobians: list[np.ndarray],
         stance: np.ndarray,
@@ -248,8 +254,7 @@ class WholeBodyController:
         if stance.all():
             return target
         data = self._data
-        rot = pin.Quaternion(q[3:7]).toRotationMatrix()
-        rot_plan = pin.Quaternion(q_plan[3:7]).toRotationMatrix()
+        rot, rot_plan = rotations  # the trunk's and the plan's (world from trunk)
         velocity_error = rot @ v[:3] - rot_plan @ v_plan[:3]
         offset = q[:3] - q_plan[:3] + self.gains.placement_time_s * velocity_error
         offset[2] = 0.0
@@ -271,10 +276,10 @@ class WholeBodyController:
         v: np.ndarray,
         q_plan: np.ndarray,
         v_plan: np.ndarray,
+        rotations: tuple[np.ndarray, np.ndarray],
     ) -> np.ndarray:
         """``Q`` (6,): the trunk's feedback as a force and moment in its own axes."""
-        rot = pin.Quaternion(q[3:7]).toRotationMatrix()
-        rot_plan = pin.Quaternion(q_plan[3:7]).toRotationMatrix()
+        rot, rot_plan = rotations  # the trunk's and the plan's (world from trunk)
         error = np.r_[rot.T @ (q_plan[:3] - q[:3]), pin.log3(rot.T @ rot_plan)]
         rate_error = np.r_[
             rot.T @ (rot_plan @ v_plan[:3]) - v[:3], rot.T @ (rot_plan @ v_plan[3:6]) - v[3:6]
