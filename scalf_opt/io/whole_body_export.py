@@ -200,7 +200,15 @@ _BASE_RATES = (("lin_vel", "m_s"), ("ang_vel", "rad_s"), ("lin_acc", "m_s2"), ("
 
 
 def read_plan(directory: Path, physics: WholeBodyPhysics) -> WholeBodyPlan:
-    """The plan ``optimize --model 3d --out DIR`` wrote to ``directory`` (via :func:`read_cycle`).
+    """The plan ``optimize --model 3d --out DIR`` wrote to ``directory``.
+
+    :func:`saved_plan` of :func:`read_cycle` (its docstring says how, and what is refused).
+    """
+    return saved_plan(read_cycle(directory), physics)
+
+
+def saved_plan(saved: SavedCycle, physics: WholeBodyPhysics) -> WholeBodyPlan:
+    """The plan of a cycle read by :func:`read_cycle`.
 
     The schedule is ``TrotSchedule(period_s, duty_cycle, nodes)`` and the speed ``speed_m_s`` of
     ``summary.json``. From ``plan.csv`` (SI units), in the optimizer's coordinates ``X``
@@ -224,7 +232,7 @@ def read_plan(directory: Path, physics: WholeBodyPhysics) -> WholeBodyPlan:
             feet (or the trunk's), a quaternion is not of unit norm or the trunk pitches more than
             :data:`MAX_PITCH_RAD`.
     """
-    saved = read_cycle(directory)
+    directory = saved.directory
     summary_path, plan_path = directory / "summary.json", directory / "plan.csv"
     summary = saved.summary
     robot = summary.get("robot")

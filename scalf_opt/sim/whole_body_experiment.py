@@ -16,7 +16,7 @@ from scalf_opt.energy.pipeline import EnergyPipeline
 from scalf_opt.energy.swings import SwingChoice, planned_cycle
 from scalf_opt.energy.whole_body import WholeBodyPhysics
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
-from scalf_opt.io.whole_body_export import read_cycle, read_plan
+from scalf_opt.io.whole_body_export import read_cycle, saved_plan
 from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION
 from scalf_opt.model.robot import Robot
 from scalf_opt.sim.ensemble import run_members, with_ensemble_verdicts
@@ -41,7 +41,7 @@ class SavedCycle:
     def plan(self, physics: WholeBodyPhysics) -> tuple[WholeBodyPlan, dict[str, Any]]:
         """The plan, and what ``simulation.json`` says of where it came from."""
         saved = read_cycle(Path(self.directory))
-        return read_plan(Path(self.directory), physics), {
+        return saved_plan(saved, physics), {
             "source": self.directory,
             "plan": "3-D cycle",
             "friction": float(saved.summary["friction"]),
