@@ -48,6 +48,7 @@ from scalf_opt.actuators.sidecar import drives_for
 from scalf_opt.actuators.stribeck import smooth_max
 from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.box_bound import Bound
+from scalf_opt.energy.built_once import BuiltOnce
 from scalf_opt.errors import ModelError
 from scalf_opt.model.robot import Robot
 from scalf_opt.model.symbolic import SymbolicChain
@@ -287,6 +288,11 @@ class WholeBodyPhysics:
     @cached_property
     def _cache(self) -> dict[tuple[Accounting, float | None], ca.Function]:
         return {}
+
+    @cached_property
+    def built(self) -> BuiltOnce:
+        """What the optimizers build from this model once (its compiled point functions)."""
+        return BuiltOnce()
 
     def _build_node_function(self, accounting: Accounting, heat_eps: float | None) -> ca.Function:
         nx = self.nx

@@ -16,7 +16,7 @@ Constraints:
   (six rows, over the weight and the weight times the stance height);
 * **the contacts**: a stance foot stands on its foothold on the flat ground ``z = 0`` with zero
   velocity (at every stance node, touch-down and lift-off included); its force lies in the
-  friction cone ``f_x^2 + f_y^2 \le \mu^2 f_z^2``, ``f_z \ge 0``;
+  friction cone ``\sqrt{f_x^2 + f_y^2} \le \mu f_z`` (rounded at its axis, :data:`CONE_SMOOTHING`);
 * **the swing**: the foot at least the lift profile's height above the ground over the first and
   last share of the swing and in between (:class:`~scalf_opt.energy.margins.LiftProfile`), at least
   the clearance ``H`` at mid-swing, landing no faster than the profile's touch-down speed; each
@@ -38,6 +38,11 @@ times the rate was still 5 % higher on 26 nodes and 3.7 % on 50 (with the quarte
 nearly the mean of the neighbouring nodes' (forces and trunk acceleration are both linear in
 between), and such nearly dependent rows stall Ipopt (measured: the multipliers grew to 1e10 and the
 energy fourfold); the ten-times check reports what is left between the nodes.
+
+Derivatives: everything nonlinear but the cones is the node function at the read points, so the
+constraint Jacobian and the Lagrangian's Hessian are assembled from that function's compiled
+ones (:mod:`~scalf_opt.optimize.whole_body_kernel`); CasADi's own, expanded over the whole NLP,
+took 24 s to build and 90 ms per Hessian on Go1's 10 nodes (2 s and 4 ms compiled).
 """
 
 from __future__ import annotations
@@ -60,8 +65,8 @@ from scalf_opt.locomotion.periodic_spline import (
     inner_points,
     interval_points,
 )
-from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S
 from scalf_opt.optimize.nlp import MUMPS_WORK_SPACE
+from scalf_opt.optimize.whole_body_kernel import PointKernel, point_kernel
 from scalf_opt.optimize.whole_body_start import starting_plan
 from scalf_opt.types import LEG_NAMES, Accounting
 
@@ -80,11 +85,26 @@ regularised the Hessian at every iteration and crept (SCalf on 12 nodes: 1,500 i
 energy still falling by 1 % every 20). Scaled by 1e3 the same solve converged in 396 iterations
 at 156 J instead of 257 J."""
 
+CONE_SMOOTHING = 1e-4
+"""The friction cone's rounding, as a share of the weight.
+
+A stance force ``f`` (over the weight ``W``) keeps ``mu f_z >= sqrt(f_x^2 + f_y^2 + eps^2)``: a
+concave row, so the cone is convex in the NLP's eyes, and smooth at its axis; the rounding
+keeps it inside the exact cone (``f_z >= eps W / mu``). The first version's
+``mu^2 f_z^2 - f_x^2 - f_y^2 >= 0`` (a row in N^2, 1e8 on SCalf) is the double cone, not convex:
+its curvature made Ipopt regularise its Hessian at every iteration, and Go1's flying trot crept
+(its first grid unfinished after 36 minutes; 50 s with this row and the compiled point kernel)."""
+
+MUMPS_ORDERING = 0
+"""MUMPS's fill-reducing ordering: approximate minimum degree. Go1 on 10 nodes: 10 s instead of
+18 s with MUMPS's automatic choice (the KKT factorizations are most of the solve)."""
+
 IPOPT_DEFAULTS: dict[str, Any] = {
     "obj_scaling_factor": OBJECTIVE_SCALING,
     "tol": 1e-6,
     "constr_viol_tol": 1e-8,
     "mu_strategy": "adaptive",
+    "mumps_pivot_order": MUMPS_ORDERING,
     "acceptable_tol": 1e-4,
     "acceptable_constr_viol_tol": 1e-8,
     "acceptable_obj_change_tol": 1e-5,
@@ -186,6 +206,9 @@ class CycleNlp:
         shapes: The shapes of the first five blocks of ``variables`` (coordinates, their scaled
             rates and second derivatives, forces, footholds); the slacks follow.
         scales: Each of those blocks' factor from SI units to ``variables``' units.
+        derivatives: ``nlpsol`` options giving the constraint Jacobian and the Lagrangian's
+            Hessian assembled from the read point's compiled ones
+            (:mod:`~scalf_opt.optimize.whole_body_kernel`); the NLP has no parameters.
     """
 
     problem: CycleProblem
@@ -200,6 +223,7 @@ class CycleNlp:
     w0: np.ndarray
     shapes: tuple[tuple[int, int], ...]
     scales: tuple[float, ...]
+    derivatives: dict[str, ca.Function]
 
     def plan_of(self, w: np.ndarray) -> WholeBodyPlan:
         """The plan a (scaled) variable vector ``w`` stands for (its slacks dropped)."""
@@ -238,12 +262,20 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     scales = (1.0, h, h**2, 1.0 / weight, 1.0)
 
     shift = physics.stride_shift(stride)
-    node = physics.node_function(problem.accounting, HEAT_SMOOTHING_EPS_M_S)
-    out = _mapped(node, (x, xd, xdd), forces)
-    inner = {}
-    for fraction, _ in READ_POINTS[1:]:
-        states = inner_points(x, xd, xdd, h, shift, fraction)
-        inner[fraction] = (states, _mapped(node, states, interval_points(forces, fraction)))
+    # the read points' inputs, nodes first, then each inner point's, and a symbol standing for
+    # the kernel's outputs there (its call is substituted at the end: _with_point_derivatives)
+    kernel = point_kernel(physics, problem.accounting)
+    inner_states = {f: inner_points(x, xd, xdd, h, shift, f) for f, _ in READ_POINTS[1:]}
+    point_inputs = ca.horzcat(
+        ca.vertcat(x, xd, xdd, forces),
+        *(ca.vertcat(*inner_states[f], interval_points(forces, f)) for f in inner_states),
+    )
+    stand_in = ca.MX.sym("point_outputs", kernel.outputs, point_inputs.shape[1])
+    out = kernel.named(stand_in[:, :n])
+    inner = {
+        f: (states, kernel.named(stand_in[:, (j + 1) * n : (j + 2) * n]))
+        for j, (f, states) in enumerate(inner_states.items())
+    }
     rows = _Rows()
     values, rates = continuity_rows(x, xd, xdd, h, shift)
     rows.add(values, 0.0, 0.0, "spline values")
@@ -255,7 +287,7 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     for fraction, (states, outputs) in inner.items():
         _limit_rows(problem, rows, outputs, f" (at {fraction:g})")
         _inner_range_rows(problem, rows, states, fraction)
-    _contact_rows(problem, rows, out, inner, x, forces, holds, stride, start)
+    _contact_rows(problem, rows, out, inner, x, shares, holds, stride, start)
     bounds = _variable_bounds(problem, start)
     # Simpson's rule on the half intervals (READ_POINTS): each reading's weight times h
     power = ca.horzcat(
@@ -282,11 +314,15 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
         + [np.ravel(b, order="F") for b in start_slacks]
     )
     lbw, ubw = _scaled(bounds, blocks, scales)
+    variables = ca.veccat(*blocks)
+    objective, constraints, derivatives = _with_point_derivatives(
+        kernel, variables, objective, ca.vertcat(*rows.g), stand_in, point_inputs
+    )
     return CycleNlp(
         problem,
-        ca.veccat(*blocks),
+        variables,
         objective,
-        ca.vertcat(*rows.g),
+        constraints,
         tuple(rows.names),
         lbw,
         ubw,
@@ -295,6 +331,7 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
         np.clip(w0, lbw, ubw),
         tuple(b.shape for b in blocks[:5]),
         scales,
+        derivatives,
     )
 
 
@@ -319,8 +356,8 @@ def solve_cycle(
     solver = ca.nlpsol(
         "whole_body_cycle",
         "ipopt",
-        {"x": nlp.variables, "f": nlp.objective, "g": nlp.constraints},
-        {"ipopt": options, "print_time": False, "expand": True},
+        {"x": nlp.variables, "p": NO_PARAMETERS, "f": nlp.objective, "g": nlp.constraints},
+        {"ipopt": options, "print_time": False, **nlp.derivatives},
     )
     began = time.perf_counter()
     result = solver(x0=nlp.w0, lbx=nlp.lbw, ubx=nlp.ubw, lbg=nlp.lbg, ubg=nlp.ubg)
@@ -336,12 +373,92 @@ def solve_cycle(
     )
 
 
-def _mapped(
-    node: ca.Function, states: tuple[ca.MX, ca.MX, ca.MX], forces: ca.MX
-) -> dict[str, ca.MX]:
-    """The node function on every column of ``states`` and ``forces``, by output name."""
-    fn = node.map(forces.shape[1])
-    return dict(zip(fn.name_out(), fn(*states, forces), strict=True))
+NO_PARAMETERS = ca.MX.sym("p", 0, 1)
+"""The cycle NLP's parameters: none (the derivative functions' second input)."""
+
+
+def _with_point_derivatives(
+    kernel: PointKernel,
+    w: ca.MX,
+    objective_z: ca.MX,
+    g_z: ca.MX,
+    stand_in: ca.MX,
+    point_inputs: ca.MX,
+) -> tuple[ca.MX, ca.MX, dict[str, ca.Function]]:
+    """The objective and rows with the kernel's call for ``stand_in``, and their derivatives.
+
+    ``objective_z`` and ``g_z`` are written on ``stand_in`` (the kernel's outputs at every read
+    point, ``point_inputs``' columns), linear in it. The constraint Jacobian is CasADi's, through
+    the kernel's mapped call whose Jacobian is the block diagonal of the points' compiled ones;
+    the Lagrangian's Hessian is ``A' diag(H_p) A`` (``A`` the constant Jacobian of the points'
+    inputs in ``w``, ``H_p`` each point's compiled Hessian of ``seed_p' out`` with
+    ``seed = dL/d stand_in``) plus the Hessian of what is nonlinear in ``w`` alone (the cones).
+    """
+    points = point_inputs.shape[1]
+    n_in, n_out = kernel.inputs, kernel.outputs
+    lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", g_z.numel())
+    lagrangian = lam_f * objective_z + ca.dot(lam_g, g_z)
+    seed = ca.jacobian(lagrangian, ca.vec(stand_in)).T
+    if ca.depends_on(seed, ca.vertcat(ca.vec(stand_in), w)):
+        raise AssertionError("the cycle NLP must be linear in its read points' outputs")
+    inputs = ca.vec(point_inputs)
+    jac_inputs = ca.jacobian(inputs, w)
+    if ca.depends_on(jac_inputs, w):
+        raise AssertionError("the read points' inputs must be linear in the variables")
+    a = ca.Function("point_map", [w], [jac_inputs])(ca.DM.zeros(w.numel()))
+
+    def block_diagonal(blocks: ca.MX, pattern: ca.Sparsity) -> ca.MX:
+        """``rows x (k points)`` mapped blocks, each with ``pattern``, as one block diagonal."""
+        return ca.MX(ca.diagcat(*([pattern] * points)), blocks.nz[:])
+
+    name = kernel.function.name()
+    jacobian = kernel.function.jacobian()  # (z, out) -> d out / d z
+    z_in, out_in = ca.MX.sym("z", n_in * points), ca.MX.sym("out", n_out * points)
+    jac_blocks = jacobian.map(points, "serial")(
+        ca.reshape(z_in, n_in, points), ca.reshape(out_in, n_out, points)
+    )
+    custom = ca.Function(
+        f"jac_{name}_points",
+        [z_in, out_in],
+        [block_diagonal(jac_blocks, jacobian.sparsity_out(0))],
+        ["i0", "out_o0"],
+        ["jac_o0_i0"],
+    )
+    mapped = ca.Function(
+        f"{name}_points",
+        [z_in],
+        [ca.vec(kernel.function.map(points, "serial")(ca.reshape(z_in, n_in, points)))],
+        ["i0"],
+        ["o0"],
+        {"custom_jacobian": custom, "jac_penalty": 0},
+    )
+    call = ca.reshape(mapped(inputs), n_out, points)
+    objective, g = ca.substitute([objective_z, g_z], [stand_in], [call])
+    h_blocks = kernel.hessian.map(points, "serial")(point_inputs, ca.reshape(seed, n_out, points))
+    lifted = block_diagonal(h_blocks, kernel.hessian.sparsity_out(0))
+    explicit = ca.hessian(lagrangian, w)[0]  # at fixed outputs: the cones
+    hessian = ca.mtimes(a.T, ca.mtimes(lifted, a)) + explicit
+    p = NO_PARAMETERS
+    return (
+        objective,
+        g,
+        {
+            "jac_g": ca.Function(
+                "whole_body_cycle_jac_g",
+                [w, p],
+                [g, ca.jacobian(g, w)],
+                ["x", "p"],
+                ["g", "jac_g_x"],
+            ),
+            "hess_lag": ca.Function(
+                "whole_body_cycle_hess_lag",
+                [w, p, lam_f, lam_g],
+                [ca.triu(hessian)],
+                ["x", "p", "lam_f", "lam_g"],
+                ["triu_hess_gamma_x_x"],
+            ),
+        },
+    )
 
 
 def _scaled(
@@ -361,7 +478,7 @@ def _contact_rows(
     out: dict[str, ca.MX],
     inner: dict[float, tuple[Any, dict[str, ca.MX]]],
     x: ca.MX,
-    forces: ca.MX,
+    shares: ca.MX,
     holds: ca.MX,
     stride: float,
     start: WholeBodyPlan,
@@ -370,7 +487,6 @@ def _contact_rows(
     schedule = problem.schedule
     n = schedule.intervals
     feet_pos, feet_vel = out["feet_pos"], out["feet_vel"]
-    mu2 = problem.friction**2
     lift = problem.margins.lift
     swing_s = schedule.period_s * (1 - schedule.duty_cycle)
     landing = lift.touchdown_speed_for(problem.clearance_m, swing_s)
@@ -387,8 +503,9 @@ def _contact_rows(
         rows.add(feet_pos[:, columns] - target, 0.0, 0.0, f"{leg} stance position")
         # the cones where the foot may carry (its force is held at zero at touch-down and
         # lift-off, where a cone row would be identically zero: a degenerate row)
-        f = forces[3 * i : 3 * i + 3, np.flatnonzero(schedule.loaded[i])]
-        rows.add(mu2 * f[2, :] ** 2 - f[0, :] ** 2 - f[1, :] ** 2, 0.0, np.inf, f"{leg} cone")
+        s = shares[3 * i : 3 * i + 3, np.flatnonzero(schedule.loaded[i])]
+        tangential = ca.sqrt(s[0, :] ** 2 + s[1, :] ** 2 + CONE_SMOOTHING**2)
+        rows.add(problem.friction * s[2, :] - tangential, 0.0, np.inf, f"{leg} cone")
         inside = np.flatnonzero(schedule.stance[i] & np.roll(schedule.stance[i], -1))
         # the swing, at its nodes and inside its intervals (the read points)
         swing = np.flatnonzero(~schedule.stance[i])
