@@ -38,7 +38,8 @@ than the virtual machine; -O2 takes twice as long to compile for a few per cent 
 
 
 DEFAULT_MAX_MB = 200.0
-"""Default bound of the compile cache [MB]: a library is 20-200 kB, a full test run adds ~5 MB."""
+"""Default bound of the compile cache [MB]: a leg's kernel is 20-200 kB, a robot's 3-D point kernel
+2-4 MB; a full test run adds ~20 MB."""
 
 STALE_AFTER_DAYS = 30.0
 """An entry not used for this long is removed [days]."""
