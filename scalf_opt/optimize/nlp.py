@@ -60,6 +60,7 @@ import numpy as np
 from scalf_opt.energy.accounting import accounting as power_accounting
 from scalf_opt.energy.coupling import StanceCoupling
 from scalf_opt.interrupts import interruptible, stop_requested
+from scalf_opt.optimize.block_derivatives import block_diagonal, mapped_with_block_jacobian
 from scalf_opt.optimize.kernels import (
     STANCE_INPUTS,
     SYMBOLIC_LOCK,
@@ -878,33 +879,11 @@ def _sample_derivatives(
     if ca.depends_on(seed, ca.vec(z)) or ca.depends_on(ca.gradient(lagrangian, x), x):
         return {}
 
-    def block_diagonal(per_sample: ca.MX, pattern: ca.Sparsity) -> ca.MX:
-        """``rows x (k n)`` mapped blocks, each with ``pattern``, as one block-diagonal matrix."""
-        return ca.MX(ca.diagcat(*([pattern] * n)), per_sample.nz[:])
-
-    jacobian = kernel.jacobian()  # (y, out) -> d out / d y
-    y_in, out_in = ca.MX.sym("y", 6 * n), ca.MX.sym("out", rows * n)
-    jac_blocks = jacobian.map(n, "serial")(ca.reshape(y_in, 6, n), ca.reshape(out_in, rows, n))
-    custom = ca.Function(
-        f"jac_{name}_kernels",
-        [y_in, out_in],
-        [block_diagonal(jac_blocks, jacobian.sparsity_out(0))],
-        ["i0", "out_o0"],
-        ["jac_o0_i0"],
-    )
-    samples = ca.MX.sym("samples", 6 * n)
-    kernels = ca.Function(
-        f"{name}_kernels",
-        [samples],
-        [ca.vec(_at_samples(kernel, samples, n))],
-        ["i0"],
-        ["o0"],
-        {"custom_jacobian": custom, "jac_penalty": 0},
-    )
+    kernels = mapped_with_block_jacobian(kernel, n, f"{name}_kernels")
     g = ca.substitute(g_z, z, use.call(kernels))
     hessian = use.kernel.smooth_hessian()  # (y, seed) -> d2 (seed' out) / d y2
     h_blocks = hessian.map(n, "serial")(ca.reshape(use.samples, 6, n), ca.reshape(seed, rows, n))
-    lifted = block_diagonal(h_blocks, hessian.sparsity_out(0))
+    lifted = block_diagonal(h_blocks, hessian.sparsity_out(0), n)
     after = x.numel() - block.n_theta - 6 * n
     full = ca.diagcat(ca.MX(block.n_theta, block.n_theta), lifted, ca.MX(after, after))
     return {

@@ -65,6 +65,7 @@ from scalf_opt.locomotion.periodic_spline import (
     inner_points,
     interval_points,
 )
+from scalf_opt.optimize.block_derivatives import block_diagonal, mapped_with_block_jacobian
 from scalf_opt.optimize.nlp import MUMPS_WORK_SPACE
 from scalf_opt.optimize.whole_body_kernel import PointKernel, point_kernel
 from scalf_opt.optimize.whole_body_start import starting_plan
@@ -395,7 +396,7 @@ def _with_point_derivatives(
     ``seed = dL/d stand_in``) plus the Hessian of what is nonlinear in ``w`` alone (the cones).
     """
     points = point_inputs.shape[1]
-    n_in, n_out = kernel.inputs, kernel.outputs
+    n_out = kernel.outputs
     lam_f, lam_g = ca.MX.sym("lam_f"), ca.MX.sym("lam_g", g_z.numel())
     lagrangian = lam_f * objective_z + ca.dot(lam_g, g_z)
     seed = ca.jacobian(lagrangian, ca.vec(stand_in)).T
@@ -407,35 +408,11 @@ def _with_point_derivatives(
         raise AssertionError("the read points' inputs must be linear in the variables")
     a = ca.Function("point_map", [w], [jac_inputs])(ca.DM.zeros(w.numel()))
 
-    def block_diagonal(blocks: ca.MX, pattern: ca.Sparsity) -> ca.MX:
-        """``rows x (k points)`` mapped blocks, each with ``pattern``, as one block diagonal."""
-        return ca.MX(ca.diagcat(*([pattern] * points)), blocks.nz[:])
-
-    name = kernel.function.name()
-    jacobian = kernel.function.jacobian()  # (z, out) -> d out / d z
-    z_in, out_in = ca.MX.sym("z", n_in * points), ca.MX.sym("out", n_out * points)
-    jac_blocks = jacobian.map(points, "serial")(
-        ca.reshape(z_in, n_in, points), ca.reshape(out_in, n_out, points)
-    )
-    custom = ca.Function(
-        f"jac_{name}_points",
-        [z_in, out_in],
-        [block_diagonal(jac_blocks, jacobian.sparsity_out(0))],
-        ["i0", "out_o0"],
-        ["jac_o0_i0"],
-    )
-    mapped = ca.Function(
-        f"{name}_points",
-        [z_in],
-        [ca.vec(kernel.function.map(points, "serial")(ca.reshape(z_in, n_in, points)))],
-        ["i0"],
-        ["o0"],
-        {"custom_jacobian": custom, "jac_penalty": 0},
-    )
+    mapped = mapped_with_block_jacobian(kernel.function, points, f"{kernel.function.name()}_points")
     call = ca.reshape(mapped(inputs), n_out, points)
     objective, g = ca.substitute([objective_z, g_z], [stand_in], [call])
     h_blocks = kernel.hessian.map(points, "serial")(point_inputs, ca.reshape(seed, n_out, points))
-    lifted = block_diagonal(h_blocks, kernel.hessian.sparsity_out(0))
+    lifted = block_diagonal(h_blocks, kernel.hessian.sparsity_out(0), points)
     explicit = ca.hessian(lagrangian, w)[0]  # at fixed outputs: the cones
     hessian = ca.mtimes(a.T, ca.mtimes(lifted, a)) + explicit
     p = NO_PARAMETERS
