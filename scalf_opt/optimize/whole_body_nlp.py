@@ -29,16 +29,15 @@ Constraints:
 
 Objective: the drive energy of every joint over the cycle by Simpson's rule on the half intervals
 (:data:`~scalf_opt.locomotion.periodic_spline.READ_POINTS`: their drawn power, the accounting's
-slack form of the charged joint power plus the drives' losses, smoothed), over the start's energy;
-the losses' smoothing width is narrowed from solve to solve (:data:`SMOOTHING_STEPS`). Read at the
-nodes alone, a joint could rest at every node and move between them for free; read at the nodes and
-midpoints only (Simpson's rule on whole intervals, this model's first version), SCalf's optimum
-kept torque or rate near zero at those points and its energy at ten times the rate was still 5 %
-higher on 26 nodes and 3.7 % on 50 (with the quarter points read too: 2.0 % and 0.8 %). The
-dynamics are not imposed inside the intervals: there the trunk's rows are nearly the mean of the
-neighbouring nodes' (forces and trunk acceleration are both linear in between), and such nearly
-dependent rows stall Ipopt (measured: the multipliers grew to 1e10 and the energy fourfold); the
-ten-times check reports what is left between the nodes.
+slack form of the charged joint power plus the drives' losses, smoothed), over the start's
+energy; the losses' smoothing width is narrowed from solve to solve (:data:`SMOOTHING_STEPS`).
+Read at the nodes alone, a joint could rest at every node and move between them for free; read at the nodes and midpoints only (Simpson's rule on whole intervals, this model's
+first version), SCalf's optimum kept torque or rate near zero at those points and its energy at ten
+times the rate was still 5 % higher on 26 nodes and 3.7 % on 50 (with the quarter points read too:
+2.0 % and 0.8 %). The dynamics are not imposed inside the intervals: there the trunk's rows are
+nearly the mean of the neighbouring nodes' (forces and trunk acceleration are both linear in
+between), and such nearly dependent rows stall Ipopt (measured: the multipliers grew to 1e10 and the
+energy fourfold); the ten-times check reports what is left between the nodes.
 
 Derivatives: everything nonlinear but the cones is the node function at the read points, so the
 constraint Jacobian and the Lagrangian's Hessian are assembled from that function's compiled
