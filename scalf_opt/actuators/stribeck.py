@@ -80,7 +80,7 @@ class StribeckFriction:
         return self.extend.heat_rate_w(max_fn(v, 0)) + self.retract.heat_rate_w(max_fn(-v, 0))
 
 
-def smooth_max(x: Expr, eps: float | Expr) -> Expr:
+def smooth_max(x: Expr, eps: float) -> Expr:
     """Smooth ``max(x, 0) = (x + sqrt(x^2 + eps^2)) / 2``.
 
     It is infinitely differentiable, always above ``max(x, 0)`` and at most ``eps / 2`` above it

@@ -294,26 +294,10 @@ class WholeBodyPhysics:
         """What the optimizers build from this model once (its compiled point functions)."""
         return BuiltOnce()
 
-    def smoothed_node_function(self, accounting: Accounting) -> ca.Function:
-        """:meth:`node_function` with the losses' smoothing width as a fifth input ``eps``.
-
-        ``(X, Xd, Xdd, f, eps) -> outputs``: ``eps`` is the smooth max's width (see
-        :func:`~scalf_opt.actuators.stribeck.smooth_max`), so that an optimizer can narrow it
-        from one solve to the next without building the function again.
-        """
-        key = (f"smoothed {accounting}", None)
-        if key not in self._cache:
-            self._cache[key] = self._build_node_function(accounting, ca.SX.sym("eps"))
-        return self._cache[key]
-
-    def _build_node_function(
-        self, accounting: Accounting, heat_eps: float | ca.SX | None
-    ) -> ca.Function:
-        """The node function; with a symbolic ``heat_eps`` it is the function's last input."""
+    def _build_node_function(self, accounting: Accounting, heat_eps: float | None) -> ca.Function:
         nx = self.nx
         x, xd, xdd = (ca.SX.sym(n, nx) for n in ("X", "Xd", "Xdd"))
         forces = ca.SX.sym("f", 3 * len(self.feet))
-        width = [heat_eps] if isinstance(heat_eps, ca.SX) else []
         q, v, a = self.pinocchio_state_function(x, xd, xdd)
         out = self.twin.contact_rnea(self.feet)(q, v, a, forces)
         tau = out[6:]
@@ -334,19 +318,14 @@ class WholeBodyPhysics:
         ]
         return ca.Function(
             f"whole_body_{accounting}",
-            [x, xd, xdd, forces, *width],
+            [x, xd, xdd, forces],
             values + list(channels.values()),
-            ["X", "Xd", "Xdd", "f"] + ["eps"] * len(width),
+            ["X", "Xd", "Xdd", "f"],
             names + list(channels),
         )
 
     def _drive_expressions(
-        self,
-        x: ca.SX,
-        xd: ca.SX,
-        tau: ca.SX,
-        accounting: Accounting,
-        heat_eps: float | ca.SX | None,
+        self, x: ca.SX, xd: ca.SX, tau: ca.SX, accounting: Accounting, heat_eps: float | None
     ) -> tuple[Any, Any, Any, dict[str, Any]]:
         """Signed joint powers, drawn powers, losses [W] and drive channels of every joint."""
         charge = power_accounting(accounting).charge

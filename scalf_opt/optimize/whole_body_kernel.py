@@ -12,7 +12,7 @@ weights that take its outputs) plus the cones' own.
 
 A :class:`PointKernel` holds that function with its Jacobian and Hessian, compiled to native
 code once per robot and accounting (:func:`~scalf_opt.energy.codegen.compile_library`, cached on
-disk; CasADi's virtual machine without a compiler). Measured on Go1 (67 inputs, 114 outputs):
+disk; CasADi's virtual machine without a compiler). Measured on Go1 (66 inputs, 114 outputs):
 the Hessian at 50 points took 76 ms in the virtual machine and 7.9 ms compiled.
 """
 
@@ -24,7 +24,7 @@ import casadi as ca
 
 from scalf_opt.energy.codegen import compile_library, load_external
 from scalf_opt.energy.whole_body import WholeBodyPhysics
-from scalf_opt.optimize.kernels import SYMBOLIC_LOCK
+from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S, SYMBOLIC_LOCK
 from scalf_opt.types import Accounting, casadi_name
 
 
@@ -34,9 +34,8 @@ class PointKernel:
 
     Attributes:
         function: ``z (inputs) -> out (outputs)``: ``z`` stacks the point's coordinates ``X``,
-            rates ``Xd``, second derivatives ``Xdd``, the four feet's forces [N] and the losses'
-            smoothing width ``eps`` (``smoothed_node_function``'s); ``out`` stacks every output of
-            the node function, each column-major.
+            rates ``Xd``, second derivatives ``Xdd`` and the four feet's forces [N]; ``out`` stacks
+            every output of the node function, each column-major.
         hessian: ``(z, seed) -> d2 (seed' out) / d z2`` (symmetric).
         layout: Each output's name, with its offset in ``out``, rows and columns.
         compiled: The functions run as native code.
@@ -74,10 +73,10 @@ def point_kernel(physics: WholeBodyPhysics, accounting: Accounting) -> PointKern
     """The read point's function of ``physics`` under ``accounting`` (built and compiled once)."""
 
     def build() -> PointKernel:
-        node = physics.smoothed_node_function(accounting)
+        node = physics.node_function(accounting, HEAT_SMOOTHING_EPS_M_S)
         nx = physics.nx
-        z = ca.SX.sym("z", 3 * nx + node.size1_in(3) + 1)
-        values = node(z[:nx], z[nx : 2 * nx], z[2 * nx : 3 * nx], z[3 * nx : -1], z[-1])
+        z = ca.SX.sym("z", 3 * nx + node.size1_in(3))
+        values = node(z[:nx], z[nx : 2 * nx], z[2 * nx : 3 * nx], z[3 * nx :])
         layout, offset = [], 0
         for name, value in zip(node.name_out(), values, strict=True):
             layout.append((name, offset, value.shape[0], value.shape[1]))

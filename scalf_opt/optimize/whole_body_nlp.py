@@ -29,9 +29,9 @@ Constraints:
 
 Objective: the drive energy of every joint over the cycle by Simpson's rule on the half intervals
 (:data:`~scalf_opt.locomotion.periodic_spline.READ_POINTS`: their drawn power, the accounting's
-slack form of the charged joint power plus the drives' losses, smoothed), over the start's
-energy; the losses' smoothing width is narrowed from solve to solve (:data:`SMOOTHING_STEPS`).
-Read at the nodes alone, a joint could rest at every node and move between them for free; read at the nodes and midpoints only (Simpson's rule on whole intervals, this model's
+slack form of the charged joint power plus the drives' losses, smoothed as in the sagittal NLP),
+over the start's energy. Read at the nodes alone, a joint could rest at every node and move between
+them for free; read at the nodes and midpoints only (Simpson's rule on whole intervals, this model's
 first version), SCalf's optimum kept torque or rate near zero at those points and its energy at ten
 times the rate was still 5 % higher on 26 nodes and 3.7 % on 50 (with the quarter points read too:
 2.0 % and 0.8 %). The dynamics are not imposed inside the intervals: there the trunk's rows are
@@ -66,7 +66,6 @@ from scalf_opt.locomotion.periodic_spline import (
     interval_points,
 )
 from scalf_opt.optimize.block_derivatives import block_diagonal, mapped_with_block_jacobian
-from scalf_opt.optimize.kernels import HEAT_SMOOTHING_EPS_M_S
 from scalf_opt.optimize.nlp import MUMPS_WORK_SPACE
 from scalf_opt.optimize.whole_body_kernel import PointKernel, point_kernel
 from scalf_opt.optimize.whole_body_start import starting_plan
@@ -210,8 +209,7 @@ class CycleNlp:
         scales: Each of those blocks' factor from SI units to ``variables``' units.
         derivatives: ``nlpsol`` options giving the constraint Jacobian and the Lagrangian's
             Hessian assembled from the read point's compiled ones
-            (:mod:`~scalf_opt.optimize.whole_body_kernel`); the NLP's one parameter is
-            :data:`SMOOTHING`.
+            (:mod:`~scalf_opt.optimize.whole_body_kernel`); the NLP has no parameters.
     """
 
     problem: CycleProblem
@@ -269,10 +267,9 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     # the kernel's outputs there (its call is substituted at the end: _with_point_derivatives)
     kernel = point_kernel(physics, problem.accounting)
     inner_states = {f: inner_points(x, xd, xdd, h, shift, f) for f, _ in READ_POINTS[1:]}
-    width = ca.repmat(SMOOTHING, 1, n)
     point_inputs = ca.horzcat(
-        ca.vertcat(x, xd, xdd, forces, width),
-        *(ca.vertcat(*inner_states[f], interval_points(forces, f), width) for f in inner_states),
+        ca.vertcat(x, xd, xdd, forces),
+        *(ca.vertcat(*inner_states[f], interval_points(forces, f)) for f in inner_states),
     )
     stand_in = ca.MX.sym("point_outputs", kernel.outputs, point_inputs.shape[1])
     out = kernel.named(stand_in[:, :n])
@@ -360,39 +357,25 @@ def solve_cycle(
     solver = ca.nlpsol(
         "whole_body_cycle",
         "ipopt",
-        {"x": nlp.variables, "p": SMOOTHING, "f": nlp.objective, "g": nlp.constraints},
+        {"x": nlp.variables, "p": NO_PARAMETERS, "f": nlp.objective, "g": nlp.constraints},
         {"ipopt": options, "print_time": False, **nlp.derivatives},
     )
     began = time.perf_counter()
-    w, iterations = nlp.w0, 0
-    for width in SMOOTHING_STEPS:
-        result = solver(x0=w, p=width, lbx=nlp.lbw, ubx=nlp.ubw, lbg=nlp.lbg, ubg=nlp.ubg)
-        stats = solver.stats()
-        w, iterations = np.array(result["x"]), iterations + int(stats["iter_count"])
-        if not stats["success"]:
-            break  # the next width would start from an iterate that is no optimum
+    result = solver(x0=nlp.w0, lbx=nlp.lbw, ubx=nlp.ubw, lbg=nlp.lbg, ubg=nlp.ubg)
+    elapsed = time.perf_counter() - began
+    stats = solver.stats()
     return CycleSolution(
-        nlp.plan_of(w),
+        nlp.plan_of(np.array(result["x"])),
         start,
         bool(stats["success"]),
         str(stats["return_status"]),
-        iterations,
-        time.perf_counter() - began,
+        int(stats["iter_count"]),
+        elapsed,
     )
 
 
-SMOOTHING = ca.MX.sym("eps")
-"""The cycle NLP's one parameter: the drives' losses' smoothing width (:data:`SMOOTHING_STEPS`)."""
-
-SMOOTHING_STEPS = (1e-2, 1e-3, HEAT_SMOOTHING_EPS_M_S)
-"""The smoothing widths of the drives' losses, solve after solve, each from the last's optimum.
-
-The smooth max (:func:`~scalf_opt.actuators.stribeck.smooth_max`) of a cylinder's velocity or an
-electric motor's speed and power curves by ``1 / eps`` where a joint turns back; at the sagittal
-NLP's ``eps`` (the last step) those curvatures reached 1e6 on Go1 (the Lagrangian's Hessian,
-most negative eigenvalue -4e5, on one hip joint at two nodes) and Ipopt regularised its Hessian
-at every iteration. Narrowing it in three steps: Go1's 10 nodes in 15 + 27 + 49 iterations to
-12.603 J, against 164 to 292 iterations to 12.713 J at the last width alone."""
+NO_PARAMETERS = ca.MX.sym("p", 0, 1)
+"""The cycle NLP's parameters: none (the derivative functions' second input)."""
 
 
 def _with_point_derivatives(
@@ -432,7 +415,7 @@ def _with_point_derivatives(
     lifted = block_diagonal(h_blocks, kernel.hessian.sparsity_out(0), points)
     explicit = ca.hessian(lagrangian, w)[0]  # at fixed outputs: the cones
     hessian = ca.mtimes(a.T, ca.mtimes(lifted, a)) + explicit
-    p = SMOOTHING
+    p = NO_PARAMETERS
     return (
         objective,
         g,

@@ -11,7 +11,7 @@ from scalf_opt.locomotion.contact_schedule import trot_schedule
 from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.optimize import whole_body_kernel
 from scalf_opt.optimize.whole_body_nlp import (
-    SMOOTHING,
+    NO_PARAMETERS,
     CycleProblem,
     build_cycle_nlp,
     kinematic_start,
@@ -53,10 +53,9 @@ def test_the_point_kernel_is_compiled_where_a_compiler_is(nlps):
 
 
 def test_assembled_jacobian_and_hessian_are_casadi_s_own(nlps):
-    """At a perturbed start, random multipliers and a losses' smoothing width between the NLP's
-    first and last, the hand-assembled derivatives (compiled kernel) equal CasADi's automatic
-    differentiation of the whole NLP (virtual machine) to round-off: the assembly's
-    ``A' diag(H_p) A`` plus the cones' Hessian misses no term."""
+    """At a perturbed start and random multipliers, the hand-assembled derivatives (compiled
+    kernel) equal CasADi's automatic differentiation of the whole NLP (virtual machine) to
+    round-off: the assembly's ``A' diag(H_p) A`` plus the cones' Hessian misses no term."""
     compiled, plain = nlps
     rng = np.random.default_rng(7)
     w = compiled.w0 + 1e-3 * rng.standard_normal(compiled.w0.size)
@@ -64,22 +63,20 @@ def test_assembled_jacobian_and_hessian_are_casadi_s_own(nlps):
     lam_f = ca.MX.sym("lam_f")
     lam = ca.MX.sym("lam_g", plain.constraints.numel())
     lagrangian = lam_f * plain.objective + ca.dot(lam, plain.constraints)
-    w_sym, width = plain.variables, 1e-3
+    w_sym = plain.variables
     reference = ca.Function(
         "reference",
-        [w_sym, SMOOTHING, lam_f, lam],
+        [w_sym, lam_f, lam],
         [
             plain.objective,
             plain.constraints,
             ca.jacobian(plain.constraints, w_sym),
             ca.triu(ca.hessian(lagrangian, w_sym)[0]),
         ],
-    )(w, width, 1.3, lam_g)
-    f, g = ca.Function(
-        "fg", [compiled.variables, SMOOTHING], [compiled.objective, compiled.constraints]
-    )(w, width)
-    jac = compiled.derivatives["jac_g"](w, width)[1]
-    hess = compiled.derivatives["hess_lag"](w, width, 1.3, lam_g)
+    )(w, 1.3, lam_g)
+    f, g = ca.Function("fg", [compiled.variables], [compiled.objective, compiled.constraints])(w)
+    jac = compiled.derivatives["jac_g"](w, ca.DM.zeros(NO_PARAMETERS.shape))[1]
+    hess = compiled.derivatives["hess_lag"](w, ca.DM.zeros(NO_PARAMETERS.shape), 1.3, lam_g)
     for mine, theirs in zip((f, g, jac, hess), reference, strict=True):
         mine, theirs = np.array(ca.densify(mine)), np.array(ca.densify(theirs))
         assert np.abs(mine - theirs).max() <= 1e-12 * max(np.abs(theirs).max(), 1.0)
