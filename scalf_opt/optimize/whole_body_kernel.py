@@ -47,11 +47,6 @@ class PointKernel:
     compiled: bool
 
     @property
-    def inputs(self) -> int:
-        """The size of ``z``."""
-        return int(self.function.size1_in(0))
-
-    @property
     def outputs(self) -> int:
         """The size of ``out``."""
         return int(self.function.size1_out(0))

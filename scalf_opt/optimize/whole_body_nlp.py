@@ -480,9 +480,9 @@ def _contact_rows(
         rows.add(feet_pos[:, columns] - target, 0.0, 0.0, f"{leg} stance position")
         # the cones where the foot may carry (its force is held at zero at touch-down and
         # lift-off, where a cone row would be identically zero: a degenerate row)
-        s = shares[3 * i : 3 * i + 3, np.flatnonzero(schedule.loaded[i])]
-        tangential = ca.sqrt(s[0, :] ** 2 + s[1, :] ** 2 + CONE_SMOOTHING**2)
-        rows.add(problem.friction * s[2, :] - tangential, 0.0, np.inf, f"{leg} cone")
+        loaded = shares[3 * i : 3 * i + 3, np.flatnonzero(schedule.loaded[i])]
+        tangential = ca.sqrt(loaded[0, :] ** 2 + loaded[1, :] ** 2 + CONE_SMOOTHING**2)
+        rows.add(problem.friction * loaded[2, :] - tangential, 0.0, np.inf, f"{leg} cone")
         inside = np.flatnonzero(schedule.stance[i] & np.roll(schedule.stance[i], -1))
         # the swing, at its nodes and inside its intervals (the read points)
         swing = np.flatnonzero(~schedule.stance[i])
