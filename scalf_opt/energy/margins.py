@@ -21,7 +21,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field, replace
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from scalf_opt.errors import ConfigError
 
@@ -124,8 +124,11 @@ class LiftProfile:
         """The lift height [m] on a gait of mid-swing clearance ``clearance_m``."""
         return DEFAULT_LIFT_SHARE * clearance_m if self.height_m is None else self.height_m
 
-    def touchdown_speed_for(self, clearance_m: float, swing_duration_s: float) -> float:
-        """The largest downward landing speed [m/s] on a gait of this clearance and swing time."""
+    def touchdown_speed_for(self, clearance_m: float, swing_duration_s: Any) -> Any:
+        """The largest downward landing speed [m/s] on a gait of this clearance and swing time.
+
+        ``swing_duration_s`` [s] may be a number or an expression (the 3-D NLP's free period).
+        """
         if self.touchdown_speed_m_s is not None:
             return self.touchdown_speed_m_s
         return DEFAULT_TOUCHDOWN_FACTOR * clearance_m / swing_duration_s

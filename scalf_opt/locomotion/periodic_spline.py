@@ -45,7 +45,7 @@ def _last_column(shift: Any, n: int) -> Any:
     """``shift`` in the last column of an (m, n) block, zeros elsewhere."""
     column = np.zeros((1, n))
     column[0, -1] = 1.0
-    return shift @ column if isinstance(shift, np.ndarray) else shift * column
+    return shift * column if isinstance(shift, int | float) else shift @ column
 
 
 def fit(y: np.ndarray, step_s: float, shift: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -120,7 +120,9 @@ def optimize_cycle(
 ) -> CycleResult:
     """Optimise ``problem``'s cycle at ``sample_rate_hz`` by grid refinement (module docstring).
 
-    ``problem.schedule`` gives the period and duty factor; its own grid is replaced.
+    ``problem.schedule`` gives the period (the start's, when ``problem.period_range_s`` leaves
+    it free: each finer grid starts from the last solve's) and the duty factor; its own grid is
+    replaced.
     """
     period, duty = problem.schedule.period_s, problem.schedule.duty_cycle
     phase_nodes = MIN_NODES_PER_PHASE / (period * min(duty, 1 - duty))
@@ -129,6 +131,8 @@ def optimize_cycle(
     plan: WholeBodyPlan | None = None
     extra = 0
     while True:
+        if plan is not None:
+            period = plan.schedule.period_s  # the last solve's (its own when free)
         schedule = trot_schedule(period, duty, rate)
         if steps and schedule.intervals <= steps[-1].nodes:
             rate *= 2  # the duty factor's grid rounds this rate to the last step's nodes

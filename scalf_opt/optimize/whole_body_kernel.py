@@ -12,7 +12,7 @@ weights that take its outputs) plus the cones' own.
 
 A :class:`PointKernel` holds that function with its Jacobian and Hessian, compiled to native
 code once per robot and accounting (:func:`~scalf_opt.energy.codegen.compile_library`, cached on
-disk; CasADi's virtual machine without a compiler). Measured on Go1 (66 inputs, 114 outputs):
+disk; CasADi's virtual machine without a compiler). Measured on Go1 (then 66 inputs, 114 outputs):
 the Hessian at 50 points took 76 ms in the virtual machine and 7.9 ms compiled.
 """
 
@@ -34,8 +34,10 @@ class PointKernel:
 
     Attributes:
         function: ``z (inputs) -> out (outputs)``: ``z`` stacks the point's coordinates ``X``,
-            rates ``Xd``, second derivatives ``Xdd`` and the four feet's forces [N]; ``out`` stacks
-            every output of the node function, each column-major.
+            its rates and second derivatives as their change over one node interval (``h Xd``,
+            ``h^2 Xdd``), the four feet's forces [N] and the interval ``h`` [s] (the NLP's
+            variables, so that ``z`` is linear in them even when the period is free); ``out``
+            stacks every output of the node function, each column-major, in SI units.
         hessian: ``(z, seed) -> d2 (seed' out) / d z2`` (symmetric).
         layout: Each output's name, with its offset in ``out``, rows and columns.
         compiled: The functions run as native code.
@@ -70,8 +72,10 @@ def point_kernel(physics: WholeBodyPhysics, accounting: Accounting) -> PointKern
     def build() -> PointKernel:
         node = physics.node_function(accounting, HEAT_SMOOTHING_EPS_M_S)
         nx = physics.nx
-        z = ca.SX.sym("z", 3 * nx + node.size1_in(3))
-        values = node(z[:nx], z[nx : 2 * nx], z[2 * nx : 3 * nx], z[3 * nx :])
+        nf = node.size1_in(3)
+        z = ca.SX.sym("z", 3 * nx + nf + 1)
+        h = z[-1]
+        values = node(z[:nx], z[nx : 2 * nx] / h, z[2 * nx : 3 * nx] / h**2, z[3 * nx : -1])
         layout, offset = [], 0
         for name, value in zip(node.name_out(), values, strict=True):
             layout.append((name, offset, value.shape[0], value.shape[1]))

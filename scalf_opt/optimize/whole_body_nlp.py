@@ -48,7 +48,7 @@ took 24 s to build and 90 ms per Hessian on Go1's 10 nodes (2 s and 4 ms compile
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import casadi as ca
@@ -130,6 +130,9 @@ class CycleProblem:
         friction: The friction coefficient of the contact cones.
         margins: How far inside its limits and above the ground the plan stays.
         accounting: How joint power is charged.
+        period_range_s: The period's bounds ``(shortest, longest)`` [s] when the period is free
+            (a decision variable, ``schedule.period_s`` its start); ``None`` fixes it. The
+            duty factor and the node count stay the schedule's.
     """
 
     physics: WholeBodyPhysics
@@ -140,6 +143,15 @@ class CycleProblem:
     friction: float = DEFAULT_FRICTION
     margins: LimitMargins = field(default=DEFAULT_MARGINS)
     accounting: Accounting = "paper"
+    period_range_s: tuple[float, float] | None = None
+
+    def step_bounds_s(self) -> tuple[float, float]:
+        """The node interval's bounds [s]: the period's over the node count."""
+        n = self.schedule.intervals
+        if self.period_range_s is None:
+            return self.schedule.step_s, self.schedule.step_s
+        shortest, longest = self.period_range_s
+        return shortest / n, longest / n
 
 
 @dataclass(frozen=True)
@@ -204,9 +216,12 @@ class CycleNlp:
         lbw, ubw: The variables' bounds (scaled).
         lbg, ubg: The rows' bounds.
         w0: The start, scaled and clipped into the bounds.
-        shapes: The shapes of the first five blocks of ``variables`` (coordinates, their scaled
-            rates and second derivatives, forces, footholds); the slacks follow.
-        scales: Each of those blocks' factor from SI units to ``variables``' units.
+        shapes: The shapes of the first six blocks of ``variables`` (coordinates, their rates
+            and second derivatives as their change over one node interval ``h``, forces over
+            the weight, footholds, and the period over the start's ``T / T0``); the slacks
+            follow.
+        scales: The first five blocks' factors from SI units to ``variables``' units at the
+            start's interval ``h0`` (the rates' is ``h``, the solution's own).
         derivatives: ``nlpsol`` options giving the constraint Jacobian and the Lagrangian's
             Hessian assembled from the read point's compiled ones
             (:mod:`~scalf_opt.optimize.whole_body_kernel`); the NLP has no parameters.
@@ -230,13 +245,21 @@ class CycleNlp:
         """The plan a (scaled) variable vector ``w`` stands for (its slacks dropped)."""
         sizes = [r * c for r, c in self.shapes]
         parts = np.split(np.asarray(w, dtype=float).ravel(), np.cumsum(sizes))
-        x, xd, xdd, forces, holds = (
-            p.reshape(shape, order="F") / c
-            for p, shape, c in zip(parts[:5], self.shapes, self.scales, strict=True)
+        x, steps, bends, shares, holds, stretch = (
+            p.reshape(shape, order="F") for p, shape in zip(parts[:6], self.shapes, strict=True)
         )
         problem = self.problem
+        schedule = problem.schedule
+        h = schedule.step_s * float(stretch[0, 0])
         return WholeBodyPlan(
-            problem.physics, problem.schedule, problem.speed_m_s, x, xd, xdd, forces, holds
+            problem.physics,
+            replace(schedule, period_s=h * schedule.intervals),
+            problem.speed_m_s,
+            x,
+            steps / h,
+            bends / h**2,
+            shares / self.scales[3],
+            holds,
         )
 
 
@@ -244,32 +267,38 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     """The NLP of the module docstring, from ``start``."""
     physics, schedule = problem.physics, problem.schedule
     n, nx, nf = schedule.intervals, physics.nx, 3 * len(LEG_NAMES)
-    h = schedule.step_s
-    stride = problem.speed_m_s * schedule.period_s
+    h0 = schedule.step_s  # the start's node interval
+    h_lo, h_hi = problem.step_bounds_s()
     acc = power_accounting(problem.accounting)
     charging = [j for j, d in enumerate(physics.drives) if d.charges_joint_power]
 
     weight = physics.weight_n
     # the variables are scaled to order one: rates and second derivatives as their change over
-    # one interval (h Xd, h^2 Xdd), forces over the weight
+    # one interval (h Xd, h^2 Xdd), forces over the weight, the interval over the start's; so
+    # the read points' inputs are linear in them, the period free or not
     x, steps, bends = (ca.MX.sym(name, nx, n) for name in ("X", "h_Xd", "h2_Xdd"))
     shares = ca.MX.sym("f_over_weight", nf, n)
     holds = ca.MX.sym("footholds", 2, len(LEG_NAMES))
+    stretch = ca.MX.sym("period_over_start")
+    h = h0 * stretch
     # the slacks of the read points: the nodes (first n columns), then each inner point's
     points = len(READ_POINTS)
     slacks = [ca.MX.sym(f"s{m}", len(charging), points * n) for m in range(acc.slacks)]
-    blocks = [x, steps, bends, shares, holds, *slacks]
-    xd, xdd, forces = steps / h, bends / h**2, shares * weight
-    scales = (1.0, h, h**2, 1.0 / weight, 1.0)
+    blocks = [x, steps, bends, shares, holds, stretch, *slacks]
+    forces = shares * weight
+    scales = (1.0, h0, h0**2, 1.0 / weight, 1.0)
 
-    shift = physics.stride_shift(stride)
+    stride = problem.speed_m_s * n * h
+    shift = ca.DM(physics.stride_shift(1.0)) * stride
     # the read points' inputs, nodes first, then each inner point's, and a symbol standing for
-    # the kernel's outputs there (its call is substituted at the end: _with_point_derivatives)
+    # the kernel's outputs there (its call is substituted at the end: _with_point_derivatives);
+    # the spline in scaled rates is the spline on a unit interval
     kernel = point_kernel(physics, problem.accounting)
-    inner_states = {f: inner_points(x, xd, xdd, h, shift, f) for f, _ in READ_POINTS[1:]}
+    inner_states = {f: inner_points(x, steps, bends, 1.0, shift, f) for f, _ in READ_POINTS[1:]}
+    interval = ca.repmat(h, 1, n)
     point_inputs = ca.horzcat(
-        ca.vertcat(x, xd, xdd, forces),
-        *(ca.vertcat(*inner_states[f], interval_points(forces, f)) for f in inner_states),
+        ca.vertcat(x, steps, bends, forces, interval),
+        *(ca.vertcat(*inner_states[f], interval_points(forces, f), interval) for f in inner_states),
     )
     stand_in = ca.MX.sym("point_outputs", kernel.outputs, point_inputs.shape[1])
     out = kernel.named(stand_in[:, :n])
@@ -278,17 +307,19 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
         for j, (f, states) in enumerate(inner_states.items())
     }
     rows = _Rows()
-    values, rates = continuity_rows(x, xd, xdd, h, shift)
+    values, rates = continuity_rows(x, steps, bends, 1.0, shift)
     rows.add(values, 0.0, 0.0, "spline values")
-    rows.add(rates * h, 0.0, 0.0, "spline rates")
+    rows.add(rates, 0.0, 0.0, "spline rates")
     height = problem.stance_height_m
     rows.add(out["base_wrench"][:3, :] / weight, 0.0, 0.0, "base force")
     rows.add(out["base_wrench"][3:, :] / (weight * height), 0.0, 0.0, "base moment")
     _limit_rows(problem, rows, out)
+    if h_lo < h_hi:  # the rates' bounds move with the interval: rows, not bounds
+        _rate_rows(problem, rows, steps / h, "")
     for fraction, (states, outputs) in inner.items():
         _limit_rows(problem, rows, outputs, f" (at {fraction:g})")
-        _inner_range_rows(problem, rows, states, fraction)
-    _contact_rows(problem, rows, out, inner, x, shares, holds, stride, start)
+        _inner_range_rows(problem, rows, (states[0], states[1] / h), fraction)
+    _contact_rows(problem, rows, out, inner, x, shares, holds, stride, h / h0, start)
     bounds = _variable_bounds(problem, start)
     # Simpson's rule on the half intervals (READ_POINTS): each reading's weight times h
     power = ca.horzcat(
@@ -302,7 +333,9 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     cost = ca.sum1(acc.smooth_cost(power, slacks)) + ca.sum1(loss)
     scale = max(start.evaluate(problem.accounting).total_j, 1e-6)
     weights = np.repeat([w for _, w in READ_POINTS], n)
-    objective = ca.mtimes(cost, ca.DM(weights)) * (h / scale)
+    # the mean drawn power times the start's period (the energy per cycle at a fixed period;
+    # with the period free, the energy per distance at the given speed, as a cost of transport)
+    objective = ca.mtimes(cost, ca.DM(weights)) * (h0 / scale)
 
     start_power = np.hstack(
         [start.node_outputs(problem.accounting)["p_joint"]]
@@ -312,9 +345,11 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     start_blocks = (start.x, start.xd, start.xdd, start.forces_n, start.footholds_m)
     w0 = np.concatenate(
         [np.ravel(b * c, order="F") for b, c in zip(start_blocks, scales, strict=True)]
+        + [np.ones(1)]
         + [np.ravel(b, order="F") for b in start_slacks]
     )
-    lbw, ubw = _scaled(bounds, blocks, scales)
+    # the rates' bounds at the longest interval (the rows hold them exactly when it is free)
+    lbw, ubw = _scaled(bounds, blocks, (1.0, h_hi, h0**2, 1.0 / weight, 1.0, 1.0 / h0))
     variables = ca.veccat(*blocks)
     objective, constraints, derivatives = _with_point_derivatives(
         kernel, variables, objective, ca.vertcat(*rows.g), stand_in, point_inputs
@@ -330,7 +365,7 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
         np.concatenate(rows.lower),
         np.concatenate(rows.upper),
         np.clip(w0, lbw, ubw),
-        tuple(b.shape for b in blocks[:5]),
+        tuple(b.shape for b in blocks[:6]),
         scales,
         derivatives,
     )
@@ -457,16 +492,22 @@ def _contact_rows(
     x: ca.MX,
     shares: ca.MX,
     holds: ca.MX,
-    stride: float,
+    stride: ca.MX,
+    stretch: ca.MX,
     start: WholeBodyPlan,
 ) -> None:
-    """Stance feet on their footholds at rest, friction cones, swing heights, sides."""
+    """Stance feet on their footholds at rest, friction cones, swing heights, sides.
+
+    ``stride`` [m] and ``stretch`` (the period over the start's) are expressions of the variables.
+    """
     schedule = problem.schedule
     n = schedule.intervals
     feet_pos, feet_vel = out["feet_pos"], out["feet_vel"]
     lift = problem.margins.lift
     swing_s = schedule.period_s * (1 - schedule.duty_cycle)
     landing = lift.touchdown_speed_for(problem.clearance_m, swing_s)
+    # the bound at the plan's own swing time (a period of its own when free)
+    landing_now = lift.touchdown_speed_for(problem.clearance_m, swing_s * stretch)
     start_lateral = np.abs(start.footholds_m[1])
     for i, leg in enumerate(LEG_NAMES):
         stance = np.flatnonzero(schedule.stance[i])
@@ -503,14 +544,17 @@ def _contact_rows(
             )
         landing_nodes = [c for c, s in zip(columns, phase, strict=True) if s > 1 - lift.fraction]
         if landing_nodes and np.isfinite(landing):
-            rows.add(feet_vel[2, landing_nodes], -landing, np.inf, f"{leg} landing speed")
+            rows.add(feet_vel[2, landing_nodes] + landing_now, 0.0, np.inf, f"{leg} landing speed")
         side = np.sign(start.footholds_m[1, i])
         lateral = side * (feet_pos[1, [4 * k + i for k in range(n)]] - x[1, :])
         rows.add(lateral, SIDE_SHARE * start_lateral[i], np.inf, f"{leg} side")
 
 
 def _variable_bounds(problem: CycleProblem, start: WholeBodyPlan) -> tuple[np.ndarray, np.ndarray]:
-    """Box bounds of every variable, in the order of the NLP's blocks (column-major)."""
+    """Box bounds of every variable in SI units (the node interval's in seconds).
+
+    In the order of the NLP's blocks, each column-major.
+    """
     physics, schedule = problem.physics, problem.schedule
     n, nx = schedule.intervals, physics.nx
     inf = np.inf
@@ -534,18 +578,30 @@ def _variable_bounds(problem: CycleProblem, start: WholeBodyPlan) -> tuple[np.nd
     acc = power_accounting(problem.accounting)
     charging = sum(d.charges_joint_power for d in physics.drives)
     slack = np.zeros(acc.slacks * charging * len(READ_POINTS) * n)  # at every read point
-    lower = [x_lo, xd_lo, -free, f_lo, np.full(2 * len(LEG_NAMES), -inf), slack]
-    upper = [x_hi, xd_hi, free, f_hi, np.full(2 * len(LEG_NAMES), inf), slack + inf]
+    h_lo, h_hi = problem.step_bounds_s()
+    holds = np.full(2 * len(LEG_NAMES), inf)
+    lower = [x_lo, xd_lo, -free, f_lo, -holds, np.array([h_lo]), slack]
+    upper = [x_hi, xd_hi, free, f_hi, holds, np.array([h_hi]), slack + inf]
     return (
         np.concatenate([np.ravel(b, order="F") for b in lower]),
         np.concatenate([np.ravel(b, order="F") for b in upper]),
     )
 
 
+def _rate_rows(problem: CycleProblem, rows: _Rows, rates: ca.MX, where: str) -> None:
+    """Every joint's velocity limit (less margins) on ``rates`` (nx, k) [rad/s]."""
+    for bound in problem.margins.apply(problem.physics.joint_bounds()):
+        if bound.output == "qd":
+            rows.add(rates[6 + bound.joint, :], bound.lower, bound.upper, f"qd{where}")
+
+
 def _inner_range_rows(
-    problem: CycleProblem, rows: _Rows, states: tuple[ca.MX, ca.MX, ca.MX], fraction: float
+    problem: CycleProblem, rows: _Rows, states: tuple[ca.MX, ca.MX], fraction: float
 ) -> None:
-    """Every joint's range and velocity limit (less margins) inside the intervals."""
+    """Every joint's range and velocity limit (less margins) inside the intervals.
+
+    ``states``: the coordinates and their rates [SI] there.
+    """
     for bound in problem.margins.apply(problem.physics.joint_bounds()):
         if bound.output in ("q", "qd"):
             values = states[0 if bound.output == "q" else 1]

@@ -28,6 +28,8 @@ def _problem(physics: WholeBodyPhysics) -> CycleProblem:
         gait.stance_height_m,
         gait.clearance_m,
         accounting="paper",
+        # the period free: every term of the fixed period's NLP, and the interval's own
+        period_range_s=(0.7 * gait.period_s, 1.5 * gait.period_s),
     )
 
 
