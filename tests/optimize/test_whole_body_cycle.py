@@ -141,3 +141,32 @@ def test_where_no_foot_carries_the_exported_robot_falls_at_g(solved, tmp_path):
 
 def _values(row, *names):
     return np.array([float(row[n]) for n in names])
+
+
+def test_a_free_period_moves_and_costs_less_per_metre(solved):
+    """The period a decision variable (started from the fixed-period optimum, a feasible point
+    of the free problem): the answer's period leaves the start, stays in its range, costs less
+    per metre (the objective is the mean power at a fixed speed), and is still a plan Pinocchio
+    agrees with, closing one stride ``v T`` ahead at its own period."""
+    from dataclasses import replace
+
+    from scalf_opt.optimize.whole_body_nlp import solve_cycle
+
+    problem, fixed = solved
+    period = problem.schedule.period_s
+    free = replace(problem, period_range_s=(0.5 * period, 2.0 * period))
+    solution = solve_cycle(free, fixed.plan)
+    assert solution.success, solution.status
+    plan = solution.plan
+    assert 0.5 * period <= plan.schedule.period_s <= 2.0 * period
+    assert abs(plan.schedule.period_s / period - 1) > 0.01
+    cot = plan.cost_of_transport(plan.evaluate("paper").total_j)
+    fixed_cot = fixed.plan.cost_of_transport(fixed.plan.evaluate("paper").total_j)
+    assert cot < fixed_cot
+    moved = replace(free, schedule=plan.schedule)
+    assert_pinocchio_agrees(moved, plan)
+    assert_contacts_hold(moved, plan)
+    step = plan.schedule.step_s
+    values, rates = continuity_rows(plan.x, plan.xd, plan.xdd, step, plan.shift)
+    assert np.abs(values).max() < 1e-8 and np.abs(rates).max() * step < 1e-8
+    assert plan.stride_m == pytest.approx(problem.speed_m_s * plan.schedule.period_s, rel=1e-12)

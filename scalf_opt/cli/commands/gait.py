@@ -8,6 +8,7 @@ import re
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from scalf_opt.cli.commands.gait_3d import add_3d_arguments
 from scalf_opt.cli.commands.optimize import SWING_FAMILY_HELP
 from scalf_opt.cli.commands.study import MAX_WORKERS, WORKERS_HELP
 from scalf_opt.cli.options import (
@@ -20,8 +21,10 @@ from scalf_opt.cli.options import (
     load_robot,
 )
 from scalf_opt.energy.accounting import ACCOUNTINGS
+from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
+from scalf_opt.optimize.solvers import DEFAULT_SOLVER
 
 if TYPE_CHECKING:
     from scalf_opt.model.robot import Robot
@@ -31,6 +34,14 @@ MAX_SPEEDS = 200
 
 DEFAULT_OUT = Path("results") / "gait"
 
+SAGITTAL_DEFAULTS = {
+    "family": DEFAULT_FAMILY,
+    "method": DEFAULT_SOLVER,
+    "loads": DEFAULT_LOADS,
+    "scheduler": None,
+}
+"""The sagittal search's options at their defaults (``--model 3d`` refuses another value)."""
+
 NAME = "gait"
 HELP = "the cheapest trot at every speed: period, duty, step, stance and swings optimized"
 JSON = True
@@ -38,6 +49,10 @@ EXAMPLES = (
     ("scalf-opt gait --speed 0.25:1.5:0.25", "six speeds on SCalf (results/gait)"),
     ("scalf-opt gait --speed 1.0 --workers 1", "the paper's speed, in this process"),
     ("scalf-opt gait --robot go1 --speed 0.2:0.7:0.1 --out results/go1", "an electric robot"),
+    (
+        "scalf-opt gait --model 3d --robot go1 --speed 0.4:1.4:0.2 --out results/go1-3d",
+        "the whole robot in 3-D, the period optimized",
+    ),
 )
 
 
@@ -102,6 +117,22 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         f"option repeats (at most {MAX_SPEEDS} speeds in all, each at most 10 m/s)",
     )
     add_robot(parser)
+    parser.add_argument(
+        "--model",
+        choices=("sagittal", "3d"),
+        default="sagittal",
+        help="sagittal (default): a pattern search over period, duty, step and stance around "
+        "swing NLPs of two-joint legs; 3d: the whole robot in 3-D, each speed one NLP per "
+        "start with the period a decision variable (minutes per speed)",
+    )
+    add_3d_arguments(parser)
+    parser.add_argument(
+        "--compare",
+        type=Path,
+        metavar="PATH",
+        help="--model 3d: a sagittal gait run's folder (or its gaits.csv), drawn beside the 3-D "
+        "costs of transport in gaits.png",
+    )
     parser.add_argument("--family", default=DEFAULT_FAMILY, metavar="NAME", help=SWING_FAMILY_HELP)
     add_method(parser)
     parser.add_argument(
@@ -268,6 +299,10 @@ def run(args: argparse.Namespace) -> int:
     from scalf_opt.io.provenance import run_provenance
 
     speeds = all_speeds(args.speed)
+    if args.model == "3d":
+        from scalf_opt.cli.commands.gait_3d import run_3d
+
+        return run_3d(args, speeds)
     _check_family(args.family)
     robot: Robot = load_robot(args)
     sweep = sweep_gaits(
@@ -314,5 +349,15 @@ def outputs(args: argparse.Namespace) -> Outputs:
     from scalf_opt.studies.runner import CACHE_DIR
 
     all_speeds(args.speed)  # a mistyped speed is told before another run's lock is
+    if args.model == "3d":
+        from scalf_opt.cli.commands.gait_3d import refuse_sagittal_gait_options
+
+        refuse_sagittal_gait_options(args, SAGITTAL_DEFAULTS)
+        return Outputs(folders={"--out": args.out})
+    from scalf_opt.cli.commands.gait_3d import refuse_3d_options
+
+    refuse_3d_options(args)
+    if args.compare is not None:
+        raise ConfigError("--compare is an option of --model 3d", field="compare")
     _check_family(args.family)
     return Outputs(folders={"--out": args.out}, direct=(args.out / CACHE_DIR,))
