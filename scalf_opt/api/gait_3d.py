@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
@@ -86,6 +86,15 @@ class StartAnswer:
         return math.nan if self.summary is None else float(self.summary["cost_of_transport"])
 
 
+def _labelled(label: str) -> Callable[[str], None]:
+    """A progress callback that puts ``label`` before each text (to the worker's progress)."""
+
+    def progress(text: str) -> None:
+        worker_progress(f"{label}: {text}")
+
+    return progress
+
+
 def solve_speed(case: SpeedCase) -> list[StartAnswer]:
     """Every start of ``case`` (module docstring), in order; a start that raises is a failure."""
     from scalf_opt.energy.whole_body import WholeBodyPhysics
@@ -94,7 +103,6 @@ def solve_speed(case: SpeedCase) -> list[StartAnswer]:
     from scalf_opt.locomotion.contact_schedule import trot_schedule
     from scalf_opt.locomotion.scaling import default_gait_for
     from scalf_opt.optimize.whole_body_driver import optimize_cycle
-    from scalf_opt.optimize.whole_body_limits import pinned_limits
     from scalf_opt.optimize.whole_body_nlp import CycleProblem
     from scalf_opt.robots.loading import load_robot
 
@@ -117,15 +125,12 @@ def solve_speed(case: SpeedCase) -> list[StartAnswer]:
                 case.accounting,
                 case.period_range_s,
             )
-            result = optimize_cycle(problem, case.sample_rate_hz, worker_progress)
+            result = optimize_cycle(problem, case.sample_rate_hz, _labelled(label))
         except ScalfError as exc:
             answers.append(StartAnswer(duty, period, False, str(exc), None, ""))
             continue
         summary = cycle_summary(problem, result)
-        solved = replace(problem, schedule=result.plan.schedule)
-        summary["period_range_s"] = list(case.period_range_s)
         summary["start"] = {"duty_cycle": duty, "period_s": period}
-        summary["pinned_by"] = list(pinned_limits(solved, result.plan))
         csv_text = plan_csv(result.plan, case.accounting)
         answers.append(
             StartAnswer(duty, period, result.converged, result.failure(), summary, csv_text)

@@ -21,7 +21,13 @@ def leg_energies(problem: CycleProblem, joint_energy: Any) -> dict[str, float]:
 
 
 def cycle_summary(problem: CycleProblem, result: CycleResult) -> dict[str, Any]:
-    """The run as plain data (``--json`` and ``summary.json``; SI units)."""
+    """The run as plain data (``--json`` and ``summary.json``; SI units).
+
+    ``pinned_by`` names the limits the answer rides
+    (:func:`~scalf_opt.optimize.whole_body_limits.pinned_limits`).
+    """
+    from scalf_opt.optimize.whole_body_limits import pinned_limits
+
     plan, last = result.plan, result.last
     physics, schedule = problem.physics, plan.schedule
     energy = plan.evaluate(problem.accounting)
@@ -29,6 +35,7 @@ def cycle_summary(problem: CycleProblem, result: CycleResult) -> dict[str, Any]:
         "model": "3d",
         "robot": physics.robot.name,
         "period_s": schedule.period_s,
+        "period_range_s": None if problem.period_range_s is None else list(problem.period_range_s),
         "duty_cycle": schedule.duty_cycle,
         "speed_m_s": problem.speed_m_s,
         "stride_m": plan.stride_m,
@@ -52,6 +59,7 @@ def cycle_summary(problem: CycleProblem, result: CycleResult) -> dict[str, Any]:
             "stance_slip_m": last.check.stance_slip_m,
             "swing_floor_m": last.check.swing_floor_m,
         },
+        "pinned_by": list(pinned_limits(problem, plan)),
         "trunk": {
             "height_m": [float(plan.x[2].min()), float(plan.x[2].max())],
             "roll_rad": [float(plan.x[3].min()), float(plan.x[3].max())],

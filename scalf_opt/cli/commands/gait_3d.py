@@ -184,6 +184,27 @@ def read_compare(path: Path | None) -> list[dict[str, Any]] | None:
     return rows
 
 
+def pinned_words(pinned_by: str) -> str:
+    """``pinned_by`` (``"<joint> <quantity> <end>: <source>; ..."``) grouped by limit.
+
+    ``"FL_calf q upper: joint range (URDF); FR_calf q upper: joint range (URDF)"`` reads
+    ``"q upper of FL_calf, FR_calf (joint range (URDF))"``.
+    """
+    groups: dict[tuple[str, str], list[str]] = {}
+    for part in pinned_by.split("; "):
+        where, _, source = part.partition(": ")
+        words = where.split(" ")
+        if len(words) == 3:
+            joint, quantity, end = words
+            groups.setdefault((f"{quantity} {end}", source), []).append(joint)
+        else:  # the period's range
+            groups.setdefault((where, source), [])
+    return "; ".join(
+        f"{limit} of {', '.join(joints)} ({source})" if joints else f"{limit} ({source})"
+        for (limit, source), joints in groups.items()
+    )
+
+
 def gait_3d_table(robot: str, rows: list[dict[str, Any]]) -> str:
     """The answers per speed as a text table, then what pins each and why a speed failed."""
     header = ["v [m/s]", "T [s]", "duty", "stride [m]", "P [W]", "CoT", "10x", "starts", "status"]
@@ -211,7 +232,7 @@ def gait_3d_table(robot: str, rows: list[dict[str, Any]]) -> str:
         lines.append("  ".join(f"{c:>10s}" for c in cells))
     for r in rows:
         if r["pinned_by"]:
-            lines.append(f"  {r['speed_m_s']:g} m/s pinned at: {r['pinned_by']}")
+            lines.append(f"  {r['speed_m_s']:g} m/s pinned at: {pinned_words(r['pinned_by'])}")
         if r["error"]:
             lines.append(f"  {r['speed_m_s']:g} m/s: {r['error']}")
     return "\n".join(lines)

@@ -97,6 +97,12 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         metavar="X",
         help=f"--model 3d: the feet's friction coefficient (default {DEFAULT_FRICTION:g})",
     )
+    parser.add_argument(
+        "--period-range",
+        metavar="MIN:MAX",
+        help="--model 3d: the period a decision variable between MIN and MAX [s], starting "
+        "from --period (the objective then the mean power: the energy per metre at the speed)",
+    )
     add_gait(parser, speed=True)
     add_loads(parser)
     parser.add_argument(
@@ -235,6 +241,10 @@ def run(args: argparse.Namespace) -> int:
         from scalf_opt.cli.commands.optimize_3d import run_3d
 
         return run_3d(args, margins_from(args))
+    if args.period_range is not None:
+        from scalf_opt.errors import ConfigError
+
+        raise ConfigError("--period-range is an option of --model 3d", field="period_range")
     from scalf_opt.api.optimization import goal_from, optimize_goal
     from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.energy.pipeline import EnergyPipeline

@@ -81,6 +81,17 @@ def build_problem(
     except GaitError as exc:
         raise GaitError(f"--duty {duty:g}: {exc}", field="duty_cycle") from exc
     physics = WholeBodyPhysics.of(robot)
+    free = None
+    if args.period_range is not None:
+        from scalf_opt.cli.commands.gait_3d import period_range
+
+        free = period_range(args.period_range, gait.period_s)
+        if not free[0] <= gait.period_s <= free[1]:
+            raise ConfigError(
+                f"--period {gait.period_s:g}: outside --period-range {args.period_range} (the "
+                "first period must lie in the range)",
+                field="period_s",
+            )
     # the step length S is the trunk's travel over a stance, S = v d T (the sagittal gait's)
     speed = args.speed if args.speed is not None else gait.step_length_m / (duty * gait.period_s)
     problem = CycleProblem(
@@ -92,6 +103,7 @@ def build_problem(
         args.friction,
         margins,
         args.accounting,
+        free,
     )
     flight = gait.period_s * max(0.0, 0.5 - duty)
     line = (
@@ -100,6 +112,7 @@ def build_problem(
         + f", {speed:.3g} m/s (stride {speed * gait.period_s:.3g} m), H={gait.clearance_m:.3g} m, "
         f"start z0={gait.stance_height_m:.3g} m, friction {args.friction:g}, "
         f"accounting '{args.accounting}'"
+        + (f"; the period free in {free[0]:g}..{free[1]:g} s" if free else "")
     )
     return problem, rate, line
 
@@ -172,12 +185,25 @@ def cycle_report(problem: CycleProblem, data: dict[str, Any]) -> str:
         f"{data['energy_at_10x_j']:.3f} J at 10x the rate "
         f"({100 * data['rate_difference']:+.2f} %)",
         f"cost of transport        {data['cost_of_transport']:10.4f}",
+        *(
+            [
+                f"period                   {data['period_s']:10.4f} s (free in "
+                f"{data['period_range_s'][0]:g}..{data['period_range_s'][1]:g} s), stride "
+                f"{data['stride_m']:.4f} m"
+            ]
+            if data.get("period_range_s")
+            else []
+        ),
         trunk_line(trunk),
         "between the nodes        trunk wrench left "
         f"{100 * check['trunk_wrench_share_of_weight']:.2f} % of the weight, stance slip "
         f"{1e3 * check['stance_slip_m']:.2f} mm, swing floor "
         f"{1e3 * check['swing_floor_m']:+.2f} mm",
     ]
+    if data["pinned_by"]:
+        from scalf_opt.cli.commands.gait_3d import pinned_words
+
+        lines.append(f"pinned at                {pinned_words('; '.join(data['pinned_by']))}")
     estimated = [j for j, o in data["drives"].items() if o != "actuator file"]
     if estimated:
         lines.append(
