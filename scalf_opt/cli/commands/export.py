@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from scalf_opt.cli.options import (
@@ -34,6 +35,10 @@ EXAMPLES = (
         "scalf-opt export --robot hyq --from results/hyq --rate 1000 --out hyq.json",
         "another robot's optimum as JSON",
     ),
+    (
+        "scalf-opt export --from results/go1-3d --rate 500 --cycles 4 --out go1.csv",
+        "a 3-D cycle (optimize --model 3d --out): the whole robot per instant, wide",
+    ),
 )
 FORMATS = (".csv", ".json", ".mcap")
 """``scalf_opt.io.plan_export.EXPORT_FORMATS``, the writers' suffixes (a test checks they agree:
@@ -52,7 +57,15 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         required=True,
         metavar="DIR",
         help="the optimum: DIR/summary.json as `optimize --out DIR` writes it (its robot by "
-        "default when the catalog has it, else give the same --urdf)",
+        "default when the catalog has it, else give the same --urdf); a 3-D cycle's folder "
+        "(optimize or gait --model 3d) exports the whole robot",
+    )
+    parser.add_argument(
+        "--model",
+        choices=("sagittal", "3d"),
+        help="what --from holds (default: read from it); 3d: a cycle of optimize --model 3d, "
+        "exported one row per instant with the trunk's pose, velocities and accelerations, every "
+        "joint's angle, velocity, acceleration and torque, every foot's force (CSV or JSON)",
     )
     parser.add_argument(
         "--rate",
@@ -91,6 +104,17 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         )
     check_output_file(args.out, "--out")
     check_not_the_source(args.out, args.source, "--out")
+    from scalf_opt.cli.commands.simulate import is_3d_cycle
+
+    three_d = is_3d_cycle(args.source)
+    if args.model == "3d" and not three_d:
+        raise ConfigError(
+            f"--from {args.source}: not a 3-D cycle (no plan.csv beside a summary.json of "
+            "model 3d; optimize --model 3d --out DIR writes one)",
+            field="source",
+        )
+    if three_d and args.model != "sagittal":
+        return _run_3d(args)
     robot = load_robot(args, args.source)
     result = export_plan(
         args.source, robot, rate_hz=args.rate, cycles=args.cycles, command=args.argv
@@ -117,6 +141,45 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         )
     if path.suffix == ".mcap":
         args.console.text("topics: " + "\n        ".join(export.bag_topic_lines()))
+    args.console.text(f"wrote {path}")
+    return 0
+
+
+def _run_3d(args: argparse.Namespace) -> int:
+    """Export a 3-D cycle at ``--rate`` over ``--cycles`` (``.csv`` or ``.json``)."""
+    from scalf_opt.energy.whole_body import WholeBodyPhysics
+    from scalf_opt.files import write_atomic
+    from scalf_opt.io.whole_body_dense import DENSE_FORMATS, dense_export
+    from scalf_opt.io.whole_body_export import read_cycle, saved_plan
+
+    if args.out.suffix not in DENSE_FORMATS:
+        raise ConfigError(
+            f"--out {args.out}: a 3-D cycle is exported to {' or '.join(DENSE_FORMATS)} (a ROS 2 "
+            "bag holds the sagittal export's messages)",
+            field="out",
+        )
+    saved = read_cycle(args.source)
+    if args.robot is None and args.urdf is None:
+        args.robot = saved.summary.get("robot")
+    robot = load_robot(args)
+    plan = saved_plan(saved, WholeBodyPhysics.of(robot))
+    accounting = saved.summary.get("accounting", "paper")
+    export = dense_export(plan, accounting, args.rate, args.cycles)
+    text = export.csv_text() if args.out.suffix == ".csv" else export.json_text(robot.name)
+    path = write_atomic(args.out, text)
+    n = export.samples_per_cycle * export.cycles
+    args.console.text(
+        f"3-D cycle of {robot.name} from {args.source}: {n} instants at {export.rate_hz:.6g} Hz "
+        f"({export.cycles} cycle{'s' if export.cycles > 1 else ''} of {export.period_s:g} s), "
+        f"{len(export.columns)} columns: the trunk's pose, velocities and accelerations (world "
+        "frame), every joint's angle, velocity, acceleration and torque, every foot's force"
+    )
+    if not math.isclose(export.rate_hz, export.requested_rate_hz, rel_tol=1e-9):
+        args.console.text(
+            f"note: {export.rate_hz:.6g} Hz, not {export.requested_rate_hz:g} Hz: a whole number "
+            f"of samples between the plan's nodes ({plan.schedule.intervals} per cycle), so a "
+            "sample falls on every node, touch-down and lift-off"
+        )
     args.console.text(f"wrote {path}")
     return 0
 

@@ -126,7 +126,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
     check_output_dir(args.out)
     if args.source is not None and (args.gait is not None or gait_overrides(args)):
         raise ConfigError("--gait and the gait options: with --from DIR the gait is DIR's")
-    if args.source is not None and _is_3d_cycle(args.source):
+    if args.source is not None and is_3d_cycle(args.source):
         if args.model == "sagittal" and option_given(args, "--model"):
             raise ConfigError(
                 f"--model sagittal: {args.source} holds a 3-D cycle (leave --model out)",
@@ -179,7 +179,7 @@ def outputs(args: argparse.Namespace) -> Outputs:
     return Outputs(folders={"--out": args.out}, files={"--log": args.log})
 
 
-def _is_3d_cycle(directory: Path) -> bool:
+def is_3d_cycle(directory: Path) -> bool:
     """Whether ``directory`` holds a 3-D cycle: a ``plan.csv``, or a ``summary.json`` saying so."""
     import json
 
