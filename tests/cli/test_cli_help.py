@@ -65,8 +65,12 @@ def test_an_option_means_the_same_in_every_command():
                 continue  # the one speed to walk (the step length follows), the same in both
             if (name, option) == ("gait", "--family"):
                 continue  # a gait's trials take swing families only (the next test)
-            if (name, option) == ("simulate", "--model"):
-                continue  # the model of the world the plan is refereed in, not the one optimized
+            if (name, option) in (("simulate", "--model"), ("export", "--model")):
+                continue  # the model of the world the plan is refereed in or read from
+            if (name, option) == ("gait", "--model"):
+                continue  # the model each speed is searched in (the same choices as optimize's)
+            if (name, option) in (("gait", "--duty"), ("gait", "--rate")):
+                continue  # the starts' duty factors and the 3-D grid's rate of every speed
             key = (action.help, action.metavar)
             if option in seen:
                 assert seen[option][1:] == key, (option, name, seen[option][0])

@@ -24,10 +24,10 @@ from scalf_opt.cli import main
         (["--model", "3d", "--period-range", "0.5:0.2"], "--period-range 0.5:0.2: needs 0 < MIN"),
         (["--model", "3d", "--period-range", "abc"], "--period-range abc: give MIN:MAX"),
         (["--model", "3d", "--rate", "0"], "--rate 0 must be in (0, 1000] [Hz]"),
-        (["--model", "3d", "--compare", "/nonexistent/x"], "--compare /nonexistent/x"),
+        (["--model", "3d", "--sagittal", "/nonexistent/x"], "--sagittal /nonexistent/x"),
         (["--duty", "0.5"], "--duty is an option of --model 3d"),
         (["--period-range", "0.2:0.5"], "--period-range is an option of --model 3d"),
-        (["--compare", "x.csv"], "--compare is an option of --model 3d"),
+        (["--sagittal", "x.csv"], "--sagittal is an option of --model 3d"),
     ],
 )
 def test_a_bad_option_is_one_line(capsys, tmp_path, argv, message):

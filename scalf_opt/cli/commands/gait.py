@@ -127,9 +127,9 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
     add_3d_arguments(parser)
     parser.add_argument(
-        "--compare",
+        "--sagittal",
         type=Path,
-        metavar="PATH",
+        metavar="DIR",
         help="--model 3d: a sagittal gait run's folder (or its gaits.csv), drawn beside the 3-D "
         "costs of transport in gaits.png",
     )
@@ -357,7 +357,7 @@ def outputs(args: argparse.Namespace) -> Outputs:
     from scalf_opt.cli.commands.gait_3d import refuse_3d_options
 
     refuse_3d_options(args)
-    if args.compare is not None:
-        raise ConfigError("--compare is an option of --model 3d", field="compare")
+    if args.sagittal is not None:
+        raise ConfigError("--sagittal is an option of --model 3d", field="sagittal")
     _check_family(args.family)
     return Outputs(folders={"--out": args.out}, direct=(args.out / CACHE_DIR,))

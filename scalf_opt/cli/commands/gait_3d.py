@@ -13,33 +13,36 @@ SAGITTAL_GAIT_ONLY = ("family", "method", "loads", "scheduler")
 """``gait`` options of the sagittal search: refused with ``--model 3d``."""
 
 
+PERIOD_RANGE_HELP = (
+    "--model 3d: MIN:MAX, the period a decision variable between MIN and MAX [s], starting from "
+    "--period (the objective the mean drawn power: the energy per metre at the speed); gait's "
+    "default: half to twice the robot's default trot's period"
+)
+"""``--period-range``'s help, the same in ``optimize`` and ``gait``."""
+
+
 def add_3d_arguments(parser: argparse.ArgumentParser) -> None:
     """The options ``gait --model 3d`` reads."""
     parser.add_argument(
         "--duty",
         dest="duties",
-        metavar="D[,D...]",
+        metavar="X",
         help="--model 3d: the duty factor of each start (0.2..0.8; default 0.5; below 0.5 a "
         "flying trot); each start is one NLP, the cheapest converged answer is the speed's",
     )
     parser.add_argument(
         "--period",
         dest="periods",
-        metavar="T[,T...]",
+        metavar="X",
         help="--model 3d: the first period of each start [s] (default: the robot's default "
         "trot's); the period is a decision variable inside --period-range",
     )
-    parser.add_argument(
-        "--period-range",
-        metavar="MIN:MAX",
-        help="--model 3d: the period's bounds [s] (default: half to twice the robot's default "
-        "trot's period)",
-    )
+    parser.add_argument("--period-range", metavar="X", help=PERIOD_RANGE_HELP)
     parser.add_argument(
         "--rate",
         dest="sample_rate_hz",
         type=float,
-        metavar="HZ",
+        metavar="X",
         help="--model 3d: the node rate [Hz] (default 25; the ten-times rule refines where the "
         "energy needs more)",
     )
@@ -164,7 +167,7 @@ def cases(args: argparse.Namespace, speeds: list[float]) -> tuple[list[Any], str
 
 
 def read_compare(path: Path | None) -> list[dict[str, Any]] | None:
-    """The rows of a sagittal ``gait`` run's ``gaits.csv`` (``--compare`` a folder or the file).
+    """The rows of a sagittal ``gait`` run's ``gaits.csv`` (``--sagittal`` a folder or the file).
 
     Raises:
         ConfigError: It cannot be read, or lacks ``speed_m_s`` or ``cost_of_transport``.
@@ -177,10 +180,10 @@ def read_compare(path: Path | None) -> list[dict[str, Any]] | None:
     try:
         rows = list(csv.DictReader(file.open()))
     except OSError as exc:
-        raise ConfigError(f"--compare {file}: cannot be read ({exc.strerror})") from None
+        raise ConfigError(f"--sagittal {file}: cannot be read ({exc.strerror})") from None
     for column in ("speed_m_s", "status", "cost_of_transport"):
         if not rows or column not in rows[0]:
-            raise ConfigError(f"--compare {file}: no column {column!r} (a gaits.csv of gait)")
+            raise ConfigError(f"--sagittal {file}: no column {column!r} (a gaits.csv of gait)")
     return rows
 
 
@@ -244,7 +247,7 @@ def run_3d(args: argparse.Namespace, speeds: list[float]) -> int:
     from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.io.provenance import run_provenance
 
-    compare = read_compare(args.compare)
+    compare = read_compare(args.sagittal)
     speed_cases, robot = cases(args, speeds)
     from scalf_opt.studies.runner import usable_cores
 

@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from scalf_opt.cli.commands.gait_3d import PERIOD_RANGE_HELP
 from scalf_opt.cli.options import (
     add_accept_unconverged,
     add_gait,
@@ -97,12 +98,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         metavar="X",
         help=f"--model 3d: the feet's friction coefficient (default {DEFAULT_FRICTION:g})",
     )
-    parser.add_argument(
-        "--period-range",
-        metavar="MIN:MAX",
-        help="--model 3d: the period a decision variable between MIN and MAX [s], starting "
-        "from --period (the objective then the mean power: the energy per metre at the speed)",
-    )
+    parser.add_argument("--period-range", metavar="X", help=PERIOD_RANGE_HELP)
     add_gait(parser, speed=True)
     add_loads(parser)
     parser.add_argument(
