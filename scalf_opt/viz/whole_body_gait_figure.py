@@ -4,7 +4,7 @@ Top: the cost of transport of each speed's cheapest 3-D cycle (solid, filled mar
 converged start (small hollow markers, so that a reader sees how far the starts' local optima
 spread), a speed where no start converged (``x`` on the axis) and, when given, a sagittal
 ``gait`` run's cheapest trots (dashed) for comparison. Below: the answers' period, duty factor,
-stride and mean drawn power against speed, with units.
+stride and mean drawn power against speed, with units (the sagittal run's dashed beside them).
 """
 
 from __future__ import annotations
@@ -33,6 +33,13 @@ def _number(value: Any) -> float:
     if value is None or value == "":
         return math.nan
     return float(value)
+
+
+def _sagittal(row: dict[str, Any], column: str) -> float:
+    """A sagittal ``gaits.csv`` row's value of a 3-D panel's column (its stride: ``v T``)."""
+    if column == "stride_m":
+        return _number(row.get("speed_m_s")) * _number(row.get("period_s"))
+    return _number(row.get(column))
 
 
 def gait_3d_figure(
@@ -76,7 +83,7 @@ def gait_3d_figure(
             [_number(r["cost_of_transport"]) for r in solved],
             "--s",
             color="tab:orange",
-            label="sagittal model, cheapest trot (gait)",
+            label="sagittal model, cheapest trot (the --sagittal gait run)",
         )
     failed = [_number(r["speed_m_s"]) for r in rows if r["status"] != "ok"]
     if failed:
@@ -90,6 +97,10 @@ def gait_3d_figure(
     for index, (column, ylabel, factor) in enumerate(PANELS_3D):
         ax = fig.add_subplot(grid[1 + index // 2, index % 2], sharex=top)
         ax.plot(speeds, [_number(r[column]) * factor for r in ok], "-o", color="tab:blue")
+        if compare:
+            solved = [r for r in compare if r.get("status") == "ok"]
+            values = [_sagittal(r, column) * factor for r in solved]
+            ax.plot([_number(r["speed_m_s"]) for r in solved], values, "--s", color="tab:orange")
         ax.set_ylabel(ylabel)
         ax.set_xlabel("speed v [m/s]")
         ax.grid(True, alpha=0.3)
