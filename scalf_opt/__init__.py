@@ -33,6 +33,7 @@ __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "EvaluationResult",
     "ExportResult",
     "Gait",
+    "Gait3dSweep",
     "GaitResult",
     "GaitSweep",
     "LogResult",
@@ -41,6 +42,7 @@ __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "PaperResult",
     "RobotLogResult",
     "SimulationResult",
+    "SpeedCase",
     "analyze_log",
     "analyze_robot_log",
     "evaluate",
@@ -55,6 +57,7 @@ __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "simulate_3d",
     "simulate_cycle",
     "sweep_gaits",
+    "sweep_gaits_3d",
     "view",
 ]
 
@@ -64,6 +67,7 @@ if TYPE_CHECKING:
         EvaluationResult,
         ExportResult,
         Gait,
+        Gait3dSweep,
         GaitResult,
         GaitSweep,
         LogResult,
@@ -72,6 +76,7 @@ if TYPE_CHECKING:
         PaperResult,
         RobotLogResult,
         SimulationResult,
+        SpeedCase,
         analyze_log,
         analyze_robot_log,
         evaluate,
@@ -86,6 +91,7 @@ if TYPE_CHECKING:
         simulate_3d,
         simulate_cycle,
         sweep_gaits,
+        sweep_gaits_3d,
         view,
     )
 

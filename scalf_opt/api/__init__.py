@@ -14,6 +14,7 @@ and the numbers are the command line's: the ``scalf-opt`` commands call these fu
 
 from scalf_opt.api.evaluation import EvaluationResult, evaluate
 from scalf_opt.api.export import ExportResult, export_plan
+from scalf_opt.api.gait_3d import Gait3dSweep, SpeedCase, sweep_gaits_3d
 from scalf_opt.api.gait_optimization import GaitResult, GaitSweep, optimize_gait, sweep_gaits
 from scalf_opt.api.gaits import read_gait
 from scalf_opt.api.logs import LogResult, analyze_log
@@ -36,6 +37,7 @@ __all__ = [
     "EvaluationResult",
     "ExportResult",
     "Gait",
+    "Gait3dSweep",
     "GaitResult",
     "GaitSweep",
     "LogResult",
@@ -44,6 +46,7 @@ __all__ = [
     "PaperResult",
     "RobotLogResult",
     "SimulationResult",
+    "SpeedCase",
     "analyze_log",
     "analyze_robot_log",
     "evaluate",
@@ -58,5 +61,6 @@ __all__ = [
     "simulate_3d",
     "simulate_cycle",
     "sweep_gaits",
+    "sweep_gaits_3d",
     "view",
 ]
