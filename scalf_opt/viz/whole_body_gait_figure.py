@@ -18,6 +18,7 @@ import matplotlib
 matplotlib.use("Agg")  # files only: no display needed
 
 import matplotlib.pyplot as plt
+from matplotlib.axes import Axes
 from matplotlib.figure import Figure
 
 PANELS_3D: tuple[tuple[str, str, float], ...] = (
@@ -42,6 +43,57 @@ def _sagittal(row: dict[str, Any], column: str) -> float:
     return _number(row.get(column))
 
 
+def _other_starts(
+    rows: Sequence[dict[str, Any]], answers: Sequence[Sequence[Any]]
+) -> tuple[list[float], list[float]]:
+    """Every converged start but each speed's cheapest: (speeds, costs of transport)."""
+    xs, ys = [], []
+    for row, speed_answers in zip(rows, answers, strict=True):
+        best = _number(row.get("cost_of_transport"))
+        for answer in speed_answers:
+            cot = answer.cost_of_transport
+            if answer.converged and math.isfinite(cot) and cot != best:
+                xs.append(_number(row["speed_m_s"]))
+                ys.append(cot)
+    return xs, ys
+
+
+def _cost_panel(
+    top: Axes,
+    rows: Sequence[dict[str, Any]],
+    answers: Sequence[Sequence[Any]],
+    solved_sagittal: Sequence[dict[str, Any]],
+) -> None:
+    """The top panel: the costs of transport against speed (module docstring)."""
+    ok = [r for r in rows if r["status"] == "ok"]
+    top.plot(
+        [_number(r["speed_m_s"]) for r in ok],
+        [_number(r["cost_of_transport"]) for r in ok],
+        "-o",
+        color="tab:blue",
+        label="3-D whole body, cheapest start (period free)",
+    )
+    others_x, others_y = _other_starts(rows, answers)
+    if others_x:
+        top.plot(others_x, others_y, "o", mfc="white", color="tab:blue", ms=5, label="other starts")
+    if solved_sagittal:
+        top.plot(
+            [_number(r["speed_m_s"]) for r in solved_sagittal],
+            [_number(r["cost_of_transport"]) for r in solved_sagittal],
+            "--s",
+            color="tab:orange",
+            label="sagittal model, cheapest trot (the --sagittal gait run)",
+        )
+    failed = [_number(r["speed_m_s"]) for r in rows if r["status"] != "ok"]
+    if failed:
+        top.plot(failed, [0.0] * len(failed), "x", color="tab:red", label="no start converged")
+    top.set_xlabel("speed v [m/s]")
+    top.set_ylabel("cost of transport E / (m g d) [-]")
+    top.set_ylim(bottom=0.0)
+    top.grid(True, alpha=0.3)
+    top.legend(loc="best", fontsize=9)
+
+
 def gait_3d_figure(
     rows: Sequence[dict[str, Any]],
     answers: Sequence[Sequence[Any]],
@@ -57,48 +109,15 @@ def gait_3d_figure(
     fig = plt.figure(figsize=(9.5, 9.0), layout="constrained")
     grid = fig.add_gridspec(3, 2, height_ratios=(1.6, 1, 1))
     top = fig.add_subplot(grid[0, :])
+    solved = [r for r in compare or () if r.get("status") == "ok"]
+    _cost_panel(top, rows, answers, solved)
+    top.set_title(title, fontsize=10)
     ok = [r for r in rows if r["status"] == "ok"]
     speeds = [_number(r["speed_m_s"]) for r in ok]
-    top.plot(
-        speeds,
-        [_number(r["cost_of_transport"]) for r in ok],
-        "-o",
-        color="tab:blue",
-        label="3-D whole body, cheapest start (period free)",
-    )
-    others_x, others_y = [], []
-    for row, speed_answers in zip(rows, answers, strict=True):
-        best = _number(row.get("cost_of_transport"))
-        for answer in speed_answers:
-            cot = answer.cost_of_transport
-            if answer.converged and math.isfinite(cot) and cot != best:
-                others_x.append(_number(row["speed_m_s"]))
-                others_y.append(cot)
-    if others_x:
-        top.plot(others_x, others_y, "o", mfc="white", color="tab:blue", ms=5, label="other starts")
-    if compare:
-        solved = [r for r in compare if r.get("status") == "ok"]
-        top.plot(
-            [_number(r["speed_m_s"]) for r in solved],
-            [_number(r["cost_of_transport"]) for r in solved],
-            "--s",
-            color="tab:orange",
-            label="sagittal model, cheapest trot (the --sagittal gait run)",
-        )
-    failed = [_number(r["speed_m_s"]) for r in rows if r["status"] != "ok"]
-    if failed:
-        top.plot(failed, [0.0] * len(failed), "x", color="tab:red", label="no start converged")
-    top.set_xlabel("speed v [m/s]")
-    top.set_ylabel("cost of transport E / (m g d) [-]")
-    top.set_ylim(bottom=0.0)
-    top.grid(True, alpha=0.3)
-    top.legend(loc="best", fontsize=9)
-    top.set_title(title, fontsize=10)
     for index, (column, ylabel, factor) in enumerate(PANELS_3D):
         ax = fig.add_subplot(grid[1 + index // 2, index % 2], sharex=top)
         ax.plot(speeds, [_number(r[column]) * factor for r in ok], "-o", color="tab:blue")
-        if compare:
-            solved = [r for r in compare if r.get("status") == "ok"]
+        if solved:
             values = [_sagittal(r, column) * factor for r in solved]
             ax.plot([_number(r["speed_m_s"]) for r in solved], values, "--s", color="tab:orange")
         ax.set_ylabel(ylabel)
