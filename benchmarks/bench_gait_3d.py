@@ -2,7 +2,8 @@
 
 Goal: each robot's six speeds (0.4 to 1.4 m/s) in under 3 minutes on 2 workers. The cases are
 the command's (:func:`~scalf_opt.cli.commands.gait_3d.cases`: one start, duty 0.5 and the
-robot's default period, the period free, 25 Hz) run on fresh worker interpreters (their imports
+robot's default period, the period free, 25 Hz; chains of three speeds) run on fresh worker
+interpreters (their imports
 and kernel loading are in the time; the compiled kernels come from the disk cache, so run the
 command once first on a new machine). The baseline, measured in the same run and process: one
 solve of the robot's default trot on its first grid with the period fixed, so a sweep reads as
@@ -26,7 +27,7 @@ from scalf_opt.api.gait_3d import (
     PERIOD_RANGE_SHARES,
     SpeedCase,
     default_starts,
-    solve_speed,
+    solve_cases,
     speed_row,
 )
 from scalf_opt.cli.commands.gait import parse_speeds
@@ -35,7 +36,6 @@ from scalf_opt.locomotion.contact_schedule import trot_schedule
 from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.optimize.whole_body_nlp import CycleProblem, solve_cycle
 from scalf_opt.robots.loading import load_robot
-from scalf_opt.workers import map_in_processes
 
 SPEEDS = "0.4:1.4:0.2"
 """The six speeds [m/s]."""
@@ -77,7 +77,7 @@ def sweep_s(robot_name: str, workers: int) -> tuple[float, int, list[dict]]:
         for speed in parse_speeds(SPEEDS)
     ]
     start = time.perf_counter()
-    answers = map_in_processes(solve_speed, cases, workers)
+    answers = solve_cases(cases, workers)
     elapsed = time.perf_counter() - start
     rows = [speed_row(robot_name, c.speed_m_s, a) for c, a in zip(cases, answers, strict=True)]
     return elapsed, sum(r["status"] == "ok" for r in rows), rows

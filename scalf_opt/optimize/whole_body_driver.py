@@ -117,18 +117,23 @@ def optimize_cycle(
     problem: CycleProblem,
     sample_rate_hz: float,
     progress: Callable[[str], None] | None = None,
+    start: WholeBodyPlan | None = None,
 ) -> CycleResult:
     """Optimise ``problem``'s cycle at ``sample_rate_hz`` by grid refinement (module docstring).
 
     ``problem.schedule`` gives the period (the start's, when ``problem.period_range_s`` leaves
     it free: each finer grid starts from the last solve's) and the duty factor; its own grid is
-    replaced.
+    replaced. ``start``: a plan to start from instead of the kinematic start (another speed's
+    answer, of the same duty factor): the first grid is then its own, not the coarse one.
     """
     period, duty = problem.schedule.period_s, problem.schedule.duty_cycle
     phase_nodes = MIN_NODES_PER_PHASE / (period * min(duty, 1 - duty))
     rate = max(COARSEST_SHARE * sample_rate_hz, phase_nodes)
     steps: list[GridStep] = []
     plan: WholeBodyPlan | None = None
+    if start is not None:
+        plan = replace(start, speed_m_s=problem.speed_m_s)
+        rate = start.schedule.intervals / start.schedule.period_s
     extra = 0
     while True:
         if plan is not None:
@@ -138,10 +143,10 @@ def optimize_cycle(
             rate *= 2  # the duty factor's grid rounds this rate to the last step's nodes
             continue
         step_problem = replace(problem, schedule=schedule)
-        start = None if plan is None else resampled(plan, step_problem)
+        first = None if plan is None else resampled(plan, step_problem)
         if progress is not None:
             progress(f"3-D cycle on {schedule.intervals} nodes")
-        solution = solve_cycle(step_problem, start)
+        solution = solve_cycle(step_problem, first)
         plan = solution.plan
         energy = plan.evaluate(problem.accounting).total_j
         check = plan.check(problem.accounting, CHECK_FACTOR)

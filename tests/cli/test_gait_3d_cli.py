@@ -74,12 +74,16 @@ def test_the_sweep_writes_its_table_and_exits_3_when_a_speed_fails(capsys, tmp_p
     writes gaits.csv, gaits.png and the solved speed's files, prints the table and what pins
     the answer, and exits 3 for the speed no start converged at."""
 
-    def fake(case):
-        if case.speed_m_s > 1:
-            return [_answer(0.5, 0.4, False, 0.2, "Ipopt on 8 nodes: Infeasible_Problem_Detected")]
-        return [_answer(0.5, 0.4, True, 0.3), _answer(0.4, 0.4, True, 0.28)]
+    seen = []
 
-    monkeypatch.setattr(gait_3d, "solve_speed", fake)
+    def fake(case, previous):
+        seen.append((case.speed_m_s, dict(previous)))
+        if case.speed_m_s > 1:
+            failed = _answer(0.5, 0.4, False, 0.2, "Ipopt on 8 nodes: Infeasible_Problem_Detected")
+            return [failed], {}
+        return [_answer(0.5, 0.4, True, 0.3), _answer(0.4, 0.4, True, 0.28)], {(0.5, 0.4): "plan"}
+
+    monkeypatch.setattr(gait_3d, "_solve_speed", fake)
     out = tmp_path / "sweep"
     argv = ["gait", "--model", "3d", "--robot", "go1", "--speed", "0.5,1.5"]
     code = main([*argv, "--duty", "0.5,0.4", "--workers", "1", "--out", str(out)])
@@ -97,3 +101,5 @@ def test_the_sweep_writes_its_table_and_exits_3_when_a_speed_fails(capsys, tmp_p
     assert [s["cost_of_transport"] for s in summary["starts"]] == [0.3, 0.28]
     assert (out / "speed_0.5" / "plan.csv").read_text() == "t_s\n0.0\n"
     assert not (out / "speed_1.5").exists()
+    # one chain (slowest first): the second speed starts from the first's converged plans
+    assert seen == [(0.5, {}), (1.5, {(0.5, 0.4): "plan"})]
