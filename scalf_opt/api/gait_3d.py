@@ -105,7 +105,7 @@ of a cold speed's three grids, and cheaper answers (CoT 0.3085 and 0.2958 agains
 
 def solve_speed(case: SpeedCase) -> list[StartAnswer]:
     """Every start of ``case`` from the kinematic start, in order (a start that raises fails)."""
-    return _solve_speed(case, {})[0]
+    return _solve_speed(case, _physics(case), {})[0]
 
 
 def solve_chain(chain: tuple[SpeedCase, ...]) -> list[list[StartAnswer]]:
@@ -115,10 +115,11 @@ def solve_chain(chain: tuple[SpeedCase, ...]) -> list[list[StartAnswer]]:
 
     A start whose previous speed did not converge starts from the kinematic start again.
     """
+    physics = _physics(chain[0])  # one robot per sweep: its model and kernels built once
     previous: dict[tuple[float, float], Any] = {}
     out = []
     for case in chain:
-        answers, previous = _solve_speed(case, previous)
+        answers, previous = _solve_speed(case, physics, previous)
         out.append(answers)
     return out
 
@@ -140,25 +141,29 @@ def solve_cases(
     return answers
 
 
+def _physics(case: SpeedCase) -> Any:
+    """The 3-D model of ``case``'s robot."""
+    from scalf_opt.energy.whole_body import WholeBodyPhysics
+    from scalf_opt.robots.loading import load_robot
+
+    return WholeBodyPhysics.of(load_robot(name=case.robot_name, urdf=case.urdf))
+
+
 def _solve_speed(
-    case: SpeedCase, previous: dict[tuple[float, float], Any]
+    case: SpeedCase, physics: Any, previous: dict[tuple[float, float], Any]
 ) -> tuple[list[StartAnswer], dict[tuple[float, float], Any]]:
-    """Every start of ``case``, each from ``previous``'s plan of the same start if it has one.
+    """Every start of ``case`` on ``physics``, each from ``previous``'s plan of the same start.
 
     Returns the answers and the converged starts' plans (by start).
     """
-    from scalf_opt.energy.whole_body import WholeBodyPhysics
     from scalf_opt.io.whole_body_export import plan_csv
     from scalf_opt.io.whole_body_summary import cycle_summary
     from scalf_opt.locomotion.contact_schedule import trot_schedule
     from scalf_opt.locomotion.scaling import default_gait_for
     from scalf_opt.optimize.whole_body_driver import optimize_cycle
     from scalf_opt.optimize.whole_body_nlp import CycleProblem
-    from scalf_opt.robots.loading import load_robot
 
-    robot = load_robot(name=case.robot_name, urdf=case.urdf)
-    physics = WholeBodyPhysics.of(robot)
-    gait = default_gait_for(robot)
+    gait = default_gait_for(physics.robot)
     answers = []
     plans: dict[tuple[float, float], Any] = {}
     for duty, period in case.starts:

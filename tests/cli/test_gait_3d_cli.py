@@ -76,7 +76,7 @@ def test_the_sweep_writes_its_table_and_exits_3_when_a_speed_fails(capsys, tmp_p
 
     seen = []
 
-    def fake(case, previous):
+    def fake(case, physics, previous):
         seen.append((case.speed_m_s, dict(previous)))
         if case.speed_m_s > 1:
             failed = _answer(0.5, 0.4, False, 0.2, "Ipopt on 8 nodes: Infeasible_Problem_Detected")
