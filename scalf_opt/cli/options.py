@@ -146,6 +146,19 @@ def add_loads(parser: argparse.ArgumentParser, saved: bool = False) -> None:
     )
 
 
+def add_source_model(parser: argparse.ArgumentParser, effect: str) -> None:
+    """``--model {sagittal,3d}``: what ``--from`` holds (default ``None``: read from it).
+
+    ``effect``: what the command does with a 3-D cycle, the end of the help.
+    """
+    parser.add_argument(
+        "--model",
+        choices=("sagittal", "3d"),
+        help=f"what --from holds (default: read from it); 3d: a cycle of optimize --model 3d, "
+        f"{effect}",
+    )
+
+
 def add_method(parser: argparse.ArgumentParser) -> None:
     """``--method``: the swing solver (:data:`~scalf_opt.optimize.solvers.SOLVERS`)."""
     parser.add_argument(

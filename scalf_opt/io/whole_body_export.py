@@ -123,10 +123,35 @@ class SavedCycle:
     columns: dict[str, np.ndarray]
 
     @property
+    def headline(self) -> str:
+        """Where it was read from and what its ``summary.json`` reports, in one line.
+
+        The robot, period, speed, energy per cycle and cost of transport (as ``optimize --model
+        3d`` prints them; ``nan`` where a field is missing).
+        """
+        summary = self.summary
+
+        def number(key: str) -> float:
+            return summary_number(summary.get(key))
+
+        return (
+            f"{self.directory}: {summary.get('robot')}, T = {number('period_s'):.4g} s, "
+            f"{number('speed_m_s'):.3g} m/s, {number('energy_per_cycle_j'):.3f} J per cycle, "
+            f"cost of transport {number('cost_of_transport'):.4f}"
+        )
+
+    @property
     def feet(self) -> tuple[str, ...]:
         """The foot frames with force columns, in the file's (the legs') order."""
         suffix = "_force_z_n"
         return tuple(name[: -len(suffix)] for name in self.columns if name.endswith(suffix))
+
+
+def summary_number(value: object) -> float:
+    """A ``summary.json`` field as a finite float, else NaN (missing, ``true``, not a number)."""
+    if isinstance(value, bool) or not isinstance(value, int | float) or not math.isfinite(value):
+        return math.nan
+    return float(value)
 
 
 def is_cycle_dir(directory: Path) -> bool:

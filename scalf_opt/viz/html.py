@@ -58,19 +58,20 @@ def legend_html(scene: Scene) -> str:
     )
     for entry in scene.legend:
         # energies to the millijoule and powers to 10 mW, as the command line prints them
-        swing = ", ".join(f"{leg} {e:.3f}" for leg, e in entry.swing_energy_j.items())
+        legs = ", ".join(f"{leg} {e:.3f}" for leg, e in entry.leg_energy_j.items())
         rows.append(
             "<div class='row'>"
             f"<span class='swatch' style='background:{entry.color}'></span>"
             f"<span class='label'>{html.escape(entry.label)}</span>"
             f"<div class='numbers'>{entry.energy_j:.3f} J per cycle, "
-            f"{entry.average_power_w:.2f} W; swing [J]: {swing}"
+            f"{entry.average_power_w:.2f} W; {html.escape(entry.leg_energy_kind)} [J]: {legs}"
             f" ({html.escape(entry.energy_model)})</div></div>"
         )
     if scene.color_by == "power":
         lo, hi = scene.power_range_w
         rows.append(
-            "<div class='row'>leg power along the swing paths (hip + knee, losses included)"
+            "<div class='row'>leg power along the swing paths "
+            f"({html.escape(scene.power_note)})"
             f"<div class='scale' style='background:{_css_gradient()}'></div>"
             f"<div class='ends'><span>{lo:.3g} W</span><span>{hi:.3g} W</span></div></div>"
         )

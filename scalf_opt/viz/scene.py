@@ -9,7 +9,10 @@ Scene: a ground plane at z = 0; per trajectory, one robot (Pinocchio's visuals f
 walking ``n_cycles`` gait cycles along +x, robots side by side along +y in the order given (the
 first nearest to the camera); the foot path of every leg as a tube, in the trajectory's colour
 or coloured by the leg's power; one animation clip per visual element, keyed at
-``frame_rate_hz``, that loops forever.
+``frame_rate_hz``, that loops forever. :func:`build_scene` walks sagittal cycles
+(:class:`~scalf_opt.viz.walk.Walk`); :func:`compose_scene` draws any
+:class:`~scalf_opt.viz.walk.Walker` (a 3-D whole-body plan's:
+:func:`~scalf_opt.viz.whole_body_walk.build_plan_scene`).
 """
 
 from __future__ import annotations
@@ -29,10 +32,11 @@ from meshcat.path import Path as MeshcatPath
 
 from scalf_opt.errors import ConfigError
 from scalf_opt.model.robot import Robot
+from scalf_opt.types import LEG_NAMES
 from scalf_opt.viz.colors import hex_rgb, trajectory_color
 from scalf_opt.viz.trajectories import Trajectory
 from scalf_opt.viz.visuals import Visual, load_visuals
-from scalf_opt.viz.walk import Walk
+from scalf_opt.viz.walk import Walk, Walker
 
 ColorBy = Literal["trajectory", "power"]
 
@@ -40,6 +44,9 @@ POWER_COLORMAP = "viridis"
 """Colour map of the power colouring (perceptually uniform, legible in grey)."""
 
 _TUBE_SIDES = 10
+
+SAGITTAL_POWER_NOTE = "hip + knee, losses included"
+"""What a sagittal leg's power sums, in the legend's words."""
 
 
 @dataclass(frozen=True)
@@ -85,19 +92,22 @@ class LegendEntry:
         color: Its colour (``#rrggbb``).
         energy_j: Energy of all legs per cycle [J].
         average_power_w: Average total power [W].
-        swing_energy_j: Swing energy per leg [J].
+        leg_energy_j: Energy per leg [J]: its swing's (a sagittal cycle), or the whole cycle's
+            (a 3-D plan), as ``leg_energy_kind`` says.
         lateral_offset_m: Where its robot walks along y [m].
         energy_model: What the energies were evaluated with: the stance loads and the power
             accounting (``whole-body loads, paper accounting``).
+        leg_energy_kind: What ``leg_energy_j`` is, in the legend's words (``swing``, ``per leg``).
     """
 
     label: str
     color: str
     energy_j: float
     average_power_w: float
-    swing_energy_j: dict[str, float]
+    leg_energy_j: dict[str, float]
     lateral_offset_m: float
     energy_model: str
+    leg_energy_kind: str = "swing"
 
 
 @dataclass
@@ -113,6 +123,7 @@ class Scene:
         skipped_visuals: URDF visuals whose geometry type could not be drawn.
         n_cycles: Cycles walked.
         playback_speed: Animation time per walk time.
+        power_note: What the power colouring sums (``hip + knee, losses included``).
     """
 
     commands: list[bytes] = field(default_factory=list)
@@ -123,6 +134,7 @@ class Scene:
     skipped_visuals: list[str] = field(default_factory=list)
     n_cycles: int = 3
     playback_speed: float = 1.0
+    power_note: str = SAGITTAL_POWER_NOTE
 
 
 class _Commands:
@@ -175,13 +187,56 @@ def build_scene(
     if not trajectories:
         raise ConfigError("nothing to show: give at least one trajectory")
     walkers = [t.robot or robot for t in trajectories]
-    visuals, skipped = _looks(robot, walkers, loaded)
+    visuals, skipped = robot_looks(robot, walkers, loaded)
     gait = trajectories[0].cycle.gait
     spacing = max(lateral_spacing_m(walker) for walker in walkers)
     walks = [
         Walk(walker, t.cycle, opts.n_cycles, lateral_offset_m=i * spacing)
         for i, (walker, t) in enumerate(zip(walkers, trajectories, strict=True))
     ]
+    legend = [
+        LegendEntry(
+            label=trajectory.label,
+            color=trajectory_color(index),
+            energy_j=trajectory.cycle.energy_j,
+            average_power_w=trajectory.cycle.average_power_w,
+            leg_energy_j={leg: c.swing_energy_j for leg, c in trajectory.cycle.legs.items()},
+            lateral_offset_m=walk.lateral_offset_m,
+            energy_model=trajectory.energy_model,
+        )
+        for index, (trajectory, walk) in enumerate(zip(trajectories, walks, strict=True))
+    ]
+    title = (
+        f"{' beside '.join(dict.fromkeys(w.name for w in walkers))}: trot T = "
+        f"{gait.period_s:.4g} s, duty {gait.duty_cycle:.4g}, "
+        f"S = {gait.step_length_m:.4g} m, H = {gait.clearance_m:.4g} m, "
+        f"z0 = {gait.stance_height_m:.4g} m, {gait.speed_m_s:.3g} m/s"
+    )
+    return compose_scene(walks, visuals, legend, title, opts, skipped)
+
+
+def compose_scene(
+    walks: Sequence[Walker],
+    visuals: Sequence[Sequence[Visual]],
+    legend: list[LegendEntry],
+    title: str,
+    opts: SceneOptions,
+    skipped: list[str] | None = None,
+    power_note: str = SAGITTAL_POWER_NOTE,
+) -> Scene:
+    """The scene of ``walks`` side by side, whatever walks them (sagittal or 3-D).
+
+    Args:
+        walks: One walker per legend entry, at its own lateral offset (the first nearest the
+            camera), each walking ``opts.n_cycles`` cycles.
+        visuals: Each walker's robot's visuals.
+        legend: One entry per walker; entry ``i`` has :func:`trajectory_color` ``(i)``.
+        title: The scene's one-line title.
+        opts: The scene options.
+        skipped: URDF visuals that could not be drawn.
+        power_note: What the power colouring sums, for the legend.
+    """
+    spacing = max(lateral_spacing_m(walk.robot) for walk in walks)
     paths = [w.foot_paths() for w in walks]
     # the scale spans the swings' power: a stance foot rests in one place, only swings draw arcs
     power_max = max(float(p.power_w[p.swing].max()) for legs in paths for p in legs.values())
@@ -193,13 +248,12 @@ def build_scene(
     out.send(SetProperty("top_color", [0.97, 0.97, 0.98], viewer_path("Background")))
     out.send(SetProperty("bottom_color", [0.74, 0.78, 0.85], viewer_path("Background")))
     _send_ground(out, walks, spacing)
-    legend = []
-    for index, (trajectory, walk, feet) in enumerate(zip(trajectories, walks, paths, strict=True)):
+    for index, (walk, feet) in enumerate(zip(walks, paths, strict=True)):
         color = trajectory_color(index)
         prefix = ("trajectories", f"{index}")
         _send_robot(out, prefix, visuals[index])
         _send_lane(out, prefix, walk, color, spacing)
-        radius = tube_radius_m(gait.stance_height_m)
+        radius = tube_radius_m(walk.stance_height_m)
         for leg, foot in feet.items():
             if opts.color_by == "power":
                 colors = power_colors(foot.power_w, power_range)
@@ -209,38 +263,22 @@ def build_scene(
             geometry = mg.TriangularMeshGeometry(vertices, faces, color=vertex_colors)
             material = mg.MeshLambertMaterial(vertexColors=True)
             out.send(SetObject(out.mesh(geometry, material), path=path_of(*prefix, "feet", leg)))
-        cycle = trajectory.cycle
-        legend.append(
-            LegendEntry(
-                label=trajectory.label,
-                color=color,
-                energy_j=cycle.energy_j,
-                average_power_w=cycle.average_power_w,
-                swing_energy_j={leg: c.swing_energy_j for leg, c in cycle.legs.items()},
-                lateral_offset_m=walk.lateral_offset_m,
-                energy_model=trajectory.energy_model,
-            )
-        )
     _send_animation(out, walks, visuals, opts)
     _send_camera(out, walks, spacing)
     return Scene(
         commands=out.packed,
         legend=legend,
-        title=(
-            f"{' beside '.join(dict.fromkeys(w.name for w in walkers))}: trot T = "
-            f"{gait.period_s:.4g} s, duty {gait.duty_cycle:.4g}, "
-            f"S = {gait.step_length_m:.4g} m, H = {gait.clearance_m:.4g} m, "
-            f"z0 = {gait.stance_height_m:.4g} m, {gait.speed_m_s:.3g} m/s"
-        ),
+        title=title,
         color_by=opts.color_by,
         power_range_w=power_range,
-        skipped_visuals=skipped,
+        skipped_visuals=list(skipped or []),
         n_cycles=opts.n_cycles,
         playback_speed=opts.playback_speed,
+        power_note=power_note,
     )
 
 
-def _looks(
+def robot_looks(
     robot: Robot, walkers: Sequence[Robot], loaded: tuple[list[Visual], list[str]] | None
 ) -> tuple[list[list[Visual]], list[str]]:
     """Each walker's visuals (each robot's loaded once), and the names of those not drawn."""
@@ -325,13 +363,14 @@ def tube(
     )
 
 
-def _send_ground(out: _Commands, walks: Sequence[Walk], spacing: float) -> None:
+def _send_ground(out: _Commands, walks: Sequence[Walker], spacing: float) -> None:
     """A light ground slab whose top is 1 mm below z = 0 (the grid lines stay visible).
 
     ``spacing``: the lateral distance between the walks [m].
     """
     margin = 3.0 * max(w.trunk_height_m for w in walks)
-    x_lo, x_hi = -margin, walks[0].cycle.gait.distance_per_cycle_m * walks[0].n_cycles + margin
+    x_lo = min(w.x_range_m[0] for w in walks) - margin
+    x_hi = max(w.x_range_m[1] for w in walks) + margin
     y_lo = -spacing
     y_hi = max(w.lateral_offset_m for w in walks) - y_lo
     thickness = 0.01
@@ -343,10 +382,11 @@ def _send_ground(out: _Commands, walks: Sequence[Walk], spacing: float) -> None:
 
 
 def _send_lane(
-    out: _Commands, prefix: tuple[str, ...], walk: Walk, color: str, spacing: float
+    out: _Commands, prefix: tuple[str, ...], walk: Walker, color: str, spacing: float
 ) -> None:
     """A strip of the trajectory's colour on the ground along the robot's walk (its label)."""
-    length = walk.cycle.gait.distance_per_cycle_m * walk.n_cycles
+    start, end = walk.x_range_m
+    length = end - start
     width, thickness = 0.12 * spacing, 0.001
     rgb = hex_rgb(color)
     material = mg.MeshLambertMaterial(
@@ -355,7 +395,8 @@ def _send_lane(
     )
     lane = path_of(*prefix, "lane")
     out.send(SetObject(out.mesh(mg.Box([length, width, thickness]), material), path=lane))
-    out.send(SetTransform(_translation([length / 2.0, walk.lateral_offset_m, -0.0009]), lane))
+    middle = [(start + end) / 2.0, walk.lateral_offset_m, -0.0009]
+    out.send(SetTransform(_translation(middle), lane))
 
 
 def _send_robot(out: _Commands, prefix: tuple[str, ...], visuals: Sequence[Visual]) -> None:
@@ -383,37 +424,48 @@ def _send_robot(out: _Commands, prefix: tuple[str, ...], visuals: Sequence[Visua
             out.send(SetTransform(intrinsic, shape_path))
 
 
-def _visual_poses(walk: Walk, visuals: Sequence[Visual], times: np.ndarray) -> np.ndarray:
-    """World pose of every visual at every time, shape (n_times, n_visuals, 4, 4)."""
+def _visual_poses(walk: Walker, visuals: Sequence[Visual], times: np.ndarray) -> np.ndarray:
+    """World pose of every visual at every time, shape (n_times, n_visuals, 4, 4).
+
+    ``trunk_pose(t) * oMi(q(t)) * placement``: the trunk's whole world pose (rotation included)
+    times the visual's pose in the trunk frame by Pinocchio's forward kinematics.
+    """
     model = walk.robot.model
     data = model.createData()
     q = walk.configurations(times)
-    trunk = walk.trunk_position_m(times)
+    trunk = walk.trunk_pose(times)
     poses = np.empty((times.size, len(visuals), 4, 4))
     placements = [pin.SE3(v.placement) for v in visuals]
     for f in range(times.size):
         pin.forwardKinematics(model, data, q[f])
-        world = pin.SE3(np.eye(3), trunk[f])
+        world = pin.SE3(trunk[f])
         for k, (visual, placement) in enumerate(zip(visuals, placements, strict=True)):
             poses[f, k] = (world * data.oMi[visual.parent_joint] * placement).homogeneous
     return poses
 
 
+def animation_times(walk: Walker, frame_rate_hz: float) -> np.ndarray:
+    """The key frames' walk times [s]: evenly over the walk, its ends included."""
+    n_frames = max(2, round(walk.duration_s * frame_rate_hz) + 1)
+    return np.linspace(0.0, walk.duration_s, n_frames)
+
+
 def _send_animation(
     out: _Commands,
-    walks: Sequence[Walk],
+    walks: Sequence[Walker],
     visuals: Sequence[Sequence[Visual]],
     opts: SceneOptions,
 ) -> None:
-    """Place every visual at its first pose and animate it over the walk, looping."""
-    duration = walks[0].duration_s
-    n_frames = max(2, round(duration * opts.frame_rate_hz) + 1)
-    times = np.linspace(0.0, duration, n_frames)
-    frames = list(range(n_frames))
-    # three.js plays key ``k`` at k / fps seconds: fps sets the playback speed
-    fps = (n_frames - 1) / duration * opts.playback_speed
+    """Place every visual at its first pose and animate it over its walk, looping.
+
+    Each robot's clips loop over its own walk (walks of different periods loop apart).
+    """
     clips: dict[MeshcatPath, AnimationClip] = {}
     for index, (walk, looks) in enumerate(zip(walks, visuals, strict=True)):
+        times = animation_times(walk, opts.frame_rate_hz)
+        frames = list(range(times.size))
+        # three.js plays key ``k`` at k / fps seconds: fps sets the playback speed
+        fps = (times.size - 1) / walk.duration_s * opts.playback_speed
         poses = _visual_poses(walk, looks, times)
         for k, visual in enumerate(looks):
             node = path_of("trajectories", f"{index}", "robot", visual.name)
@@ -435,19 +487,20 @@ def _send_animation(
     out.send(SetAnimation(_Animation(), play=True, repetitions=float("inf")))
 
 
-def _send_camera(out: _Commands, walks: Sequence[Walk], spacing: float) -> None:
+def _send_camera(out: _Commands, walks: Sequence[Walker], spacing: float) -> None:
     """Look at the middle of the foot paths from ahead on the right, above: every robot in sight.
 
     The scene is shifted so that its middle is at the origin, where the camera looks.
     ``spacing``: the lateral distance between the walks [m].
     """
     height = max(w.trunk_height_m for w in walks)
-    x_end = walks[0].cycle.gait.distance_per_cycle_m * walks[0].n_cycles
-    hip_x = max(abs(w.robot.leg(leg).hip_origin_m[0]) for w in walks for leg in w.cycle.legs)
+    x_start = min(w.x_range_m[0] for w in walks)
+    x_end = max(w.x_range_m[1] for w in walks)
+    hip_x = max(abs(w.robot.leg(leg).hip_origin_m[0]) for w in walks for leg in LEG_NAMES)
     y_max = max(w.lateral_offset_m for w in walks)
-    center = np.array([x_end / 2.0, y_max / 2.0, 0.45 * height])
+    center = np.array([(x_start + x_end) / 2.0, y_max / 2.0, 0.45 * height])
     # what must fit: every foot path along x, every robot along y, a standing robot along z
-    span = max(x_end + 2.0 * hip_x, y_max + spacing, 2.5 * height)
+    span = max(x_end - x_start + 2.0 * hip_x, y_max + spacing, 2.5 * height)
     direction = np.array([0.6, -1.0, 0.55])
     offset = 0.9 * span * direction / np.linalg.norm(direction)
     # the viewer's orbit controls turn about the origin: move the scene so that its middle is there

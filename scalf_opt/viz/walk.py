@@ -1,16 +1,22 @@
 """A robot cycle replayed in the world: the trunk advancing at the gait's speed over a few cycles.
 
-World frame: x forward, y left, z up, the ground at z = 0; the trunk starts at x = 0 and moves
-along +x at the gait's speed, at the constant height that puts every pitching hip the stance
-height above the ground (the paper's precondition b). Joint angles come from the cycle's samples
-(roll joints and any other joint at Pinocchio's neutral value); every foot position is Pinocchio's
-forward kinematics of those angles, so the drawn foot paths are where the animated feet go.
+:class:`Walker` is what the 3-D scene (:mod:`scalf_opt.viz.scene`) animates: the trunk's world pose
+and the joints at any time, and the feet's paths. :class:`Walk` is the sagittal cycle's walker;
+:class:`~scalf_opt.viz.whole_body_walk.WholeBodyWalk` the 3-D whole-body plan's.
+
+Sagittal walk. World frame: x forward, y left, z up, the ground at z = 0; the trunk starts at
+x = 0 and moves along +x at the gait's speed, at the constant height that puts every pitching hip
+the stance height above the ground (the paper's precondition b). Joint angles come from the
+cycle's samples (roll joints and any other joint at Pinocchio's neutral value); every foot
+position is Pinocchio's forward kinematics of those angles, so the drawn foot paths are where the
+animated feet go.
 """
 
 from __future__ import annotations
 
 from dataclasses import dataclass
 from functools import cached_property
+from typing import Protocol
 
 import numpy as np
 import pinocchio as pin
@@ -26,7 +32,8 @@ class FootPath:
     Attributes:
         t_s: Time since the walk began, increasing, shape (n,) [s].
         position_m: Foot position in the world, shape (n, 3) [m].
-        power_w: The leg's charged power (both joints, drive losses included), shape (n,) [W].
+        power_w: The leg's charged power (all its joints: hip pitch and knee in a sagittal walk;
+            drive losses included), shape (n,) [W].
         swing: True where the leg is in swing (the end samples of a swing included), shape (n,).
     """
 
@@ -34,6 +41,57 @@ class FootPath:
     position_m: np.ndarray
     power_w: np.ndarray
     swing: np.ndarray
+
+
+class Walker(Protocol):
+    """A robot walking in the world (x forward, y left, z up, the ground at z = 0), for the scene.
+
+    The scene poses every visual at ``trunk_pose(t) @ oMi(configurations(t))`` (Pinocchio's
+    forward kinematics of ``robot.model``, whose root is the trunk frame); ``foot_paths`` must be
+    the feet of the same poses, so that the drawn paths are where the animated feet go.
+    """
+
+    @property
+    def robot(self) -> Robot:
+        """The robot walking."""
+        ...
+
+    @property
+    def lateral_offset_m(self) -> float:
+        """Where the trunk walks along y [m] (robots side by side)."""
+        ...
+
+    @property
+    def duration_s(self) -> float:
+        """Length of the walk [s] (the animation loops over it)."""
+        ...
+
+    @property
+    def x_range_m(self) -> tuple[float, float]:
+        """The trunk frame's world x at the walk's start and end [m]."""
+        ...
+
+    @property
+    def trunk_height_m(self) -> float:
+        """The trunk frame's (mean) height above the ground [m]."""
+        ...
+
+    @property
+    def stance_height_m(self) -> float:
+        """The pitching hips' (mean) height above the ground [m] (sizes the path tubes)."""
+        ...
+
+    def trunk_pose(self, t_s: np.ndarray) -> np.ndarray:
+        """World from trunk frame at walk times ``t_s``: homogeneous, shape (n, 4, 4) [m]."""
+        ...
+
+    def configurations(self, t_s: np.ndarray) -> np.ndarray:
+        """``robot.model``'s configuration at walk times ``t_s``, shape (n, nq) [rad, m]."""
+        ...
+
+    def foot_paths(self) -> dict[str, FootPath]:
+        """Every leg's foot over the walk (world frame)."""
+        ...
 
 
 @dataclass(frozen=True)
@@ -57,11 +115,28 @@ class Walk:
         """Length of the walk [s]."""
         return self.n_cycles * self.cycle.gait.period_s
 
+    @property
+    def x_range_m(self) -> tuple[float, float]:
+        """The trunk's world x at the walk's start and end [m] (it starts at x = 0)."""
+        return 0.0, self.n_cycles * self.cycle.gait.distance_per_cycle_m
+
+    @property
+    def stance_height_m(self) -> float:
+        """The gait's stance height: the pitching hips' height above the ground [m]."""
+        return self.cycle.gait.stance_height_m
+
     @cached_property
     def trunk_height_m(self) -> float:
         """Height of the trunk frame's origin above the ground [m]."""
         hips = [self.robot.leg(leg).hip_origin_m[2] for leg in self.cycle.legs]
         return float(self.cycle.gait.stance_height_m - np.mean(hips))
+
+    def trunk_pose(self, t_s: np.ndarray) -> np.ndarray:
+        """World from trunk frame at times ``t_s`` (level: no rotation), shape (n, 4, 4) [m]."""
+        position = self.trunk_position_m(t_s)
+        out = np.tile(np.eye(4), (position.shape[0], 1, 1))
+        out[:, :3, 3] = position
+        return out
 
     def trunk_position_m(self, t_s: np.ndarray) -> np.ndarray:
         """World position of the trunk frame's origin at times ``t_s``, shape (n, 3) [m]."""

@@ -65,8 +65,12 @@ def test_an_option_means_the_same_in_every_command():
                 continue  # the one speed to walk (the step length follows), the same in both
             if (name, option) == ("gait", "--family"):
                 continue  # a gait's trials take swing families only (the next test)
-            if (name, option) in (("simulate", "--model"), ("export", "--model")):
-                continue  # the model of the world the plan is refereed in or read from
+            if (name, option) in (
+                ("simulate", "--model"),
+                ("export", "--model"),
+                ("view", "--model"),
+            ):
+                continue  # the model of the world the plan is refereed in, read from or shown in
             if (name, option) == ("gait", "--model"):
                 continue  # the model each speed is searched in (the same choices as optimize's)
             if (name, option) in (("gait", "--duty"), ("gait", "--rate")):
@@ -82,6 +86,10 @@ def test_an_option_means_the_same_in_every_command():
         for n in ("evaluate", "optimize")
     ]
     assert walk[0] == walk[1]
+    # what --from holds: one option, the same words, in the commands that read a 3-D cycle
+    source = "what --from holds (default: read from it); 3d: a cycle of optimize --model 3d, "
+    for name in ("export", "view"):
+        assert options(name)["--model"].help.startswith(source), name
 
 
 def test_a_help_offers_only_what_its_command_accepts(capsys):

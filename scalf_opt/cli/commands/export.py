@@ -10,6 +10,7 @@ from scalf_opt.cli.options import (
     MAX_RATE_HZ,
     Outputs,
     add_robot,
+    add_source_model,
     bounded,
     check_not_the_source,
     check_output_file,
@@ -60,10 +61,8 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "default when the catalog has it, else give the same --urdf); a 3-D cycle's folder "
         "(optimize or gait --model 3d) exports the whole robot",
     )
-    parser.add_argument(
-        "--model",
-        choices=("sagittal", "3d"),
-        help="what --from holds (default: read from it); 3d: a cycle of optimize --model 3d, "
+    add_source_model(
+        parser,
         "exported one row per instant with the trunk's pose, velocities and accelerations, every "
         "joint's angle, velocity, acceleration and torque, every foot's force (CSV or JSON)",
     )

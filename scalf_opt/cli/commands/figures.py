@@ -128,11 +128,6 @@ def _run_3d(args: argparse.Namespace, formats: tuple[str, ...]) -> int:
     cycles = [read_cycle(d) for d in args.from_dirs]
     save_in_formats(trunk_figure(cycles), args.out, "trunk", formats)
     for cycle in cycles:
-        energy = float(cycle.summary.get("energy_per_cycle_j", float("nan")))
-        cot = float(cycle.summary.get("cost_of_transport", float("nan")))
-        args.console.text(
-            f"{cycle.directory}: {cycle.summary.get('robot')}, {energy:.3f} J per cycle, "
-            f"cost of transport {cot:.4f}"
-        )
+        args.console.text(cycle.headline)
     args.console.text(f"wrote {args.out}/: trunk ({', '.join(formats)})")
     return 0
