@@ -170,3 +170,29 @@ def test_a_free_period_moves_and_costs_less_per_metre(solved):
     values, rates = continuity_rows(plan.x, plan.xd, plan.xdd, step, plan.shift)
     assert np.abs(values).max() < 1e-8 and np.abs(rates).max() * step < 1e-8
     assert plan.stride_m == pytest.approx(problem.speed_m_s * plan.schedule.period_s, rel=1e-12)
+
+
+def test_another_speed_starts_from_this_plan_on_its_grid(solved, monkeypatch):
+    """What ``gait --model 3d``'s chains do: the next speed's solve starts from this speed's
+    optimum on the optimum's own grid (not the coarse one), needs fewer iterations than this
+    cold solve did, and is a plan Pinocchio agrees with at the new speed (the ten-times rule's
+    extra doublings switched off: one solve)."""
+    from dataclasses import replace
+
+    from scalf_opt.optimize import whole_body_driver
+    from scalf_opt.optimize.whole_body_driver import optimize_cycle
+
+    problem, cold = solved
+    monkeypatch.setattr(whole_body_driver, "MAX_EXTRA_DOUBLINGS", 0)
+    faster = replace(problem, speed_m_s=problem.speed_m_s + 0.1)
+    rate = problem.schedule.intervals / problem.schedule.period_s
+    result = optimize_cycle(faster, rate, start=cold.plan)
+    assert [step.nodes for step in result.steps] == [problem.schedule.intervals]
+    solution = result.last.solution
+    assert solution.success, solution.status
+    assert solution.iterations < cold.iterations
+    plan = solution.plan
+    assert plan.speed_m_s == faster.speed_m_s
+    assert plan.stride_m == pytest.approx(faster.speed_m_s * plan.schedule.period_s, rel=1e-12)
+    assert_pinocchio_agrees(faster, plan)
+    assert_contacts_hold(faster, plan)
