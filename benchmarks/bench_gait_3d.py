@@ -26,6 +26,7 @@ from scalf_opt.api.gait_3d import (
     DEFAULT_GAIT_RATE_HZ,
     PERIOD_RANGE_SHARES,
     SpeedCase,
+    StartAnswer,
     default_starts,
     solve_cases,
     speed_row,
@@ -61,8 +62,8 @@ def baseline_s(robot_name: str) -> float:
     return time.perf_counter() - start
 
 
-def sweep_s(robot_name: str, workers: int) -> tuple[float, int, list[dict]]:
-    """The six speeds' wall time [s], how many converged, and their rows."""
+def sweep_s(robot_name: str, workers: int) -> tuple[float, list[dict], list[list[StartAnswer]]]:
+    """The six speeds' wall time [s], their rows and every start's answer."""
     gait = default_gait_for(load_robot(robot_name))
     low, high = PERIOD_RANGE_SHARES
     cases = [
@@ -80,7 +81,7 @@ def sweep_s(robot_name: str, workers: int) -> tuple[float, int, list[dict]]:
     answers = solve_cases(cases, workers)
     elapsed = time.perf_counter() - start
     rows = [speed_row(robot_name, c.speed_m_s, a) for c, a in zip(cases, answers, strict=True)]
-    return elapsed, sum(r["status"] == "ok" for r in rows), rows
+    return elapsed, rows, answers
 
 
 def main() -> None:
@@ -91,16 +92,25 @@ def main() -> None:
     print(f"load average before: {os.getloadavg()[0]:.2f} ({os.cpu_count()} cores, shared)")
     for robot in args.robots.split(","):
         base = baseline_s(robot)
-        elapsed, solved, rows = sweep_s(robot, args.workers)
+        elapsed, rows, answers = sweep_s(robot, args.workers)
+        solved = sum(r["status"] == "ok" for r in rows)
         verdict = "met" if elapsed < GOAL_S and solved == len(rows) else "NOT met"
         print(
             f"{robot:6s} {SPEEDS} {solved}/{len(rows)} converged {elapsed:7.1f} s ({verdict}: "
             f"< {GOAL_S:g} s, every speed)  baseline {base:5.1f} s  ratio {elapsed / base:5.1f}x",
             flush=True,
         )
-        for row in rows:
+        for row, speed_answers in zip(rows, answers, strict=True):
             if row["status"] != "ok":
                 print(f"    {row['speed_m_s']:g} m/s: {row['error']}")
+                continue
+            solves = [s for a in speed_answers if a.summary for s in a.summary["solves"]]
+            grids = "/".join(str(s["nodes"]) for s in solves)
+            print(
+                f"    {row['speed_m_s']:g} m/s: CoT {row['cost_of_transport']:.4f}, "
+                f"T {row['period_s']:.3f} s, grids {grids} nodes, "
+                f"{row['solve_s']:.0f} s in Ipopt"
+            )
     print(f"load average after: {os.getloadavg()[0]:.2f}")
     print(
         f"{args.workers} workers, one start per speed (duty 0.5, the default period, the period "
