@@ -32,7 +32,7 @@ from scalf_opt.energy.whole_body import (
 )
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.errors import ConfigError
-from scalf_opt.files import write_atomic
+from scalf_opt.files import read_untrusted_text, write_atomic
 from scalf_opt.locomotion.contact_schedule import TrotSchedule
 from scalf_opt.types import LEG_NAMES, Accounting
 
@@ -170,6 +170,10 @@ def _bad_cell(header: list[str], body: list[list[str]]) -> str | None:
     return None
 
 
+MAX_PLAN_BYTES = 64 * 1024 * 1024
+"""The largest ``plan.csv`` read back [bytes] (a 100-node Go1 plan is about 0.2 MB)."""
+
+
 def read_cycle(directory: Path) -> SavedCycle:
     """Read a 3-D cycle's ``summary.json`` and ``plan.csv``.
 
@@ -177,21 +181,20 @@ def read_cycle(directory: Path) -> SavedCycle:
         ConfigError: A file is missing or unreadable, is not a 3-D cycle's, or lacks a column
             (the message names the file and the column).
     """
+    from scalf_opt.io.saved import read_json
+
     summary_path, plan_path = directory / "summary.json", directory / "plan.csv"
-    try:
-        summary = json.loads(summary_path.read_text())
-    except (OSError, ValueError) as exc:
-        raise ConfigError(f"{summary_path}: cannot be read ({exc})", field="from") from exc
+    try:  # bounded regular files only: a link to /dev/zero is refused, not read forever
+        summary = read_json(summary_path, "summary")
+        plan_text = read_untrusted_text(plan_path, "plan", MAX_PLAN_BYTES)
+    except ConfigError as exc:
+        raise ConfigError(str(exc), field="from") from exc
     if not isinstance(summary, dict) or summary.get("model") != "3d":
         raise ConfigError(
             f"{summary_path}: not a 3-D cycle (write one with optimize --model 3d --out DIR)",
             field="from",
         )
-    try:
-        with plan_path.open(newline="") as handle:
-            rows = list(csv.reader(handle))
-    except OSError as exc:
-        raise ConfigError(f"{plan_path}: cannot be read ({exc})", field="from") from exc
+    rows = list(csv.reader(io.StringIO(plan_text, newline="")))
     if len(rows) < 2:
         raise ConfigError(f"{plan_path}: no rows", field="from")
     header, body = rows[0], rows[1:]

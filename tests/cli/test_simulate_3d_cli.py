@@ -65,7 +65,7 @@ def test_a_cycle_without_its_plan_is_named(capsys, tmp_path, cycle_dir):
     (broken / "plan.csv").unlink()
     code = main(["simulate", "--from", str(broken), "--out", str(tmp_path / "o")])
     err = capsys.readouterr().err
-    assert code == 2 and "plan.csv: cannot be read" in err and err.count("\n") == 1
+    assert code == 2 and "plan.csv: plan file not found" in err and err.count("\n") == 1
     assert json.loads((broken / "summary.json").read_text())["model"] == "3d"
 
 

@@ -181,16 +181,17 @@ def outputs(args: argparse.Namespace) -> Outputs:
 
 def is_3d_cycle(directory: Path) -> bool:
     """Whether ``directory`` holds a 3-D cycle: a ``plan.csv``, or a ``summary.json`` saying so."""
-    import json
-
     from scalf_opt.io.whole_body_export import is_cycle_dir
 
     if is_cycle_dir(directory):
         return True
-    try:
-        summary = json.loads((directory / "summary.json").read_text())
-    except (OSError, ValueError):
-        return False
+    from scalf_opt.errors import ConfigError
+    from scalf_opt.io.saved import read_json
+
+    try:  # bounded, and a regular file only (a link to /dev/zero would never end)
+        summary = read_json(directory / "summary.json", "summary")
+    except ConfigError:
+        return False  # the sagittal reader says what is wrong with it
     return isinstance(summary, dict) and summary.get("model") == "3d"
 
 
