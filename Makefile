@@ -33,7 +33,7 @@ test: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
-	MPLBACKEND=Agg $(BIN)/python -m pytest -q -n auto --dist loadgroup
+	MPLBACKEND=Agg $(BIN)/python -m pytest -q -n auto --dist loadgroup --max-worker-restart 0
 
 # The documentation site (MkDocs, Material theme) into site/, offline; open site/index.html.
 docs: $(STAMP)
