@@ -6,8 +6,8 @@ and second derivatives (a periodic C2 cubic spline, :mod:`~scalf_opt.locomotion.
 and the four feet's contact forces (world axes, on the robot; linear between nodes, zero in swing).
 
 :meth:`WholeBodyPlan.evaluate` gives the energy the optimizer saw: each joint's drawn power (exact
-accounting and losses) at the nodes, quarter points and midpoints, summed over the periodic grid
-by Simpson's rule on the half intervals.
+accounting and losses) at the schedule's read points (by default the nodes, quarter points and
+midpoints), summed over the periodic grid by composite Simpson's rule.
 :meth:`WholeBodyPlan.check` is the independent re-evaluation: the spline and the forces read at
 ``factor`` times the rate and pushed through Pinocchio's own ``rnea`` (with the forces as external
 forces on the feet's parent joints, not the CasADi twin the optimizer used), giving the joint
@@ -25,8 +25,8 @@ import pinocchio as pin
 
 from scalf_opt.energy.whole_body import WholeBodyPhysics
 from scalf_opt.locomotion.contact_schedule import TrotSchedule
-from scalf_opt.locomotion.periodic_spline import READ_POINTS, inner_points, interval_points
 from scalf_opt.locomotion.periodic_spline import evaluate as spline_at
+from scalf_opt.locomotion.periodic_spline import inner_points, interval_points
 from scalf_opt.types import Accounting
 
 
@@ -172,14 +172,15 @@ class WholeBodyPlan:
     def evaluate(self, accounting: Accounting) -> PlanEnergy:
         """The energy the optimizer sees, with the exact losses.
 
-        Simpson's rule on the half intervals of the periodic grid
-        (:data:`~scalf_opt.locomotion.periodic_spline.READ_POINTS`: the nodes, quarter points and
-        midpoints); the rate it reports is the nodes'.
+        Composite Simpson's rule on the schedule's read points
+        (:attr:`~scalf_opt.locomotion.contact_schedule.TrotSchedule.read_points`: by default the
+        nodes, quarter points and midpoints); the rate it reports is the nodes'.
         """
         step = self.schedule.step_s
+        read = self.schedule.read_points
         nodes = self.node_outputs(accounting)
-        energy = READ_POINTS[0][1] * step * nodes["charged"].sum(axis=1)
-        for fraction, weight in READ_POINTS[1:]:
+        energy = read[0][1] * step * nodes["charged"].sum(axis=1)
+        for fraction, weight in read[1:]:
             inner = self.inner_outputs(accounting, fraction)
             energy = energy + weight * step * inner["charged"].sum(axis=1)
         return PlanEnergy(1.0 / step, energy, nodes["tau"], self.schedule.times_s)

@@ -34,6 +34,7 @@ from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.errors import ConfigError
 from scalf_opt.files import read_untrusted_text, write_atomic
 from scalf_opt.locomotion.contact_schedule import TrotSchedule
+from scalf_opt.locomotion.periodic_spline import READS_PER_INTERVAL
 from scalf_opt.types import LEG_NAMES, Accounting
 
 AXES = ("x", "y", "z")
@@ -221,7 +222,11 @@ QUATERNION_NORM_TOLERANCE = 1e-6
 """How far a saved trunk quaternion's norm may lie from one (the writer's is one to 1e-15)."""
 
 SUMMARY_NUMBERS = ("period_s", "duty_cycle", "nodes", "speed_m_s")
-"""The ``summary.json`` fields :func:`read_plan` rebuilds the schedule and speed from."""
+"""The ``summary.json`` fields :func:`read_plan` rebuilds the schedule and speed from (and
+``reads_per_interval`` when present)."""
+
+MAX_READS_PER_INTERVAL = 64
+"""The densest reading a saved cycle may ask for (the driver's is 8)."""
 
 _BASE_RATES = (("lin_vel", "m_s"), ("ang_vel", "rad_s"), ("lin_acc", "m_s2"), ("ang_acc", "rad_s2"))
 """The trunk's world-frame rate columns ``base_<kind>_{x,y,z}_<unit>``."""
@@ -238,13 +243,13 @@ def read_plan(directory: Path, physics: WholeBodyPhysics) -> WholeBodyPlan:
 def saved_plan(saved: SavedCycle, physics: WholeBodyPhysics) -> WholeBodyPlan:
     """The plan of a cycle read by :func:`read_cycle`.
 
-    The schedule is ``TrotSchedule(period_s, duty_cycle, nodes)`` and the speed ``speed_m_s`` of
-    ``summary.json``. From ``plan.csv`` (SI units), in the optimizer's coordinates ``X``
-    (:mod:`scalf_opt.energy.whole_body`): the trunk's position, velocity and acceleration are the
-    world-frame columns; its roll, pitch, yaw [rad] are the quaternion's
-    (``R = R_z(yaw) R_y(pitch) R_x(roll)``, the sign of the quaternion immaterial; roll and yaw
-    in ``(-pi, pi]``: the optimizer keeps all three within 0.6 rad); their rates
-    solve ``R^T omega_world = E(rpy) rpy_dot`` and their second derivatives
+    The schedule is ``TrotSchedule(period_s, duty_cycle, nodes, reads_per_interval)`` (the last
+    4 when absent) and the speed ``speed_m_s`` of ``summary.json``. From ``plan.csv`` (SI
+    units), in the optimizer's coordinates ``X`` (:mod:`scalf_opt.energy.whole_body`): the
+    trunk's position, velocity and acceleration are the world-frame columns; its roll, pitch,
+    yaw [rad] are the quaternion's (``R = R_z(yaw) R_y(pitch) R_x(roll)``, the sign of the
+    quaternion immaterial; roll and yaw in ``(-pi, pi]``: the optimizer keeps all three within
+    0.6 rad); their rates solve ``R^T omega_world = E(rpy) rpy_dot`` and their second derivatives
     ``R^T domega_world/dt = E rpy_ddot + dE/dt rpy_dot`` (``E`` from
     :func:`~scalf_opt.energy.whole_body.body_angular_velocity`, the one place it is written);
     the joints follow ``physics.joint_names``, the forces (world axes, on the robot, [N])
@@ -278,7 +283,8 @@ def saved_plan(saved: SavedCycle, physics: WholeBodyPhysics) -> WholeBodyPlan:
             ">= 1",
             field="from",
         )
-    schedule = TrotSchedule(period, duty, int(nodes))
+    reads = _summary_reads(summary, summary_path)
+    schedule = TrotSchedule(period, duty, int(nodes), reads)
     n = schedule.intervals
     if abs(duty * n - round(duty * n)) > 1e-9:
         raise ConfigError(
@@ -320,6 +326,24 @@ def saved_plan(saved: SavedCycle, physics: WholeBodyPhysics) -> WholeBodyPlan:
         node = schedule.touchdown_node(leg)
         footholds[:, i] = np.array(feet(x[:, node]))[:2, i]
     return WholeBodyPlan(physics, schedule, speed, x, xd, xdd, forces, footholds)
+
+
+def _summary_reads(summary: dict[str, Any], path: Path) -> int:
+    """``summary``'s ``reads_per_interval`` (the default when absent: cycles saved before it was).
+
+    Raises:
+        ConfigError: It is not an even whole number from 2 to :data:`MAX_READS_PER_INTERVAL`.
+    """
+    if "reads_per_interval" not in summary:
+        return READS_PER_INTERVAL
+    reads = _summary_number(summary, "reads_per_interval", path)
+    if not (reads == int(reads) and int(reads) % 2 == 0 and 2 <= reads <= MAX_READS_PER_INTERVAL):
+        raise ConfigError(
+            f"{path}: reads_per_interval {reads!r} must be an even whole number from 2 to "
+            f"{MAX_READS_PER_INTERVAL}",
+            field="from",
+        )
+    return int(reads)
 
 
 def _summary_number(summary: dict[str, Any], key: str, path: Path) -> float:

@@ -43,6 +43,7 @@ def cycle_summary(problem: CycleProblem, result: CycleResult) -> dict[str, Any]:
         "friction": problem.friction,
         "accounting": problem.accounting,
         "nodes": schedule.intervals,
+        "reads_per_interval": schedule.reads_per_interval,
         "converged": result.converged,
         "failure": result.failure(),
         "energy_per_cycle_j": energy.total_j,
@@ -68,6 +69,7 @@ def cycle_summary(problem: CycleProblem, result: CycleResult) -> dict[str, Any]:
         "solves": [
             {
                 "nodes": step.nodes,
+                "reads_per_interval": step.reads_per_interval,
                 "status": step.solution.status,
                 "iterations": step.solution.iterations,
                 "seconds": step.solution.solve_s,

@@ -19,6 +19,7 @@ from functools import cached_property
 import numpy as np
 
 from scalf_opt.errors import GaitError
+from scalf_opt.locomotion.periodic_spline import READS_PER_INTERVAL, read_points
 from scalf_opt.types import LEG_NAMES
 
 STANCE_START_SHARE = {"RF": 0.0, "LH": 0.0, "LF": 0.5, "RH": 0.5}
@@ -42,11 +43,20 @@ class TrotSchedule:
         period_s: The gait period ``T`` [s].
         duty_cycle: The share ``D`` of the period each foot spends on the ground.
         intervals: The number ``N`` of equal intervals (and nodes) in one period.
+        reads_per_interval: Where a plan on this grid is read (its energy, its limits): at this
+            many points of each interval
+            (:func:`~scalf_opt.locomotion.periodic_spline.read_points`).
     """
 
     period_s: float
     duty_cycle: float
     intervals: int
+    reads_per_interval: int = READS_PER_INTERVAL
+
+    @property
+    def read_points(self) -> tuple[tuple[float, float], ...]:
+        """Each read point's fraction of its interval and weight in units of the interval."""
+        return read_points(self.reads_per_interval)
 
     @property
     def step_s(self) -> float:

@@ -88,16 +88,31 @@ def evaluate(
     return values, rates, accelerations
 
 
-READ_POINTS: tuple[tuple[float, float], ...] = (
-    (0.0, 1 / 6),
-    (0.25, 1 / 3),
-    (0.5, 1 / 6),
-    (0.75, 1 / 3),
-)
-"""Where a quantity on the periodic grid is read, and its weight: composite Simpson's rule on the
-half intervals. Each pair is a fraction of the interval ``[t_k, t_{k+1}]`` and the weight of the
-reading there in units of the interval ``h``: nodes and midpoints ``h / 6``, quarter points
-``h / 3`` (the weights of one interval sum to ``h``)."""
+def read_points(per_interval: int) -> tuple[tuple[float, float], ...]:
+    """Where a quantity on the periodic grid is read, and its weight: composite Simpson's rule.
+
+    Each interval ``[t_k, t_{k+1}]`` is cut into ``per_interval`` (even, at least 2) equal parts
+    and Simpson's rule applied to each pair of them. Each returned pair is a fraction of the
+    interval and the weight of the reading there in units of the interval ``h``, the node first
+    (its weight counts both intervals it closes: ``2 / (3 m)``; the odd points ``4 / (3 m)``, the
+    other inner even points ``2 / (3 m)``); the weights of one interval sum to 1.
+
+    Raises:
+        ValueError: ``per_interval`` is odd or below 2.
+    """
+    if per_interval < 2 or per_interval % 2:
+        raise ValueError(f"per_interval = {per_interval}: Simpson's rule needs an even count >= 2")
+    m = per_interval
+    return tuple((i / m, (4.0 if i % 2 else 2.0) / (3 * m)) for i in range(m))
+
+
+READS_PER_INTERVAL = 4
+"""The read points per interval unless a finer reading is asked for: the nodes, quarter points
+and midpoints (composite Simpson's rule on the half intervals)."""
+
+READ_POINTS: tuple[tuple[float, float], ...] = read_points(READS_PER_INTERVAL)
+"""The default read points (:func:`read_points` of :data:`READS_PER_INTERVAL`): nodes and
+midpoints ``h / 6``, quarter points ``h / 3``."""
 
 
 def interval_points(y: Any, fraction: float) -> Any:

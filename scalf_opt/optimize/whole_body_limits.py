@@ -3,7 +3,8 @@
 An optimum of the 3-D cycle NLP (:mod:`~scalf_opt.optimize.whole_body_nlp`) sits where a cheaper
 motion would break something: a joint's range, velocity or effort limit, a drive's bound (each
 less its margin), or an end of the period's range when the period is free. :func:`pinned_limits`
-reads the plan at the NLP's read points (the nodes, quarter points and midpoints) and names each
+reads the plan at the NLP's read points (its schedule's: by default the nodes, quarter points
+and midpoints) and names each
 limit some point reaches to within :data:`PINNED_SHARE` of the limit's span.
 """
 
@@ -14,7 +15,6 @@ import math
 import numpy as np
 
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
-from scalf_opt.locomotion.periodic_spline import READ_POINTS
 from scalf_opt.optimize.whole_body_nlp import CycleProblem
 
 PINNED_SHARE = 1e-3
@@ -27,7 +27,7 @@ def _read_point_values(
 ) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
     """The coordinates, rates [SI] and node-function outputs at every read point."""
     schedule = plan.schedule
-    fractions = [f for f, _ in READ_POINTS]
+    fractions = [f for f, _ in schedule.read_points]
     nodes = np.arange(schedule.intervals)
     x, xd, _ = plan.states_at(np.concatenate([(nodes + f) * schedule.step_s for f in fractions]))
     outputs = [plan.node_outputs(problem.accounting)] + [

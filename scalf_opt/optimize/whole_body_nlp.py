@@ -59,12 +59,7 @@ from scalf_opt.energy.margins import DEFAULT_MARGINS, LimitMargins
 from scalf_opt.energy.whole_body import WholeBodyPhysics
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION, TrotSchedule
-from scalf_opt.locomotion.periodic_spline import (
-    READ_POINTS,
-    continuity_rows,
-    inner_points,
-    interval_points,
-)
+from scalf_opt.locomotion.periodic_spline import continuity_rows, inner_points, interval_points
 from scalf_opt.optimize.block_derivatives import block_diagonal, mapped_with_block_jacobian
 from scalf_opt.optimize.nlp import MUMPS_WORK_SPACE
 from scalf_opt.optimize.whole_body_kernel import PointKernel, point_kernel
@@ -282,7 +277,8 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     stretch = ca.MX.sym("period_over_start")
     h = h0 * stretch
     # the slacks of the read points: the nodes (first n columns), then each inner point's
-    points = len(READ_POINTS)
+    read = schedule.read_points
+    points = len(read)
     slacks = [ca.MX.sym(f"s{m}", len(charging), points * n) for m in range(acc.slacks)]
     blocks = [x, steps, bends, shares, holds, stretch, *slacks]
     forces = shares * weight
@@ -294,7 +290,7 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     # the kernel's outputs there (its call is substituted at the end: _with_point_derivatives);
     # the spline in scaled rates is the spline on a unit interval
     kernel = point_kernel(physics, problem.accounting)
-    inner_states = {f: inner_points(x, steps, bends, 1.0, shift, f) for f, _ in READ_POINTS[1:]}
+    inner_states = {f: inner_points(x, steps, bends, 1.0, shift, f) for f, _ in read[1:]}
     interval = ca.repmat(h, 1, n)
     point_inputs = ca.horzcat(
         ca.vertcat(x, steps, bends, forces, interval),
@@ -321,7 +317,7 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
         _inner_range_rows(problem, rows, (states[0], states[1] / h), fraction)
     _contact_rows(problem, rows, out, inner, x, shares, holds, stride, h / h0, start)
     bounds = _variable_bounds(problem, start)
-    # Simpson's rule on the half intervals (READ_POINTS): each reading's weight times h
+    # composite Simpson's rule on the read points (the schedule's): each reading's weight times h
     power = ca.horzcat(
         out["p_joint"][charging, :], *(o["p_joint"][charging, :] for _, o in inner.values())
     )
@@ -332,14 +328,14 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
         rows.add(slack_rows, *acc.slack_row_bounds(), "slacks")
     cost = ca.sum1(acc.smooth_cost(power, slacks)) + ca.sum1(loss)
     scale = max(start.evaluate(problem.accounting).total_j, 1e-6)
-    weights = np.repeat([w for _, w in READ_POINTS], n)
+    weights = np.repeat([w for _, w in read], n)
     # the mean drawn power times the start's period (the energy per cycle at a fixed period;
     # with the period free, the energy per distance at the given speed, as a cost of transport)
     objective = ca.mtimes(cost, ca.DM(weights)) * (h0 / scale)
 
     start_power = np.hstack(
         [start.node_outputs(problem.accounting)["p_joint"]]
-        + [start.inner_outputs(problem.accounting, f)["p_joint"] for f, _ in READ_POINTS[1:]]
+        + [start.inner_outputs(problem.accounting, f)["p_joint"] for f, _ in read[1:]]
     )
     start_slacks = acc.initial_slacks(start_power[charging])
     start_blocks = (start.x, start.xd, start.xdd, start.forces_n, start.footholds_m)
@@ -577,7 +573,7 @@ def _variable_bounds(problem: CycleProblem, start: WholeBodyPlan) -> tuple[np.nd
         f_hi[3 * i : 3 * i + 3, schedule.loaded[i]] = inf
     acc = power_accounting(problem.accounting)
     charging = sum(d.charges_joint_power for d in physics.drives)
-    slack = np.zeros(acc.slacks * charging * len(READ_POINTS) * n)  # at every read point
+    slack = np.zeros(acc.slacks * charging * len(schedule.read_points) * n)  # per read point
     h_lo, h_hi = problem.step_bounds_s()
     holds = np.full(2 * len(LEG_NAMES), inf)
     lower = [x_lo, xd_lo, -free, f_lo, -holds, np.array([h_lo]), slack]

@@ -150,6 +150,20 @@ def test_node_times_within_a_nanosecond_are_the_nodes(written, physics, tmp_path
     assert read_plan(copy, physics).schedule == plan.schedule
 
 
+def test_a_denser_reading_is_read_back_and_read_the_same(physics, tmp_path):
+    """A cycle the driver read at eight points per interval keeps that reading (its energy is
+    the one the optimizer saw); one saved without the field is read at the default four."""
+    plan = tilted_plan(physics, TILTS["tilted"])
+    dense = replace(plan, schedule=replace(plan.schedule, reads_per_interval=8))
+    summary = {**summary_of(dense), "reads_per_interval": 8}
+    write_cycle(tmp_path, summary, dense, "paper")
+    got = read_plan(tmp_path, physics)
+    assert got.schedule == dense.schedule and got.schedule.reads_per_interval == 8
+    energy = dense.evaluate("paper").total_j
+    assert got.evaluate("paper").total_j == pytest.approx(energy, rel=RTOL)
+    assert energy != pytest.approx(plan.evaluate("paper").total_j, rel=1e-6)  # it is another rule
+
+
 # --- the errors: one line naming the file and the field ------------------------------------------
 
 
@@ -250,6 +264,19 @@ ERRORS = {
     "no unit quaternion": (edit_columns(scale_quaternion), "plan.csv", ["base_quat", "norm"]),
     "duty off the nodes": (edit_summary(duty_cycle=0.43), "summary.json", ["duty_cycle 0.43"]),
     "nodes not whole": (edit_summary(nodes=17.5), "summary.json", ["nodes 17.5"]),
+    **{
+        f"reads_per_interval {value!r}": (
+            edit_summary(reads_per_interval=value),
+            "summary.json",
+            [f"reads_per_interval {float(value)!r}", "even whole number from 2 to 64"],
+        )
+        for value in (3, 0, 128, 6.5)
+    },
+    "reads_per_interval text": (
+        edit_summary(reads_per_interval="8"),
+        "summary.json",
+        ["reads_per_interval", "not a number"],
+    ),
     **{
         f"no {key}": (edit_summary(**{key: DELETE}), "summary.json", [f"no field '{key}'"])
         for key in ("period_s", "duty_cycle", "nodes", "speed_m_s")

@@ -64,7 +64,11 @@ def test_the_export_is_the_plan_a_controller_can_recheck(solved, tmp_path):
     problem, solution = solved
     plan = solution.plan
     step = GridStep(
-        problem.schedule.intervals, solution, plan.evaluate("paper").total_j, plan.check("paper")
+        problem.schedule.intervals,
+        problem.schedule.reads_per_interval,
+        solution,
+        plan.evaluate("paper").total_j,
+        plan.check("paper"),
     )
     result = CycleResult((step,))
     summary = cycle_summary(problem, result)
@@ -183,7 +187,7 @@ def test_another_speed_starts_from_this_plan_on_its_grid(solved, monkeypatch):
     from scalf_opt.optimize.whole_body_driver import optimize_cycle
 
     problem, cold = solved
-    monkeypatch.setattr(whole_body_driver, "MAX_EXTRA_DOUBLINGS", 0)
+    monkeypatch.setattr(whole_body_driver, "MAX_EXTRA_REFINEMENTS", 0)
     faster = replace(problem, speed_m_s=problem.speed_m_s + 0.1)
     rate = problem.schedule.intervals / problem.schedule.period_s
     result = optimize_cycle(faster, rate, start=cold.plan)

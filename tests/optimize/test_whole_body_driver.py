@@ -1,5 +1,5 @@
-"""The 3-D cycle's driver: which grids it solves on (Ipopt replaced by a stand-in that returns
-its start as converged, so only the driver's choice of grids is under test)."""
+"""The 3-D cycle's driver: which grids it solves on and how densely it reads them (Ipopt replaced
+by a stand-in that returns its start as converged, so only the driver's choices are under test)."""
 
 from dataclasses import replace
 
@@ -7,6 +7,7 @@ import pytest
 
 from scalf_opt.energy.whole_body import WholeBodyPhysics
 from scalf_opt.locomotion.contact_schedule import trot_schedule
+from scalf_opt.locomotion.periodic_spline import READS_PER_INTERVAL
 from scalf_opt.locomotion.scaling import default_gait_for
 from scalf_opt.optimize import whole_body_driver
 from scalf_opt.optimize.whole_body_driver import CycleResult, optimize_cycle
@@ -30,7 +31,8 @@ def problem():
 
 
 def _grids(problem, monkeypatch, start, rule_holds):
-    """The node counts the driver solves on, every solve 'converging' at its start."""
+    """The (node count, read points per interval) the driver solves on, every solve
+    'converging' at its start."""
 
     def stand_in(step_problem, first=None):
         plan = kinematic_start(step_problem) if first is None else first
@@ -39,7 +41,7 @@ def _grids(problem, monkeypatch, start, rule_holds):
     monkeypatch.setattr(whole_body_driver, "solve_cycle", stand_in)
     monkeypatch.setattr(whole_body_driver, "RATE_TOLERANCE", 1.0 if rule_holds else 0.0)
     result: CycleResult = optimize_cycle(problem, RATE_HZ, start=start)
-    return [step.nodes for step in result.steps]
+    return [(step.nodes, step.reads_per_interval) for step in result.steps]
 
 
 def _nodes(problem, share):
@@ -47,21 +49,40 @@ def _nodes(problem, share):
     return trot_schedule(problem.schedule.period_s, 0.5, share * RATE_HZ).intervals
 
 
-def test_a_cold_start_refines_from_a_coarse_grid_to_four_times_the_rate(problem, monkeypatch):
+COARSE, FINE = READS_PER_INTERVAL, whole_body_driver.FINE_READS_PER_INTERVAL
+
+
+def test_a_cold_start_refines_from_a_coarse_grid_then_reads_denser_then_doubles(
+    problem, monkeypatch
+):
+    """Coarse grids up to the asked rate; while the rule fails, the same grid read at eight
+    points per interval, then twice the nodes (two refinements at most)."""
     asked = _nodes(problem, 1)
     grids = _grids(problem, monkeypatch, None, rule_holds=False)
-    assert grids[0] < asked and grids == sorted(grids)
-    assert grids[-2:] == [_nodes(problem, 2), _nodes(problem, 4)]  # two extra doublings at most
-    assert _grids(problem, monkeypatch, None, rule_holds=True)[-1] == asked
+    assert grids[0][0] < asked and grids == sorted(grids)
+    assert all(reads == COARSE for _, reads in grids[:-2])
+    assert grids[-3:] == [(asked, COARSE), (asked, FINE), (_nodes(problem, 2), FINE)]
+    assert _grids(problem, monkeypatch, None, rule_holds=True)[-1] == (asked, COARSE)
 
 
 def test_a_warm_start_keeps_its_grid_up_to_twice_the_rate(problem, monkeypatch):
     """A start on its own grid is solved there; one refined to four times the asked rate is
     solved on twice the rate first, and never beyond the cold path's finest grid."""
     own = kinematic_start(problem)
-    assert _grids(problem, monkeypatch, own, rule_holds=True) == [_nodes(problem, 1)]
+    assert _grids(problem, monkeypatch, own, rule_holds=True) == [(_nodes(problem, 1), COARSE)]
     fine_schedule = trot_schedule(problem.schedule.period_s, 0.5, 4 * RATE_HZ)
     fine = kinematic_start(replace(problem, schedule=fine_schedule))
     twice = _nodes(problem, 2)
-    assert _grids(problem, monkeypatch, fine, rule_holds=True) == [twice]
-    assert _grids(problem, monkeypatch, fine, rule_holds=False) == [twice, _nodes(problem, 4)]
+    assert _grids(problem, monkeypatch, fine, rule_holds=True) == [(twice, COARSE)]
+    assert _grids(problem, monkeypatch, fine, rule_holds=False) == [(twice, COARSE), (twice, FINE)]
+
+
+def test_a_warm_start_read_densely_stays_dense_and_counts_as_a_refinement(problem, monkeypatch):
+    """A start that needed the denser reading keeps it; its one refinement left doubles the grid."""
+    dense = kinematic_start(problem)
+    dense = replace(dense, schedule=replace(dense.schedule, reads_per_interval=FINE))
+    period = problem.schedule.period_s
+    asked = _nodes(problem, 1)
+    twice = trot_schedule(period, 0.5, 2 * asked / period).intervals  # twice the start's rate
+    assert _grids(problem, monkeypatch, dense, rule_holds=True) == [(asked, FINE)]
+    assert _grids(problem, monkeypatch, dense, rule_holds=False) == [(asked, FINE), (twice, FINE)]

@@ -10,6 +10,7 @@ from scalf_opt.cli.options import check_output_dir, load_gait, load_robot
 from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.errors import ConfigError, GaitError
 from scalf_opt.io.whole_body_summary import cycle_summary
+from scalf_opt.locomotion.periodic_spline import READS_PER_INTERVAL
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY
 from scalf_opt.types import LEG_NAMES
 
@@ -162,8 +163,11 @@ def cycle_report(problem: CycleProblem, data: dict[str, Any]) -> str:
     """The run in words and a table, from its :func:`cycle_summary` ``data``."""
     lines = [""]
     for solve in data["solves"]:
+        reads = solve.get("reads_per_interval", READS_PER_INTERVAL)
+        denser = f" (read at {reads} points each)" if reads != READS_PER_INTERVAL else ""
         lines.append(
-            f"Ipopt on {solve['nodes']:4d} nodes: {solve['status']} in {solve['iterations']} "
+            f"Ipopt on {solve['nodes']:4d} nodes{denser}: {solve['status']} in "
+            f"{solve['iterations']} "
             f"iterations ({solve['seconds']:.1f} s), {solve['energy_per_cycle_j']:.3f} J per "
             f"cycle, {100 * solve['rate_difference']:+.2f} % at 10x the rate"
         )
