@@ -23,12 +23,13 @@ Constraints:
   foot keeps to its side of the trunk (at least half its start's lateral offset from the trunk's
   midline: the legs cannot cross);
 * **the limits**: every joint's range, velocity and effort limit and every drive bound, less the
-  margins (:class:`~scalf_opt.energy.margins.LimitMargins`), at every read point: the nodes, and
-  the quarter points and midpoints of the intervals (there the spline's value and the forces
-  interpolated linearly); the swing feet's floor too.
+  margins (:class:`~scalf_opt.energy.margins.LimitMargins`), at every read point of the schedule
+  (:attr:`~scalf_opt.locomotion.contact_schedule.TrotSchedule.read_points`; by default the
+  nodes, and the quarter points and midpoints of the intervals; there the spline's value and the
+  forces interpolated linearly); the swing feet's floor too.
 
-Objective: the drive energy of every joint over the cycle by Simpson's rule on the half intervals
-(:data:`~scalf_opt.locomotion.periodic_spline.READ_POINTS`: their drawn power, the accounting's
+Objective: the drive energy of every joint over the cycle by composite Simpson's rule on the read
+points (by default on the half intervals: their drawn power, the accounting's
 slack form of the charged joint power plus the drives' losses, smoothed as in the sagittal NLP),
 over the start's energy. Read at the nodes alone, a joint could rest at every node and move between
 them for free; read at the nodes and midpoints only (Simpson's rule on whole intervals, this model's
