@@ -33,6 +33,7 @@ def cycle_summary(problem: CycleProblem, result: CycleResult) -> dict[str, Any]:
     energy = plan.evaluate(problem.accounting)
     return {
         "model": "3d",
+        "objective": problem.objective,
         "robot": physics.robot.name,
         "period_s": schedule.period_s,
         "period_range_s": None if problem.period_range_s is None else list(problem.period_range_s),

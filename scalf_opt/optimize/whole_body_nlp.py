@@ -50,7 +50,7 @@ from __future__ import annotations
 
 import time
 from dataclasses import dataclass, field, replace
-from typing import Any
+from typing import Any, Literal
 
 import casadi as ca
 import numpy as np
@@ -72,6 +72,11 @@ SIDE_SHARE = 0.5
 
 BASE_TILT_BOUND_RAD = 0.6
 """The trunk's roll, pitch and yaw stay within this [rad] (far from the pitch singularity)."""
+
+REFERENCE_ENERGY_WEIGHT = 1e-3
+"""The energy's weight (over the start's) beside the deviation from the reference when the
+objective is ``"reference"``: it settles what the deviation leaves free (the slacks, the forces'
+split) without trading the reference for energy."""
 
 OBJECTIVE_SCALING = 1e3
 """Ipopt's factor on the objective (the energy over the start's).
@@ -129,6 +134,11 @@ class CycleProblem:
         period_range_s: The period's bounds ``(shortest, longest)`` [s] when the period is free
             (a decision variable, ``schedule.period_s`` its start); ``None`` fixes it. The
             duty factor and the node count stay the schedule's.
+        objective: ``"energy"`` (the drive energy, the optimum) or ``"reference"``: the
+            balanced motion nearest the kinematic reference trot (:func:`kinematic_start`),
+            the mean squared deviation of the coordinates from it (trunk position over the
+            stance height, angles in rad), the energy over the start's a tie-breaker weighted
+            :data:`REFERENCE_ENERGY_WEIGHT` (what ``evaluate --model 3d`` reports).
     """
 
     physics: WholeBodyPhysics
@@ -140,6 +150,7 @@ class CycleProblem:
     margins: LimitMargins = field(default=DEFAULT_MARGINS)
     accounting: Accounting = "paper"
     period_range_s: tuple[float, float] | None = None
+    objective: Literal["energy", "reference"] = "energy"
 
     def step_bounds_s(self) -> tuple[float, float]:
         """The node interval's bounds [s]: the period's over the node count."""
@@ -333,6 +344,8 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
     # the mean drawn power times the start's period (the energy per cycle at a fixed period;
     # with the period free, the energy per distance at the given speed, as a cost of transport)
     objective = ca.mtimes(cost, ca.DM(weights)) * (h0 / scale)
+    if problem.objective == "reference":
+        objective = _reference_deviation(problem, x) + REFERENCE_ENERGY_WEIGHT * objective
 
     start_power = np.hstack(
         [start.node_outputs(problem.accounting)["p_joint"]]
@@ -366,6 +379,18 @@ def build_cycle_nlp(problem: CycleProblem, start: WholeBodyPlan) -> CycleNlp:
         scales,
         derivatives,
     )
+
+
+def _reference_deviation(problem: CycleProblem, x: ca.MX) -> ca.MX:
+    """The mean squared deviation of the coordinates ``x`` (nx, N) from the kinematic reference.
+
+    At the nodes: the trunk's position over the stance height, its angles and the joints' [rad].
+    """
+    reference = kinematic_start(problem)
+    scale = np.ones((problem.physics.nx, 1))
+    scale[:3] = problem.stance_height_m
+    deviation = (x - ca.DM(reference.x)) / ca.repmat(ca.DM(scale), 1, x.shape[1])
+    return ca.sumsqr(deviation) / x.shape[1]
 
 
 def kinematic_start(problem: CycleProblem) -> WholeBodyPlan:

@@ -200,3 +200,30 @@ def test_another_speed_starts_from_this_plan_on_its_grid(solved, monkeypatch):
     assert plan.stride_m == pytest.approx(faster.speed_m_s * plan.schedule.period_s, rel=1e-12)
     assert_pinocchio_agrees(faster, plan)
     assert_contacts_hold(faster, plan)
+
+
+def test_the_balanced_reference_keeps_to_the_reference_and_costs_more_than_the_optimum(solved):
+    """``evaluate --model 3d``'s problem (objective ``"reference"``) on the fixture's grid: a plan
+    Pinocchio agrees with, in its cones, that keeps to the kinematic reference trot far closer
+    than the energy optimum does and costs more than it (each objective does what it says)."""
+    from dataclasses import replace
+
+    from scalf_opt.optimize.whole_body_nlp import kinematic_start, solve_cycle
+
+    problem, optimum = solved
+    balanced_problem = replace(problem, objective="reference")
+    solution = solve_cycle(balanced_problem)
+    assert solution.success, solution.status
+    plan = solution.plan
+    assert_pinocchio_agrees(balanced_problem, plan)
+    assert_contacts_hold(balanced_problem, plan)
+    reference = kinematic_start(problem).x
+    scale = np.ones((reference.shape[0], 1))
+    scale[:3] = problem.stance_height_m
+
+    def deviation(x):
+        return float(np.mean(np.sum(((x - reference) / scale) ** 2, axis=0)))
+
+    assert deviation(plan.x) < 0.1 * deviation(optimum.plan.x)
+    energy = plan.evaluate("paper").total_j
+    assert energy > 1.5 * optimum.plan.evaluate("paper").total_j

@@ -15,6 +15,8 @@ from scalf_opt.cli.options import (
     load_robot,
     warn_without_effect,
 )
+from scalf_opt.errors import ConfigError
+from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION
 
 NAME = "evaluate"
 HELP = "energy of the cubic-spline reference trajectory, or of a saved optimum (--swing)"
@@ -22,12 +24,32 @@ EXAMPLES = (
     ("scalf-opt evaluate", "the reference swing on SCalf's trot (the paper's Table 6)"),
     ("scalf-opt evaluate --robot go1 --period 0.4 --out results/go1", "another robot and period"),
     ("scalf-opt evaluate --swing results/optimum --rate 1000", "a saved optimum at 1 kHz"),
+    (
+        "scalf-opt evaluate --model 3d --robot go1 --rate 25",
+        "the reference trot balanced on the whole robot in 3-D (a minute or two)",
+    ),
 )
 JSON = True
 
 
 def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     add_robot(parser)
+    parser.add_argument(
+        "--model",
+        choices=("sagittal", "3d"),
+        default="sagittal",
+        help="sagittal (default): the paper's model, two-joint legs under a trunk on a fixed "
+        "line; 3d: the whole robot's trot cycle (free trunk, every joint, contact forces in "
+        "friction cones): the balanced motion nearest the kinematic reference trot, solved by "
+        "Ipopt (not optimized for energy; takes a minute or more)",
+    )
+    parser.add_argument(
+        "--friction",
+        type=float,
+        default=DEFAULT_FRICTION,
+        metavar="X",
+        help=f"--model 3d: the feet's friction coefficient (default {DEFAULT_FRICTION:g})",
+    )
     add_gait(parser, speed=True)
     add_loads(parser, saved=True)
     parser.add_argument(
@@ -43,7 +65,39 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     )
 
 
+def run_reference_3d(args: argparse.Namespace) -> int:
+    """``evaluate --model 3d``: the reference trot balanced on the whole robot.
+
+    Exit 3 if a solve did not converge (nothing is written then).
+
+    Raises:
+        ConfigError: ``--swing`` or ``--loads`` given (options of the sagittal model).
+    """
+    from scalf_opt.cli.commands.optimize_3d import run_3d
+    from scalf_opt.energy.loads import DEFAULT_LOADS
+    from scalf_opt.energy.margins import DEFAULT_MARGINS
+
+    if args.swing is not None:
+        raise ConfigError(
+            "--swing: --model 3d evaluates the reference trot; a saved 3-D cycle is read by "
+            "simulate, view, figures and export --from",
+            field="swing",
+        )
+    if args.loads is not None:
+        raise ConfigError(
+            "--loads is an option of the sagittal model; --model 3d carries the robot by its own "
+            "contact forces (leave it out)",
+            field="loads",
+        )
+    args.loads = DEFAULT_LOADS
+    return run_3d(args, DEFAULT_MARGINS, objective="reference")
+
+
 def run(args: argparse.Namespace) -> int:  # noqa: D103
+    if args.model == "3d":
+        return run_reference_3d(args)
+    if args.friction != DEFAULT_FRICTION:
+        raise ConfigError("--friction is an option of --model 3d", field="friction")
     from scalf_opt.api import evaluate
     from scalf_opt.io.saved import read_saved_swings
     from scalf_opt.studies import paper_data

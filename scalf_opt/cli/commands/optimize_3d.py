@@ -4,7 +4,8 @@ from __future__ import annotations
 
 import argparse
 import math
-from typing import TYPE_CHECKING, Any
+from dataclasses import replace
+from typing import TYPE_CHECKING, Any, Literal
 
 from scalf_opt.cli.options import check_output_dir, load_gait, load_robot
 from scalf_opt.energy.loads import DEFAULT_LOADS
@@ -83,7 +84,7 @@ def build_problem(
         raise GaitError(f"--duty {duty:g}: {exc}", field="duty_cycle") from exc
     physics = WholeBodyPhysics.of(robot)
     free = None
-    if args.period_range is not None:
+    if getattr(args, "period_range", None) is not None:
         from scalf_opt.cli.commands.gait_3d import period_range
 
         free = period_range(args.period_range, gait.period_s)
@@ -118,10 +119,24 @@ def build_problem(
     return problem, rate, line
 
 
-def run_3d(args: argparse.Namespace, margins: LimitMargins) -> int:
+REFERENCE_LINE = (
+    "the reference trot balanced on the whole robot: the motion nearest the kinematic reference "
+    "(trunk level at constant speed, feet on minimum-jerk paths) that contact forces in their "
+    "cones can carry, within every limit; not optimized for energy"
+)
+"""What ``evaluate --model 3d`` reports, in words (its objective ``"reference"``)."""
+
+
+def run_3d(
+    args: argparse.Namespace,
+    margins: LimitMargins,
+    objective: Literal["energy", "reference"] = "energy",
+) -> int:
     """Exit 0 when the cycle converged, 3 when it did not (unless accepted).
 
-    ``margins``: the limit margins the options give (``optimize``'s).
+    ``margins``: the limit margins the options give (``optimize``'s). ``objective``: the NLP's
+    (:class:`~scalf_opt.optimize.whole_body_nlp.CycleProblem`): ``"energy"`` for ``optimize``,
+    ``"reference"`` for ``evaluate`` (the reference trot balanced).
     """
     from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.io.whole_body_export import write_cycle
@@ -132,20 +147,25 @@ def run_3d(args: argparse.Namespace, margins: LimitMargins) -> int:
     if not (math.isfinite(args.friction) and args.friction > 0):
         raise ConfigError(f"--friction {args.friction:g} must be > 0", field="friction")
     problem, rate, line = build_problem(args, margins)
-    with ProgressBar(None, "optimize --model 3d", enabled=not args.quiet) as bar:
+    problem = replace(problem, objective=objective)
+    label = f"{args.command} --model 3d"
+    with ProgressBar(None, label, enabled=not args.quiet) as bar:
         result = optimize_cycle(problem, rate, bar.step)
     console = args.console
     console.text(line)
+    if objective == "reference":
+        console.text(REFERENCE_LINE)
     summary = cycle_summary(problem, result)
     console.json(summary)
     console.text(cycle_report(problem, summary))
     written = []
-    if args.out is not None and (result.converged or args.accept_unconverged):
+    accept = getattr(args, "accept_unconverged", False)
+    if args.out is not None and (result.converged or accept):
         written = write_cycle(args.out, summary, result.plan, problem.accounting)
         console.text("wrote " + " and ".join(str(p) for p in written))
     if not result.converged:
         console.error(f"not converged: {result.failure()}")
-        return 0 if args.accept_unconverged else 3
+        return 0 if accept else 3
     return 0
 
 
