@@ -94,6 +94,12 @@ def test_the_export_is_the_plan_a_controller_can_recheck(solved, tmp_path):
     np.testing.assert_allclose(table["base_ang_vel_z_rad_s"], plan.xd[5], atol=1e-2)
     report = cycle_report(problem, summary)
     assert "cost of transport" in report and "Solve_Succeeded" in report
+    # the pinned limits are always reported: named, or none
+    pinned = [line for line in report.splitlines() if line.startswith("pinned at")]
+    assert len(pinned) == 1
+    assert ("no limit" in pinned[0]) == (not summary["pinned_by"]), pinned
+    unpinned = cycle_report(problem, {**summary, "pinned_by": []})
+    assert "pinned at                no limit:" in unpinned
 
 
 def test_where_no_foot_carries_the_exported_robot_falls_at_g(solved, tmp_path):

@@ -228,6 +228,11 @@ def cycle_report(problem: CycleProblem, data: dict[str, Any]) -> str:
         from scalf_opt.cli.commands.gait_3d import pinned_words
 
         lines.append(f"pinned at                {pinned_words('; '.join(data['pinned_by']))}")
+    else:
+        lines.append(
+            "pinned at                no limit: every joint's range, rate, effort and drive "
+            "bound (less margins) and the period's range keep room"
+        )
     estimated = [j for j, o in data["drives"].items() if o != "actuator file"]
     if estimated:
         lines.append(
