@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 import statistics
-from collections.abc import Callable, Sequence
+from collections.abc import Callable, Iterable, Sequence
 from dataclasses import dataclass, replace
 from typing import Any
 
@@ -103,6 +103,9 @@ class MemberResult:
             reference was simulated.
         torque_saturation: The largest share of steps any joint asked beyond its effort limit.
         fell_at_s: When the robot fell in this member's run [s], ``None`` when it did not.
+        diverged_at_s: When MuJoCo's integration diverged in this member's run [s]
+            (:mod:`~scalf_opt.sim.divergence`), ``None`` when it did not.
+        divergence: Which of MuJoCo's checks failed then, in words.
     """
 
     perturbation: Perturbation
@@ -112,6 +115,8 @@ class MemberResult:
     saving_percent: float | None
     torque_saturation: float
     fell_at_s: float | None = None
+    diverged_at_s: float | None = None
+    divergence: str | None = None
 
     @classmethod
     def of(cls, perturbation: Perturbation, data: dict[str, Any]) -> MemberResult:
@@ -126,6 +131,8 @@ class MemberResult:
             None if saving is None else float(saving["simulated_percent"]),
             float(max(data["torque_saturation_fraction"].values())),
             data.get("fell_at_s"),
+            data.get("diverged_at_s"),
+            data.get("divergence"),
         )
 
     def to_dict(self) -> dict[str, Any]:
@@ -141,11 +148,26 @@ class MemberResult:
             "saving_simulated_percent": self.saving_percent,
             "torque_saturation_fraction": self.torque_saturation,
             "fell_at_s": self.fell_at_s,
+            "diverged_at_s": self.diverged_at_s,
+            "divergence": self.divergence,
         }
 
 
-def _spread(values: Sequence[float]) -> float:
-    return max(values) - min(values)
+def _measured(values: Iterable[float]) -> list[float]:
+    """The finite ``values``: a member whose run measured nothing (NaN) has no say."""
+    return [v for v in values if math.isfinite(v)]
+
+
+def _median(values: Iterable[float]) -> float:
+    """The median of the finite ``values``, NaN when none is."""
+    finite = _measured(values)
+    return statistics.median(finite) if finite else math.nan
+
+
+def _spread(values: Iterable[float]) -> float:
+    """The largest minus the smallest of the finite ``values``, NaN when none is."""
+    finite = _measured(values)
+    return max(finite) - min(finite) if finite else math.nan
 
 
 def ensemble_verdict(
@@ -158,9 +180,11 @@ def ensemble_verdict(
     ``total_energy_per_cycle_j`` likewise; ``saving_vs_reference.simulated_percent`` the median
     saving with its spread in points. ``goals``: ``refereeable`` (every spread within ``goal``)
     and ``joint_energy_met`` (refereeable, and every median within ``goal``); a member whose
-    robot fell makes the plan not refereeable whatever the spread (``ensemble.fell`` names
-    them). ``ensemble`` lists the members. The rest (trunk, forces, the phase split, the
-    servo's work) stays the nominal referee's.
+    robot fell, or whose run MuJoCo's integration diverged in, makes the plan not refereeable
+    whatever the spread (``ensemble.fell`` and ``ensemble.diverged`` name them). A member that
+    measured no number (NaN: a run that diverged or fell before a whole cycle was measured) is
+    left out of that number's median and spread. ``ensemble`` lists the members. The rest
+    (trunk, forces, the phase split, the servo's work) stays the nominal referee's.
     """
     data = dict(nominal)
     energy = {}
@@ -168,13 +192,13 @@ def ensemble_verdict(
         diffs = [m.relative_difference[leg] for m in members]
         energy[leg] = {
             **nominal["joint_energy_per_cycle_j"][leg],
-            "simulated": statistics.median(m.simulated_j[leg] for m in members),
-            "relative_difference": statistics.median(diffs),
+            "simulated": _median(m.simulated_j[leg] for m in members),
+            "relative_difference": _median(diffs),
             "relative_difference_spread": _spread(diffs),
         }
     totals = [m.total_relative_difference for m in members]
     total = dict(nominal["total_energy_per_cycle_j"])
-    total["relative_difference"] = statistics.median(totals)
+    total["relative_difference"] = _median(totals)
     total["relative_difference_spread"] = _spread(totals)
     total["simulated"] = total["model"] * (1.0 + total["relative_difference"])
     data["joint_energy_per_cycle_j"] = energy
@@ -182,7 +206,8 @@ def ensemble_verdict(
     spread = max(e["relative_difference_spread"] for e in energy.values())
     largest = max(abs(e["relative_difference"]) for e in energy.values())
     fell = [m.perturbation.name for m in members if m.fell_at_s is not None]
-    refereeable = spread <= goal and not fell
+    diverged = [m.perturbation.name for m in members if m.diverged_at_s is not None]
+    refereeable = spread <= goal and not fell and not diverged
     data["goals"] = {
         **nominal["goals"],
         "ensemble_spread_at_most": goal,
@@ -196,13 +221,14 @@ def ensemble_verdict(
         "members": [m.to_dict() for m in members],
         "largest_spread": spread,
         "fell": fell,
+        "diverged": diverged,
     }
     return data
 
 
 def _saving(nominal: dict[str, Any], savings: list[float]) -> dict[str, Any]:
     """The saving's verdict on the members' median (the nominal's goal: same sign, a third)."""
-    model, simulated = float(nominal["model_percent"]), statistics.median(savings)
+    model, simulated = float(nominal["model_percent"]), _median(savings)
     return {
         **nominal,
         "simulated_percent": simulated,

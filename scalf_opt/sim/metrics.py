@@ -35,6 +35,10 @@ Every figure is taken after the first gait cycle (the start-up transient), over 
   (:data:`FALL_HEIGHT_SHARE` of the stance height, or :data:`FALL_PITCH_RAD` of pitch), ``None``
   when it never did: a run that fell measured a robot on the ground, not the plan, and the report
   says so instead of quoting its energy as a verdict.
+* ``diverged_at_s``, ``divergence``: when MuJoCo's integration diverged and which of its checks
+  failed (:mod:`~scalf_opt.sim.divergence`), ``None`` when it did not: the run stopped there, so
+  every figure taken over the cycles after the first is NaN (``null`` in the file), and the
+  goal is not met.
 
 Two checks of the record itself: the mean vertical ground force over whole cycles equals the
 robot's weight (momentum balance of a periodic motion), and the work of the joint torques and
@@ -281,6 +285,8 @@ def summarize(
         "cycles": cycles + 1,
         "cycles_averaged": cycles,
         "fell_at_s": fell,
+        "diverged_at_s": record.diverged_at_s,
+        "divergence": record.divergence,
         "trunk_height_fluctuation_m": height_ptp,
         "trunk_height_mean_m": float(z[steps].mean()),
         "trunk_height_planned_m": record.start_trunk_height_m,
@@ -323,7 +329,9 @@ def summarize(
             "trunk_height_fluctuation_at_most_m": height_goal,
             "trunk_height_met": height_ptp <= height_goal,
             "joint_energy_relative_difference_at_most": goal,
-            "joint_energy_met": largest_gap <= goal and fell is None,
+            "joint_energy_met": largest_gap <= goal
+            and fell is None
+            and record.diverged_at_s is None,
         },
     }
 

@@ -105,29 +105,46 @@ def energy_goal_line(result: dict[str, Any]) -> str:
     goals = result["goals"]
     goal = goals["joint_energy_relative_difference_at_most"]
     line = f"goal: joint energy within {100 * goal:.0f} % of the model's on every leg"
-    fell = _fall(result)
+    failure = run_failure(result)
     if "ensemble" not in result:
-        if fell is not None:
-            return f"{line}: NOT met (the robot {fell})"
+        if failure is not None:
+            return f"{line}: NOT met ({failure})"
         return f"{line}: {_met(goals['joint_energy_met'])}"
     n = len(result["ensemble"]["members"])
     line += f" in the median of {n} referees, spread at most {100 * goal:.0f} points: "
-    if fell is not None:
-        return line + f"NOT refereeable (the robot {fell})"
+    if failure is not None:
+        return line + f"NOT refereeable ({failure})"
     if not goals["refereeable"]:
         spread = result["ensemble"]["largest_spread"]
         return line + f"NOT refereeable (the referees disagree by up to {100 * spread:.2f} points)"
     return line + _met(goals["joint_energy_met"])
 
 
-def _fall(result: dict[str, Any]) -> str | None:
-    """``fell under: <members>`` (an ensemble's) or ``fell at t = ... s`` (one run), else None."""
-    members = (result.get("ensemble") or {}).get("fell") or []
-    if members:
-        return f"fell under: {', '.join(members)}"
-    if result.get("fell_at_s") is not None:
-        return f"fell at t = {result['fell_at_s']:.3f} s"
-    return None
+def run_failure(result: dict[str, Any], robot: str = "the robot") -> str | None:
+    """Why the run(s) of ``result`` measured no verdict, in words; ``None`` when they did.
+
+    An ensemble's: ``MuJoCo's integration diverged under: <members>`` and ``<robot> fell
+    under: <members>``; one run's: ``MuJoCo's integration diverged at t = ... s (<check>)``
+    and ``<robot> fell at t = ... s``; joined by ``; `` when both.
+    """
+    ensemble = result.get("ensemble") or {}
+    reasons = []
+    if ensemble.get("diverged") or ensemble.get("fell"):
+        if ensemble.get("diverged"):
+            reasons.append(
+                f"MuJoCo's integration diverged under: {', '.join(ensemble['diverged'])}"
+            )
+        if ensemble.get("fell"):
+            reasons.append(f"{robot} fell under: {', '.join(ensemble['fell'])}")
+    else:
+        if result.get("diverged_at_s") is not None:
+            reasons.append(
+                f"MuJoCo's integration diverged at t = {result['diverged_at_s']:.3f} s "
+                f"({result.get('divergence')})"
+            )
+        if result.get("fell_at_s") is not None:
+            reasons.append(f"{robot} fell at t = {result['fell_at_s']:.3f} s")
+    return "; ".join(reasons) or None
 
 
 def ensemble_lines(result: dict[str, Any]) -> list[str]:
@@ -148,6 +165,11 @@ def ensemble_lines(result: dict[str, Any]) -> list[str]:
             + ("    n/a" if saving is None else f"{saving:+6.2f}%")
             + f"  {100 * m['torque_saturation_fraction']:6.2f} %"
             + ("" if m.get("fell_at_s") is None else f"  fell at {m['fell_at_s']:.3f} s")
+            + (
+                ""
+                if m.get("diverged_at_s") is None
+                else f"  diverged at {m['diverged_at_s']:.3f} s ({m.get('divergence')})"
+            )
         )
     return lines
 
@@ -220,9 +242,9 @@ def _checks_and_saving(result: dict[str, Any]) -> list[str]:
             if "relative_difference_spread" in worst
             else ""
         )
-        fell = _fall(result["reference"])
-        if fell is not None:
-            spread += f"; it {fell}"
+        failure = run_failure(result["reference"], robot="it")
+        if failure is not None:
+            spread += f"; {failure}"
         lines += [
             "",
             f"reference swing, simulated the same way: {reference['simulated']:.3f} J per cycle "

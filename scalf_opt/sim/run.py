@@ -14,6 +14,10 @@ step's start; the record holds, per step ``k``:
 * for the energy balance of the whole robot, the kinetic plus potential energy at ``t_k`` and the
   power of the actuators and of the other forces (contacts, joint limits, joint damping) at the
   step's mean velocity.
+
+After every step the run reads MuJoCo's own check of the state (:mod:`~scalf_opt.sim.divergence`):
+when MuJoCo reports that the integration diverged (and has reset the robot to its initial pose),
+the run stops there, and the record's figures from that step on are NaN.
 """
 
 from __future__ import annotations
@@ -26,6 +30,7 @@ import mujoco
 import numpy as np
 
 from scalf_opt.sim.control import JointGains, TrunkGains, stance_feedback_nm
+from scalf_opt.sim.divergence import clear_divergence, divergence
 from scalf_opt.sim.mujoco_model import SimModel
 from scalf_opt.sim.plan import TrotPlan
 from scalf_opt.types import LEG_NAMES
@@ -34,6 +39,9 @@ from scalf_opt.types import LEG_NAMES
 @dataclass(frozen=True)
 class SimRecord:
     """One simulated run, step by step (n steps; arrays along the last axis).
+
+    A run MuJoCo flagged as diverged stopped at the step it flagged (``diverged_at_s``): from
+    that step on every float array below is NaN and no joint saturates.
 
     Attributes:
         t_s: Time at each step's start [s], shape (n,).
@@ -51,6 +59,10 @@ class SimRecord:
         constraint_power_w: Power of the constraint forces (contacts, joint limits) and of the
             URDF's joint damping, the same way, (n,) [W].
         start_trunk_height_m: The trunk's height at the start, feet just on the ground [m].
+        diverged_at_s: When the step in which MuJoCo's integration diverged started [s]
+            (:mod:`~scalf_opt.sim.divergence`), ``None`` when it did not.
+        divergence: Which of MuJoCo's checks failed then, in words (``bad accelerations,
+            MuJoCo's BADQACC``), ``None`` when none did.
     """
 
     t_s: np.ndarray
@@ -66,6 +78,8 @@ class SimRecord:
     actuator_power_w: np.ndarray
     constraint_power_w: np.ndarray
     start_trunk_height_m: float
+    diverged_at_s: float | None = None
+    divergence: str | None = None
 
     def in_contact(self, leg: str) -> np.ndarray:
         """Whether the foot of ``leg`` presses on the ground, shape (n,)."""
@@ -215,6 +229,8 @@ def simulate(
     p_act, p_con = np.zeros(n), np.zeros(n)
     force6 = np.zeros(6)
     jacp = np.zeros((3, model.nv))
+    diverged: tuple[int, str] | None = None
+    clear_divergence(data)
     for k in range(n):
         trunk_pose[:, k] = data.qpos[sim.trunk_qpos]
         q[:, k] = data.qpos[qpos_i]
@@ -237,6 +253,10 @@ def simulate(
         saturated[:, k] = np.abs(demand) > limit
         data.ctrl[act_i] = np.clip(demand, -limit, limit)
         mujoco.mj_step(model, data)
+        failed = divergence(data)
+        if failed is not None:  # MuJoCo reset the robot: nothing from here on is the plan's
+            diverged = (k, failed)
+            break
         # data now holds the forces and contacts of state k and the velocity of state k + 1
         energy[k] = data.energy[0] + data.energy[1]
         v_mid = 0.5 * (v_start + data.qvel)
@@ -245,8 +265,14 @@ def simulate(
         tau[:, k] = data.actuator_force[act_i]
         qd[:, k] = data.qvel[dof_i]
         _record_contacts(sim, data, foot_leg, k, grf, slip, force6, jacp)
-    mujoco.mj_forward(model, data)
-    energy[n] = data.energy[0] + data.energy[1]
+    if diverged is None:
+        mujoco.mj_forward(model, data)
+        energy[n] = data.energy[0] + data.energy[1]
+    else:
+        stop = diverged[0]
+        for values in (trunk_pose, q, qd, tau, energy, p_act, p_con, *grf.values(), *slip.values()):
+            values[..., stop:] = np.nan
+        saturated[:, stop:] = False
 
     def by_leg(rows: np.ndarray) -> dict[str, np.ndarray]:
         return {leg: rows[2 * i : 2 * i + 2] for i, leg in enumerate(LEG_NAMES)}
@@ -265,4 +291,6 @@ def simulate(
         actuator_power_w=p_act,
         constraint_power_w=p_con,
         start_trunk_height_m=start_height,
+        diverged_at_s=None if diverged is None else float(t[diverged[0]]),
+        divergence=None if diverged is None else diverged[1],
     )

@@ -1,7 +1,9 @@
 """What the 3-D referee measured, beside what the 3-D plan predicts (``simulation.json``).
 
 Every figure is taken after the first gait cycle (the start-up), over the whole cycles that
-follow (fewer when the robot fell):
+follow (fewer when the robot fell or MuJoCo's integration diverged: ``fell_at_s``,
+``diverged_at_s`` and ``divergence``, the check that failed in words,
+:mod:`~scalf_opt.sim.divergence`; either makes the goal not met):
 
 * ``joint_energy_per_cycle_j``: per leg, the simulated joint torques and rates charged through the
   3-D model's own power formula (:meth:`~scalf_opt.energy.whole_body.WholeBodyPhysics.
@@ -166,6 +168,8 @@ def cycle_run_summary(
     largest = max(abs(e["relative_difference"]) for e in energy.values())
     return {
         "fell_at_s": record.fell_at_s,
+        "diverged_at_s": record.diverged_at_s,
+        "divergence": record.divergence,
         "cycles_measured": whole,
         "joint_energy_per_cycle_j": energy,
         "joint_energy_per_joint_j": {
@@ -197,6 +201,12 @@ def cycle_run_summary(
         "goals": {
             "joint_energy_relative_difference_at_most": goal,
             "did_not_fall": record.fell_at_s is None,
-            "joint_energy_met": bool(record.fell_at_s is None and whole and largest <= goal),
+            "did_not_diverge": record.diverged_at_s is None,
+            "joint_energy_met": bool(
+                record.fell_at_s is None
+                and record.diverged_at_s is None
+                and whole
+                and largest <= goal
+            ),
         },
     }

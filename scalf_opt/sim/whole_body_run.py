@@ -14,7 +14,9 @@ The controller's contact schedule is the plan's, its touch-downs shifted by the 
 ``schedule_shift_s`` (late: a landed leg stays on its swing loop that long; early: a leg switches
 to stance that long before the plan says, its foot still in the air), as the sagittal referee's.
 The run stops early when the robot falls: the trunk lower than half the plan's lowest height, or
-tilted more than :data:`FALL_TILT_RAD` from the plan's orientation.
+tilted more than :data:`FALL_TILT_RAD` from the plan's orientation; and when MuJoCo reports after
+a step that its integration diverged (:mod:`~scalf_opt.sim.divergence`: it has reset the robot
+to its initial pose), the record ending before that step.
 """
 
 from __future__ import annotations
@@ -27,6 +29,7 @@ import numpy as np
 import pinocchio as pin
 
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
+from scalf_opt.sim.divergence import clear_divergence, divergence
 from scalf_opt.sim.free_model import FreeSimModel, build_free_model
 from scalf_opt.sim.settings import SimSettings
 from scalf_opt.sim.whole_body_control import (
@@ -42,7 +45,7 @@ FALL_TILT_RAD = math.radians(45.0)
 
 @dataclass(frozen=True)
 class WholeBodyRecord:
-    """What the 3-D referee recorded, step by step (``n`` steps; cut short by a fall).
+    """What the 3-D referee recorded, step by step (``n`` steps; cut short by a fall, a divergence).
 
     Attributes:
         timestep_s: The step [s].
@@ -60,6 +63,10 @@ class WholeBodyRecord:
         stance: The legs the controller held in stance (4, n).
         plan_stance: The legs the plan puts on the ground (4, n).
         fell_at_s: When the robot fell [s]; ``None`` when it did not.
+        diverged_at_s: When the step in which MuJoCo's integration diverged started [s]
+            (:mod:`~scalf_opt.sim.divergence`; the record ends before it); ``None`` when it did
+            not.
+        divergence: Which of MuJoCo's checks failed then, in words; ``None`` when none did.
     """
 
     timestep_s: float
@@ -78,6 +85,8 @@ class WholeBodyRecord:
     stance: np.ndarray
     plan_stance: np.ndarray
     fell_at_s: float | None
+    diverged_at_s: float | None = None
+    divergence: str | None = None
 
 
 def follow_plan(
@@ -130,7 +139,10 @@ def follow_plan(
     force, feet_m = np.zeros((3, feet, n)), np.zeros((3, feet, n))
     foot_of = {int(g): i for i, g in enumerate(sim.foot_geom)}
     force6 = np.zeros(6)
-    fell = None
+    fell: float | None = None
+    diverged_at: float | None = None
+    failed: str | None = None
+    clear_divergence(data)
     for k in range(n):
         q[:, k], v[:, k] = sim.pinocchio_state(data)
         feet_m[:, :, k] = data.geom_xpos[sim.foot_geom].T
@@ -154,10 +166,14 @@ def follow_plan(
         data.ctrl[sim.actuators] = out.tau_nm
         tau[:, k], feedback[:, k], saturated[:, k] = out.tau_nm, out.feedback_nm, out.saturated
         mujoco.mj_step(model, data)
+        failed = divergence(data)
+        if failed is not None:  # MuJoCo reset the robot: nothing from here on is the plan's
+            diverged_at = float(t[k])
+            break
         # data now holds the contacts of state k and the velocity of state k + 1
         _contacts(model, data, foot_of, force[:, :, k], force6)
         qd_next[:, k] = data.qvel[sim.joint_dof]
-    end = n if fell is None else k
+    end = n if fell is None and diverged_at is None else k
     cut = slice(0, end)
     record = WholeBodyRecord(
         timestep_s=dt,
@@ -176,6 +192,8 @@ def follow_plan(
         stance=stance[:, cut],
         plan_stance=planned[:, cut],
         fell_at_s=fell,
+        diverged_at_s=diverged_at,
+        divergence=failed,
     )
     return record, sim, gains
 

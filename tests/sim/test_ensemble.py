@@ -150,6 +150,8 @@ def test_simulate_runs_the_ensemble_by_default_and_not_with_ensemble_off(tmp_pat
         )
         assert "relative_difference_spread" not in alone["joint_energy_per_cycle_j"][leg]
     assert "ensemble" not in alone and "refereeable" not in alone["goals"]
+    assert with_ensemble["ensemble"]["diverged"] == [] and alone["diverged_at_s"] is None
+    assert all(m["diverged_at_s"] is None for m in members)
     report = (on / "report.txt").read_text()
     assert "in the median of 10 referees, spread at most 5 points: met" in report
     assert "touch-down 5 ms late" in report

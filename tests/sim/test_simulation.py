@@ -63,6 +63,8 @@ def test_the_plan_is_the_pipelines_samples(pipeline):
 def test_the_reference_trot_keeps_the_papers_assumptions(reference, pipeline):
     result = reference.result
     assert result["cycles_averaged"] == 2
+    assert result["diverged_at_s"] is None and result["divergence"] is None
+    assert result["fell_at_s"] is None
     assert result["trunk_height_fluctuation_m"] <= 0.004  # the paper's Section 6.3
     assert abs(result["trunk_height_mean_m"] - result["trunk_height_planned_m"]) < 0.002
     assert result["trunk_pitch_peak_rad"] < 0.005

@@ -52,6 +52,7 @@ def test_the_robot_follows_the_plan_and_spends_what_it_predicts(runs):
     honest, _ = runs
     data = honest.data
     assert data["fell_at_s"] is None and data["cycles_measured"] == 2
+    assert data["diverged_at_s"] is None and data["goals"]["did_not_diverge"]
     # millimetres and a fraction of a degree off the plan, at the plan's speed
     assert data["trunk"]["position_error_max_m"] < 2e-3
     assert np.degrees(data["trunk"]["orientation_error_max_rad"]) < 1.0
