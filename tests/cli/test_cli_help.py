@@ -73,6 +73,8 @@ def test_an_option_means_the_same_in_every_command():
                 continue  # the model of the world the plan is refereed in, read from or shown in
             if (name, option) == ("gait", "--model"):
                 continue  # the model each speed is searched in (the same choices as optimize's)
+            if (name, option) == ("evaluate", "--model"):
+                continue  # the model the reference is evaluated in (3d: balanced, not optimized)
             if (name, option) in (("gait", "--duty"), ("gait", "--rate")):
                 continue  # the starts' duty factors and the 3-D grid's rate of every speed
             key = (action.help, action.metavar)
