@@ -52,16 +52,16 @@ def _nodes(problem, share):
 COARSE, FINE = READS_PER_INTERVAL, whole_body_driver.FINE_READS_PER_INTERVAL
 
 
-def test_a_cold_start_refines_from_a_coarse_grid_then_reads_denser_then_doubles(
+def test_a_cold_start_refines_from_a_coarse_grid_then_doubles_then_reads_denser(
     problem, monkeypatch
 ):
-    """Coarse grids up to the asked rate; while the rule fails, the same grid read at eight
-    points per interval, then twice the nodes (two refinements at most)."""
-    asked = _nodes(problem, 1)
+    """Coarse grids up to the asked rate; while the rule fails, twice the nodes, then that grid
+    read at eight points per interval (two refinements at most)."""
+    asked, twice = _nodes(problem, 1), _nodes(problem, 2)
     grids = _grids(problem, monkeypatch, None, rule_holds=False)
     assert grids[0][0] < asked and grids == sorted(grids)
-    assert all(reads == COARSE for _, reads in grids[:-2])
-    assert grids[-3:] == [(asked, COARSE), (asked, FINE), (_nodes(problem, 2), FINE)]
+    assert all(reads == COARSE for _, reads in grids[:-1])
+    assert grids[-3:] == [(asked, COARSE), (twice, COARSE), (twice, FINE)]
     assert _grids(problem, monkeypatch, None, rule_holds=True)[-1] == (asked, COARSE)
 
 
