@@ -7,9 +7,14 @@ to the last digit they print (3 decimals of a joule), the reference at the optim
 joint-6 runs under the default whole-body loads; joint-12 (the family that refines its rate)
 under the trunk-only loads, which solve the legs apart: one path is one path whatever the loads,
 and whole-body joint-12 alternates its coupled legs for minutes per route.
+
+Each ``optimize`` run is made once (the module's ``optimized`` fixture) and read by every test
+that compares with it; the module runs on one worker (its xdist group) so that it is made once.
 """
 
+import contextlib
 import csv
+import io
 import json
 import re
 
@@ -18,7 +23,7 @@ import pytest
 import scalf_opt as so
 from scalf_opt.cli import main
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.xdist_group("one_solve_path")]
 
 ENERGY_LINE = re.compile(r"^  (?P<label>.+): (?P<energy>\d+\.\d{3}) J, ", re.MULTILINE)
 
@@ -32,17 +37,39 @@ def legend(text: str) -> dict[str, str]:
     return {m["label"]: m["energy"] for m in ENERGY_LINE.finditer(text)}
 
 
-def optimize_numbers(family, capsys, *options):
-    assert main(["optimize", "--family", family, "--json", *options]) == 0
-    summary = json.loads(capsys.readouterr().out)
+def numbers(summary):
+    """The optimized and reference energies ``optimize --json`` printed, as printed."""
     return (
         printed(summary["total_energy_per_cycle_j"]),
         printed(summary["reference_total_energy_per_cycle_j"]),
     )
 
 
+@pytest.fixture(scope="module")
+def optimized(tmp_path_factory):
+    """``optimize --family F --json --out DIR OPTIONS``, run once per family and options:
+    ``optimized(F, *OPTIONS)`` is what it printed (parsed) and DIR."""
+    runs = {}
+
+    def run(family, *options):
+        if (family, *options) not in runs:
+            out = tmp_path_factory.mktemp(f"optimum-{family}")
+            argv = ["optimize", "--family", family, "--json", *options, "--out", str(out)]
+            text = io.StringIO()
+            with contextlib.redirect_stdout(text):
+                assert main(argv) == 0
+            runs[family, *options] = json.loads(text.getvalue()), out
+        return runs[family, *options]
+
+    return run
+
+
 LOADS = {"joint-6": "whole-body", "joint-12": "trunk"}
 """The loads each family's checks run under."""
+
+OPTIONS = {"joint-6": (), "joint-12": ("--loads", "trunk")}
+"""``optimize``'s options for them: joint-6 under the default loads, which are whole-body (the
+tests check the loads its summary names), and which ``view`` and ``figures`` use too."""
 
 
 def study_numbers(family, tmp_path, capsys):
@@ -63,23 +90,26 @@ def api_numbers(family):
 
 
 @pytest.mark.parametrize("family", ["joint-6", "joint-12"])
-def test_optimize_study_and_api_agree(family, tmp_path, capsys):
-    numbers = optimize_numbers(family, capsys, "--loads", LOADS[family])
-    assert study_numbers(family, tmp_path, capsys) == numbers
-    assert api_numbers(family) == numbers
+def test_optimize_study_and_api_agree(family, optimized, tmp_path, capsys):
+    summary, _ = optimized(family, *OPTIONS[family])
+    assert summary["optimization_run"]["loads"] == LOADS[family]
+    assert study_numbers(family, tmp_path, capsys) == numbers(summary)
+    assert api_numbers(family) == numbers(summary)
 
 
-def test_view_figures_and_paper_print_the_optimize_numbers(tmp_path, capsys):
-    optimized, reference = optimize_numbers("joint-6", capsys)
+def test_view_figures_and_paper_print_the_optimize_numbers(optimized, tmp_path, capsys):
+    default, _ = optimized("joint-6")  # optimize's default loads, as view's and figures'
+    assert default["optimization_run"]["loads"] == "whole-body"
+    optimum, reference = numbers(default)
     assert main(["view", "--out", str(tmp_path / "scene.html")]) == 0
     shown = legend(capsys.readouterr().out)
-    assert shown == {"reference (cubic spline)": reference, "optimum (joint-6, ipopt)": optimized}
+    assert shown == {"reference (cubic spline)": reference, "optimum (joint-6, ipopt)": optimum}
     figures = tmp_path / "figures"
     assert main(["figures", "--format", "png", "--grid", "3", "--out", str(figures)]) == 0
     assert legend(capsys.readouterr().out) == shown
     # paper's tables use the trunk-only loads: optimize's numbers under them; its one line
     # under whole-body loads: optimize's default numbers
-    trunk_optimized, trunk_reference = optimize_numbers("joint-6", capsys, "--loads", "trunk")
+    trunk_optimized, trunk_reference = numbers(optimized("joint-6", "--loads", "trunk")[0])
     assert main(["paper", "--quick", "--out", str(tmp_path / "paper")]) == 0
     summary = capsys.readouterr().out  # the short form; the whole report is report.md
     lines = summary.replace(str(tmp_path), "DIR").splitlines()[:-1]  # the "wrote" line
@@ -94,14 +124,11 @@ def test_view_figures_and_paper_print_the_optimize_numbers(tmp_path, capsys):
     report = (tmp_path / "paper" / "report.md").read_text()
     assert f"| {trunk_optimized} | {trunk_reference} |" in report
     assert f"the reference takes {reference} J per cycle" in report
-    assert f"takes {optimized} J" in report
+    assert f"takes {optimum} J" in report
 
 
-def test_view_of_a_saved_joint_12_optimum_prints_its_numbers(tmp_path, capsys):
-    saved = tmp_path / "j12"
-    argv = ["optimize", "--family", "joint-12", "--loads", LOADS["joint-12"], "--json"]
-    assert main([*argv, "--out", str(saved)]) == 0
-    summary = json.loads(capsys.readouterr().out)
+def test_view_of_a_saved_joint_12_optimum_prints_its_numbers(optimized, tmp_path, capsys):
+    summary, saved = optimized("joint-12", *OPTIONS["joint-12"])
     # its parameters are its modes' rms amplitudes: none beyond ten times the largest joint
     # range in degrees (its coefficients reached a million degrees)
     leg = so.load_robot("scalf").leg("RF")
