@@ -229,9 +229,10 @@ def cycle_report(problem: CycleProblem, data: dict[str, Any]) -> str:
 
         lines.append(f"pinned at                {pinned_words('; '.join(data['pinned_by']))}")
     else:
+        period = " and the period's range" if data.get("period_range_s") else ""
         lines.append(
             "pinned at                no limit: every joint's range, rate, effort and drive "
-            "bound (less margins) and the period's range keep room"
+            f"bound (less margins){period} keep room"
         )
     estimated = [j for j, o in data["drives"].items() if o != "actuator file"]
     if estimated:
