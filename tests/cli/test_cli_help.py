@@ -11,6 +11,7 @@ import pytest
 from scalf_opt.cli import main
 from scalf_opt.cli.app import build_parser
 from scalf_opt.cli.commands import COMMANDS
+from tests.cli.conftest import GAIT_ARGV
 
 PLACEHOLDERS = {"FILE", "DIR", "NAME", "LEG", "N", "X", "URL"}
 JSON_COMMANDS = {"model", "evaluate", "optimize", "paper", "simulate", "analyze-log", "variant"}
@@ -123,8 +124,9 @@ def test_study_default_folder_is_under_results_study():
     assert "(default results/study/<study file stem>)" in options("study")["--out"].help
 
 
-def test_every_json_starts_with_its_provenance(capsys, tmp_path):
-    pytest.importorskip("mujoco")
+@pytest.mark.xdist_group("cli_runs")  # simulate's and gait's runs are shared with other modules
+def test_every_json_starts_with_its_provenance(capsys, tmp_path, simulated, gait_run):
+    simulation, printed = simulated  # simulate --cycles 3 --out DIR --log DIR/log.csv --json
     study = tmp_path / "tiny.toml"
     study.write_text('[study]\nrobot = "scalf"\nfamily = "paper"\noptimize = "RF"\n')
     fast = ["--rate", "100"]
@@ -133,29 +135,22 @@ def test_every_json_starts_with_its_provenance(capsys, tmp_path):
         "evaluate": ["evaluate", *fast],
         "optimize": ["optimize", "--family", "paper", "--leg", "RF", *fast],
         "paper": ["paper", "--quick", *fast, "--out", str(tmp_path / "paper")],
-        "simulate": [
-            "simulate",
-            "--cycles",
-            "3",  # the log then holds a complete cycle from a touch-down for every leg
-            "--out",
-            str(tmp_path / "sim"),
-            "--log",
-            str(tmp_path / "log.csv"),
-        ],
-        "analyze-log": ["analyze-log", str(tmp_path / "log.csv")],
+        "simulate": None,  # the shared run: what it printed
+        "analyze-log": ["analyze-log", str(simulation / "log.csv")],
         "variant": ["variant", "--thigh-length-scale", "1.1", "--out", str(tmp_path / "v.urdf")],
         "study": ["study", str(study), "--workers", "1", "--out", str(tmp_path / "study")],
-        "gait": [
-            *("gait", "--speed", "1.0", "--family", "paper", "--workers", "1", "--loads", "trunk"),
-            *("--out", str(tmp_path / "gait")),
-        ],
+        # into the shared run's folder: its case comes from the folder's cache
+        "gait": [*GAIT_ARGV, "--out", str(gait_run[0])],
     }
     assert set(runs) == JSON_COMMANDS
     for name, argv in runs.items():
-        code = main([*argv, "--json"])
-        out, err = capsys.readouterr()
-        assert code == 0, (name, err)
-        data = json.loads(out)
+        if argv is None:
+            data = printed
+        else:
+            code = main([*argv, "--json"])
+            out, err = capsys.readouterr()
+            assert code == 0, (name, err)
+            data = json.loads(out)
         assert next(iter(data)) == "provenance", name
         assert data["provenance"]["tool"] == "scalf-opt"
         assert data["provenance"]["command"].startswith(f"scalf-opt {name}")

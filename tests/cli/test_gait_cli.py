@@ -11,15 +11,15 @@ from scalf_opt.cli.commands.gait import MAX_SPEEDS, all_speeds, parse_speeds
 from scalf_opt.errors import ConfigError
 from scalf_opt.locomotion.gait_file import read_gait
 from scalf_opt.studies.gait_case import GAIT_COLUMNS
+from tests.cli.conftest import GAIT_ARGV as ARGV
 
-ARGV = ["gait", "--speed", "1.0", "--family", "paper", "--workers", "1", "--loads", "trunk"]
-"""docs/gaits.md's loads: under the default whole-body loads the search takes minutes."""
+SHARED_RUN = pytest.mark.xdist_group("cli_runs")
+"""The tests that read the `gait_run` (tests/cli/conftest.py), test_cli_help.py's too."""
 
 
-@pytest.fixture(scope="module")
-def run(tmp_path_factory):
-    out = tmp_path_factory.mktemp("gait")
-    return out, main([*ARGV, "--out", str(out), "-q"])
+@pytest.fixture
+def run(gait_run):
+    return gait_run
 
 
 def test_speeds_are_a_value_a_list_or_a_range_with_its_end():
@@ -37,6 +37,7 @@ def test_the_speed_option_repeats_and_each_speed_counts_once():
         all_speeds(["0.01:1:0.01", "1.01:2.01:0.01"])
 
 
+@SHARED_RUN
 def test_the_table_the_figure_and_a_folder_per_speed(run, capsys):
     out, code = run
     assert code == 0
@@ -64,6 +65,7 @@ def test_the_table_the_figure_and_a_folder_per_speed(run, capsys):
     assert evaluated["cost_of_transport"] == pytest.approx(cot, rel=1e-9)
 
 
+@SHARED_RUN
 def test_a_second_run_comes_from_the_cache_with_the_same_table(run, capsys):
     out, _ = run
     before = (out / "gaits.csv").read_bytes()

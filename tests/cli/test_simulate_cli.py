@@ -14,17 +14,13 @@ def run(argv, capsys):
     return code, out, err
 
 
-@pytest.fixture(scope="module")
-def simulated(tmp_path_factory):
-    out = tmp_path_factory.mktemp("sim")
-    assert (
-        # 3 cycles: the log then holds a complete cycle from a touch-down for every leg
-        main(["simulate", "--cycles", "3", "--out", str(out), "--log", str(out / "log.csv")]) == 0
-    )
-    return out
+SHARED_RUN = pytest.mark.xdist_group("cli_runs")
+"""The tests that read the `simulated` run (tests/cli/conftest.py), test_cli_help.py's too."""
 
 
+@SHARED_RUN
 def test_simulate_writes_the_result_the_figure_and_a_log(simulated, capsys):
+    simulated, _ = simulated
     data = json.loads((simulated / "simulation.json").read_text())
     for key in ("trunk_height_fluctuation_m", "trunk_pitch_peak_rad", "forward_speed_m_s"):
         assert isinstance(data[key], float)
@@ -73,7 +69,9 @@ def test_simulate_prints_the_table(tmp_path, capsys):
     assert len(out.splitlines()) <= 22
 
 
+@SHARED_RUN
 def test_analyze_log_reads_the_simulated_log(simulated, capsys):
+    simulated, _ = simulated
     code, out, _ = run(["analyze-log", str(simulated / "log.csv")], capsys)
     assert code == 0
     assert "80.0 Hz" in out and "phases from the contact column" in out
