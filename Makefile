@@ -5,12 +5,13 @@ BIN    := $(VENV)/bin
 STAMP  := $(VENV)/.installed
 EXTRAS := $(VENV)/.installed-extras
 
-.PHONY: install run test docs lint format bench lock clean
+.PHONY: install run test test-all docs lint format bench lock clean
 
 # Every package is installed at the version pinned in constraints.txt (refresh it with `make lock`).
 # `make install` installs scalf-opt with every extra (the 3-D view, MuJoCo, Dask, ROS 2 bags, the
 # documentation tools): every command of the README's tour works afterwards; `make run` installs
-# the same and reproduces the paper; `make test` adds the test tools and runs the suite.
+# the same and reproduces the paper; `make test` adds the test tools and runs the suite's fast
+# tier (about 13 minutes on two cores), `make test-all` the whole suite (CI's: .ci/run).
 $(STAMP): pyproject.toml constraints.txt
 	$(PYTHON) -m venv $(VENV)
 	$(BIN)/python -m pip install --quiet --upgrade pip -c constraints.txt
@@ -29,11 +30,23 @@ install: $(EXTRAS)
 run: $(EXTRAS)
 	$(BIN)/scalf-opt paper
 
+# The tests marked `slow` (the long end-to-end runs: the documented command outputs that take
+# more than a few seconds, the whole paper, the same commands twice, the longer studies and the
+# examples; every family on every robot) are left out of `make test`; `make test-all` runs them
+# with the rest.
+PYTEST := MPLBACKEND=Agg $(BIN)/python -m pytest -q -n auto --dist loadgroup --max-worker-restart 0
+
 test: $(STAMP)
 	$(BIN)/ruff check .
 	$(BIN)/ruff format --check .
 	$(BIN)/mypy
-	MPLBACKEND=Agg $(BIN)/python -m pytest -q -n auto --dist loadgroup --max-worker-restart 0
+	$(PYTEST) -m "not slow"
+
+test-all: $(STAMP)
+	$(BIN)/ruff check .
+	$(BIN)/ruff format --check .
+	$(BIN)/mypy
+	$(PYTEST)
 
 # The documentation site (MkDocs, Material theme) into site/, offline; open site/index.html.
 docs: $(STAMP)

@@ -4,6 +4,8 @@ folder), so they cannot rot; the README stays a five-minute read."""
 import re
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
 
@@ -31,6 +33,7 @@ def test_the_readme_python_blocks_run(tmp_path, monkeypatch, capsys):
     assert (tmp_path / "results" / "joint-6" / "summary.json").is_file()
 
 
+@pytest.mark.slow  # a page's code end to end, a simulation: about 35 s alone
 def test_the_python_api_page_runs(tmp_path, monkeypatch, capsys):
     page = ROOT / "docs" / "python-api.md"
     monkeypatch.chdir(tmp_path)

@@ -2,6 +2,9 @@
 
 Run times are the one thing a run cannot repeat: they go to ``timings.json`` beside the result
 file, and nowhere else (not in ``summary.json``, ``paper.json``, ``table5.csv``, ``report.md``).
+
+The two runs (five commands, ``paper --quick`` among them, twice) take minutes: their tests are
+marked ``slow`` (``make test-all`` and CI run them, ``make test`` does not).
 """
 
 import json
@@ -61,6 +64,7 @@ def two_runs(tmp_path_factory):
     return _run_all(root / "first"), _run_all(root / "second")
 
 
+@pytest.mark.slow
 def test_the_same_commands_write_the_same_bytes(two_runs):
     first, second = two_runs
     assert first.keys() == second.keys()
@@ -72,6 +76,7 @@ def test_the_same_commands_write_the_same_bytes(two_runs):
     assert differing == []
 
 
+@pytest.mark.slow
 def test_run_times_are_only_in_the_timings_files(two_runs):
     first, _ = two_runs
     timings = {p: json.loads(b) for p, b in first.items() if p.name == TIMINGS_FILE}

@@ -15,6 +15,7 @@ EXAMPLES = ROOT / "examples"
 TROTTER = EXAMPLES / "trotter"
 
 
+@pytest.mark.slow  # every step of the API on a new robot: about 40 s alone
 def test_the_walkthrough_script_runs_end_to_end(tmp_path):
     pytest.importorskip("meshcat")
     proc = subprocess.run(
@@ -33,6 +34,7 @@ def test_the_walkthrough_script_runs_end_to_end(tmp_path):
     assert (tmp_path / "long.urdf").is_file()
 
 
+@pytest.mark.slow  # every cell in a fresh kernel: about 20 s alone
 def test_the_notebook_runs(tmp_path, monkeypatch):
     monkeypatch.setenv("TMPDIR", str(tmp_path))  # the notebook's own folder is left with the test's
     nbformat = pytest.importorskip("nbformat")
@@ -73,6 +75,7 @@ def test_the_gait_file_is_read(capsys):
     assert gait["period_s"] == 0.5 and gait["duty_cycle"] == 0.6 and gait["clearance_m"] == 0.06
 
 
+@pytest.mark.slow  # six optimizations: about 20 s alone
 def test_the_study_file_runs(tmp_path, capsys):
     code = main(
         ["study", str(TROTTER / "speed_study.toml"), "--workers", "1", "--out", str(tmp_path)]

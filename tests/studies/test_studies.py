@@ -21,6 +21,7 @@ def load(name):
     return module
 
 
+@pytest.mark.slow  # a study end to end: about 15 s alone
 def test_paper_family_is_the_scan_winner(tmp_path, capsys):
     study = load("paper_family_scan")
     rows = study.scan(quick=True)
@@ -34,6 +35,7 @@ def test_paper_family_is_the_scan_winner(tmp_path, capsys):
     capsys.readouterr()
 
 
+@pytest.mark.slow  # the whole paper: about 40 s alone, minutes beside the other tests
 def test_paper_reproduction_study(tmp_path, capsys):
     """The whole `scalf-opt paper` (the suite's one run of it beyond --quick): the tables, the
     validation, the bound and the free stance, every one converged, and the whole-body line."""
@@ -55,6 +57,7 @@ def test_paper_reproduction_study(tmp_path, capsys):
     capsys.readouterr()
 
 
+@pytest.mark.slow  # a study end to end: about 45 s alone
 def test_simulation_validation_study(tmp_path, capsys):
     """Quick mode: 2 cycles, 5 seeds; the reference keeps the paper's 4 mm, and the simulation
     spends what the plan needs (MuJoCo's inverse dynamics of the plan) within 3 % on the
@@ -103,6 +106,7 @@ def test_clearance_sweep(tmp_path, capsys):
     capsys.readouterr()
 
 
+@pytest.mark.slow  # a study end to end: about 10 s alone
 def test_leg_ratio(tmp_path, capsys):
     study = load("leg_ratio")
     assert study.main(["--quick", "--workers", "1", "--out", str(tmp_path)]) == 0
@@ -131,6 +135,7 @@ def test_paper_power_height(tmp_path, capsys):
     assert "671.52 W (the paper, Table 6) at z0 = 0.54" in out
 
 
+@pytest.mark.slow  # a study end to end on six robots: about 25 s alone
 def test_cross_robot(tmp_path, capsys):
     assert load("cross_robot").main(["--quick", "--workers", "1", "--out", str(tmp_path)]) == 0
     rows = rows_of(tmp_path / "results.csv")
