@@ -104,17 +104,23 @@ def _start(sim: SimModel, plan: TrotPlan, data: mujoco.MjData) -> float:
 
 
 def _stance_feedback(
+    feedback: np.ndarray,
     sim: SimModel,
     data: mujoco.MjData,
-    legs: list[str],
+    on_ground: list[int],
     jacp: np.ndarray,
     mass: np.ndarray,
     gains: TrunkGains,
     trunk_error: np.ndarray,
     trunk_rate_error: np.ndarray,
-) -> np.ndarray:
-    """The stance legs' feedback torques (:func:`~scalf_opt.sim.control.stance_feedback_nm`)."""
+) -> None:
+    """Replace the stance legs' rows of ``feedback`` by the trunk loop's torques.
+
+    ``on_ground`` indexes :data:`LEG_NAMES`; ``feedback`` holds two rows per leg in that order
+    (:func:`~scalf_opt.sim.control.stance_feedback_nm`).
+    """
     model = sim.model
+    legs = [LEG_NAMES[i] for i in on_ground]
     s = len(legs)
     jac_trunk, jac_joints = np.zeros((2 * s, 3)), np.zeros((2 * s, 2 * s))
     for i, leg in enumerate(legs):
@@ -126,7 +132,8 @@ def _stance_feedback(
         jac_joints[2 * i : 2 * i + 2, 2 * i : 2 * i + 2] = rows[:, sim.leg_dof[leg]]
     mujoco.mj_fullM(model, data, mass)
     dofs = np.concatenate([sim.trunk_dof, *(sim.leg_dof[leg] for leg in legs)])
-    return stance_feedback_nm(
+    rows = np.concatenate([np.arange(2 * i, 2 * i + 2) for i in on_ground])
+    feedback[rows] = stance_feedback_nm(
         jac_trunk, jac_joints, mass[np.ix_(dofs, dofs)], trunk_error, trunk_rate_error, gains
     )
 
@@ -176,6 +183,18 @@ def _stance_loop_legs(scheduled: np.ndarray) -> list[int]:
     swing loop (:meth:`~scalf_opt.sim.plan.TrotPlan.scheduled_stance`).
     """
     return [i for i in range(len(LEG_NAMES)) if scheduled[i]]
+
+
+def _by_leg(rows: np.ndarray) -> dict[str, np.ndarray]:
+    """The stacked joint rows (two per leg, :data:`LEG_NAMES` order) split by leg."""
+    return {leg: rows[2 * i : 2 * i + 2] for i, leg in enumerate(LEG_NAMES)}
+
+
+def _blank_from(stop: int, records: tuple[np.ndarray, ...], saturated: np.ndarray) -> None:
+    """Blank the records from step ``stop`` on (NaN; ``saturated`` False): MuJoCo diverged."""
+    for values in records:
+        values[..., stop:] = np.nan
+    saturated[:, stop:] = False
 
 
 def simulate(
@@ -238,11 +257,11 @@ def simulate(
         feedback = kp * (q_ref[:, k] - q[:, k]) + kd * (qd_ref[:, k] - v_start[dof_i])
         on_ground = _stance_loop_legs(stance[:, k])
         if trunk is not None and on_ground:
-            rows = np.concatenate([np.arange(2 * i, 2 * i + 2) for i in on_ground])
-            feedback[rows] = _stance_feedback(
+            _stance_feedback(
+                feedback,
                 sim,
                 data,
-                [LEG_NAMES[i] for i in on_ground],
+                on_ground,
                 jacp,
                 mass,
                 trunk,
@@ -269,22 +288,20 @@ def simulate(
         mujoco.mj_forward(model, data)
         energy[n] = data.energy[0] + data.energy[1]
     else:
-        stop = diverged[0]
-        for values in (trunk_pose, q, qd, tau, energy, p_act, p_con, *grf.values(), *slip.values()):
-            values[..., stop:] = np.nan
-        saturated[:, stop:] = False
-
-    def by_leg(rows: np.ndarray) -> dict[str, np.ndarray]:
-        return {leg: rows[2 * i : 2 * i + 2] for i, leg in enumerate(LEG_NAMES)}
+        _blank_from(
+            diverged[0],
+            (trunk_pose, q, qd, tau, energy, p_act, p_con, *grf.values(), *slip.values()),
+            saturated,
+        )
 
     return SimRecord(
         t_s=t,
         timestep_s=dt,
         trunk=trunk_pose,
-        q_rad=by_leg(q),
-        qd_rad_s=by_leg(qd),
-        tau_nm=by_leg(tau),
-        saturated=by_leg(saturated),
+        q_rad=_by_leg(q),
+        qd_rad_s=_by_leg(qd),
+        tau_nm=_by_leg(tau),
+        saturated=_by_leg(saturated),
         grf_n=grf,
         slip_m_s=slip,
         energy_j=energy,
