@@ -24,13 +24,17 @@ def cycle_summary(problem: CycleProblem, result: CycleResult) -> dict[str, Any]:
     """The run as plain data (``--json`` and ``summary.json``; SI units).
 
     ``pinned_by`` names the limits the answer rides
-    (:func:`~scalf_opt.optimize.whole_body_limits.pinned_limits`).
+    (:func:`~scalf_opt.optimize.whole_body_limits.pinned_limits`); ``grid_change`` is the
+    answer's energy relative to the optimum on the last coarser grid (``grid_change_from_nodes``
+    nodes), both at ten times their rate
+    (:attr:`~scalf_opt.optimize.whole_body_driver.CycleResult.grid_change`).
     """
     from scalf_opt.optimize.whole_body_limits import pinned_limits
 
     plan, last = result.plan, result.last
     physics, schedule = problem.physics, plan.schedule
     energy = plan.evaluate(problem.accounting)
+    grid = result.grid_change
     return {
         "model": "3d",
         "objective": problem.objective,
@@ -50,6 +54,8 @@ def cycle_summary(problem: CycleProblem, result: CycleResult) -> dict[str, Any]:
         "energy_per_cycle_j": energy.total_j,
         "energy_at_10x_j": last.check.energy.total_j,
         "rate_difference": last.rate_difference,
+        "grid_change": None if grid is None else grid[0],
+        "grid_change_from_nodes": None if grid is None else grid[1],
         "cost_of_transport": plan.cost_of_transport(energy.total_j),
         "leg_energy_per_cycle_j": leg_energies(problem, energy.joint_energy_j),
         "joint_energy_per_cycle_j": dict(

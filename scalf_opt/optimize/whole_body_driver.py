@@ -110,6 +110,22 @@ class CycleResult:
         return self.last.solution.plan
 
     @property
+    def grid_change(self) -> tuple[float, int] | None:
+        """How much the last grid moved the answer, and from which grid.
+
+        The answer's energy at ten times its rate against the optimum of the last solve on
+        fewer nodes, also at ten times its rate (the energies both plans really spend):
+        ``(E / E_coarser - 1, coarser node count)``; ``None`` when every solve had the answer's
+        node count. The ten-times rule checks that the optimizer saw the plan's energy; this
+        says whether a finer grid still finds cheaper plans.
+        """
+        coarser = [step for step in self.steps if step.nodes < self.last.nodes]
+        if not coarser:
+            return None
+        before = coarser[-1]
+        return self.last.check.energy.total_j / before.check.energy.total_j - 1.0, before.nodes
+
+    @property
     def converged(self) -> bool:
         """Every solve converged and the last plan's energy holds at ten times its rate."""
         solved = all(step.solution.success for step in self.steps)

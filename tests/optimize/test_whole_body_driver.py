@@ -86,3 +86,32 @@ def test_a_warm_start_read_densely_stays_dense_and_counts_as_a_refinement(proble
     twice = trot_schedule(period, 0.5, 2 * asked / period).intervals  # twice the start's rate
     assert _grids(problem, monkeypatch, dense, rule_holds=True) == [(asked, FINE)]
     assert _grids(problem, monkeypatch, dense, rule_holds=False) == [(asked, FINE), (twice, FINE)]
+
+
+def test_the_grid_change_compares_true_energies_with_the_last_coarser_grid():
+    """``grid_change``: the answer's energy at ten times its rate against that of the last solve
+    on fewer nodes (a denser reading of the same grid is not a coarser grid); none on one grid."""
+    from types import SimpleNamespace
+
+    from scalf_opt.cli.commands.optimize_3d import grid_line
+    from scalf_opt.optimize.whole_body_driver import GridStep
+
+    def step(nodes, reads, at_nodes_j, at_10x_j):
+        check = SimpleNamespace(energy=SimpleNamespace(total_j=at_10x_j))
+        return GridStep(nodes, reads, None, at_nodes_j, check)
+
+    steps = (step(8, 4, 9.0, 12.0), step(16, 4, 9.5, 10.0), step(32, 4, 8.0, 8.2))
+    change, nodes = CycleResult(steps).grid_change
+    assert nodes == 16 and change == pytest.approx(8.2 / 10.0 - 1, rel=1e-12)
+    denser = CycleResult((*steps, step(32, 8, 8.1, 8.12)))
+    change, nodes = denser.grid_change
+    assert nodes == 16 and change == pytest.approx(8.12 / 10.0 - 1, rel=1e-12)
+    assert CycleResult((step(10, 4, 9.0, 9.1), step(10, 8, 9.0, 9.05))).grid_change is None
+
+    line = grid_line({"grid_change": -0.18, "grid_change_from_nodes": 16, "nodes": 32})
+    assert "-18.00 % from the 16-node optimum" in line and "cheaper plan" in line
+    assert "settled" in grid_line({"grid_change": 0.004, "grid_change_from_nodes": 9, "nodes": 18})
+    assert "another local optimum" in grid_line(
+        {"grid_change": 0.03, "grid_change_from_nodes": 9, "nodes": 18}
+    )
+    assert "not measured" in grid_line({"grid_change": None, "nodes": 18})

@@ -179,6 +179,30 @@ def trunk_line(trunk: dict[str, list[float]]) -> str:
     )
 
 
+GRID_SETTLED = 0.01
+"""A finer grid that moves the answer's energy by at most this share has settled it (the
+report's "finer grid" line; a share, 1 %)."""
+
+
+def grid_line(data: dict[str, Any]) -> str:
+    """How much the last grid moved the answer (``grid_change`` of :func:`cycle_summary`)."""
+    change, nodes = data.get("grid_change"), data.get("grid_change_from_nodes")
+    label = "finer grid               "
+    if change is None:
+        return f"{label}not measured: every solve on {data['nodes']} nodes"
+    verdict = (
+        f"settled within {100 * GRID_SETTLED:g} %"
+        if abs(change) <= GRID_SETTLED
+        else "a finer grid may still find a cheaper plan"
+        if change < 0
+        else "the coarser grid's plan spends less: the finer grid ended on another local optimum"
+    )
+    return (
+        f"{label}{100 * change:+.2f} % from the {nodes}-node optimum (both at 10x the rate): "
+        f"{verdict}"
+    )
+
+
 def cycle_report(problem: CycleProblem, data: dict[str, Any]) -> str:
     """The run in words and a table, from its :func:`cycle_summary` ``data``."""
     lines = [""]
@@ -208,6 +232,7 @@ def cycle_report(problem: CycleProblem, data: dict[str, Any]) -> str:
         f"total energy per cycle   {data['energy_per_cycle_j']:10.3f} J at the nodes, "
         f"{data['energy_at_10x_j']:.3f} J at 10x the rate "
         f"({100 * data['rate_difference']:+.2f} %)",
+        grid_line(data),
         f"cost of transport        {data['cost_of_transport']:10.4f}",
         *(
             [
