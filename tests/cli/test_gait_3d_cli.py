@@ -46,6 +46,8 @@ def _answer(duty, period, converged, cot, failure=""):
         "energy_per_cycle_j": cot * 100 * 0.5 * period * 0.9,
         "cost_of_transport": cot,
         "rate_difference": 0.001,
+        "grid_change": -0.05,
+        "grid_change_from_nodes": 10,
         "nodes": 20,
         "pinned_by": ["RF_knee q upper: joint range (URDF), less margin"],
         "solves": [{"seconds": 3.0}],
@@ -95,6 +97,10 @@ def test_the_sweep_writes_its_table_and_exits_3_when_a_speed_fails(capsys, tmp_p
     )
     rows = list(csv.DictReader((out / "gaits.csv").open()))
     assert [r["status"] for r in rows] == ["ok", "not converged"]
+    assert float(rows[0]["grid_change"]) == -0.05 and rows[1]["grid_change"] == ""
+    table = captured.out.splitlines()
+    assert table[1].split()[-4:] == ["10x", "grid", "starts", "status"]
+    assert "-5.00 %" in table[2]
     assert float(rows[0]["cost_of_transport"]) == 0.28
     assert (out / "gaits.png").stat().st_size > 10_000
     summary = json.loads((out / "speed_0.5" / "summary.json").read_text())

@@ -209,8 +209,15 @@ def pinned_words(pinned_by: str) -> str:
 
 
 def gait_3d_table(robot: str, rows: list[dict[str, Any]]) -> str:
-    """The answers per speed as a text table, then what pins each and why a speed failed."""
-    header = ["v [m/s]", "T [s]", "duty", "stride [m]", "P [W]", "CoT", "10x", "starts", "status"]
+    """The answers per speed as a text table, then what pins each and why a speed failed.
+
+    "10x" is the answer's energy at ten times its rate against its nodes'; "grid" against the
+    optimum of its last coarser grid (both at ten times the rate; "-": one grid only).
+    """
+    header = [
+        *("v [m/s]", "T [s]", "duty", "stride [m]", "P [W]", "CoT"),
+        *("10x", "grid", "starts", "status"),
+    ]
     lines = [
         f"cheapest 3-D trot of {robot} per speed (the whole robot; the period optimized from "
         "each start, the cheapest converged start kept)",
@@ -227,9 +234,10 @@ def gait_3d_table(robot: str, rows: list[dict[str, Any]]) -> str:
                 f"{r['average_power_w']:.2f}",
                 f"{r['cost_of_transport']:.4f}",
                 f"{100 * r['rate_difference']:+.2f} %",
+                "-" if r["grid_change"] == "" else f"{100 * r['grid_change']:+.2f} %",
             ]
             if ok
-            else ["-"] * 6
+            else ["-"] * 7
         )
         cells += [str(r["starts_converged"]), r["status"]]
         lines.append("  ".join(f"{c:>10s}" for c in cells))
