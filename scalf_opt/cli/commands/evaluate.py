@@ -6,6 +6,7 @@ import argparse
 from pathlib import Path
 
 from scalf_opt.cli.options import (
+    add_accept_unconverged,
     add_gait,
     add_loads,
     add_robot,
@@ -63,12 +64,14 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
     parser.add_argument(
         "--out", type=Path, metavar="DIR", help="write summary.json and samples.csv in DIR"
     )
+    add_accept_unconverged(parser)
 
 
 def run_reference_3d(args: argparse.Namespace) -> int:
     """``evaluate --model 3d``: the reference trot balanced on the whole robot.
 
-    Exit 3 if a solve did not converge (nothing is written then).
+    Exit 3 if a solve did not converge (nothing is written then), unless
+    ``--accept-unconverged`` (written and marked so, exit 0).
 
     Raises:
         ConfigError: ``--swing`` or ``--loads`` given (options of the sagittal model).
@@ -98,6 +101,12 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         return run_reference_3d(args)
     if args.friction != DEFAULT_FRICTION:
         raise ConfigError("--friction is an option of --model 3d", field="friction")
+    if args.accept_unconverged:
+        raise ConfigError(
+            "--accept-unconverged is an option of --model 3d (the sagittal evaluate solves "
+            "nothing)",
+            field="accept_unconverged",
+        )
     from scalf_opt.api import evaluate
     from scalf_opt.io.saved import read_saved_swings
     from scalf_opt.studies import paper_data
