@@ -34,7 +34,7 @@ import pinocchio as pin
 from scalf_opt.energy.whole_body import quaternion_rpy
 from scalf_opt.energy.whole_body_plan import WholeBodyPlan
 from scalf_opt.sim.metrics import energy_goal
-from scalf_opt.sim.whole_body_run import WholeBodyRecord
+from scalf_opt.sim.whole_body_run import WholeBodyRecord, cycles_in_steps, steps_in_cycles
 from scalf_opt.types import LEG_NAMES, Accounting
 
 
@@ -47,13 +47,14 @@ def measured_window(record: WholeBodyRecord, period_s: float) -> tuple[slice, in
 
     The period need not be a whole number of steps: the window holds the steps that start in
     ``[T, (1 + cycles) T)``, and a quantity per cycle is its mean rate over the window times
-    ``T``.
+    ``T``. The steps are counted as the run counts them
+    (:func:`~scalf_opt.sim.whole_body_run.steps_in_cycles`): a run of ``N`` cycles that did not
+    stop early measures ``N - 1``.
     """
     dt = record.timestep_s
-    whole = max(0, int(np.floor(record.t_s.size * dt / period_s + 1e-9)) - 1)
-    first = int(np.ceil(period_s / dt - 1e-9))
-    last = int(np.ceil((1 + whole) * period_s / dt - 1e-9))
-    return slice(first, last if whole else first), whole
+    whole = max(0, cycles_in_steps(record.t_s.size, period_s, dt) - 1)
+    first = steps_in_cycles(1, period_s, dt)
+    return slice(first, steps_in_cycles(1 + whole, period_s, dt)), whole
 
 
 def _orientation_error(q: np.ndarray, q_plan: np.ndarray) -> float:

@@ -42,6 +42,41 @@ from scalf_opt.types import LEG_NAMES
 FALL_TILT_RAD = math.radians(45.0)
 """A trunk tilted this far from the plan's orientation has fallen."""
 
+_STEP_TOLERANCE = 1e-9
+"""A step that starts within this fraction of a step of a cycle's end starts the next cycle."""
+
+
+def steps_in_cycles(cycles: int, period_s: float, timestep_s: float) -> int:
+    """How many steps start within the first ``cycles`` cycles (``k dt < cycles T``).
+
+    The period need not be a whole number of steps: the count is rounded up, so that the steps
+    cover the cycles whole (a Go1 trot at T = 0.35276 s and dt = 0.5 ms: two cycles are
+    1,411.02 steps, 1,412 steps hold them; 1,411 would leave the second a step short, and it
+    would not be measured). Both the run's length (:func:`follow_plan`) and the
+    window the metrics measure (:func:`cycles_in_steps`) are counted here, so that a run of
+    ``cycles`` cycles holds ``cycles`` cycles whatever the rounding.
+
+    Args:
+        cycles: Gait cycles.
+        period_s: The gait period [s].
+        timestep_s: The simulation's step [s].
+    """
+    return max(0, math.ceil(cycles * period_s / timestep_s - _STEP_TOLERANCE))
+
+
+def cycles_in_steps(steps: int, period_s: float, timestep_s: float) -> int:
+    """How many whole cycles ``steps`` steps from the start hold (:func:`steps_in_cycles`).
+
+    Args:
+        steps: Steps recorded from time 0.
+        period_s: The gait period [s].
+        timestep_s: The simulation's step [s].
+    """
+    cycles = int(steps * timestep_s / period_s) + 1  # at most one too many
+    while cycles > 0 and steps_in_cycles(cycles, period_s, timestep_s) > steps:
+        cycles -= 1
+    return cycles
+
 
 @dataclass(frozen=True)
 class WholeBodyRecord:
@@ -97,7 +132,8 @@ def follow_plan(
     Args:
         plan: The 3-D plan.
         settings: The referee's settings, complete (:meth:`SimSettings.for_leg_length`).
-        cycles: Gait cycles to simulate.
+        cycles: Gait cycles to simulate: the steps that start within them
+            (:func:`steps_in_cycles`).
         friction: The friction coefficient the controller keeps the forces within (the plan's).
     """
     physics = plan.physics
@@ -106,7 +142,7 @@ def follow_plan(
     data = mujoco.MjData(model)
     dt = float(model.opt.timestep)
     period = plan.schedule.period_s
-    n = round(cycles * period / dt)
+    n = steps_in_cycles(cycles, period, dt)
     t = np.arange(n) * dt
     cycle = np.floor(t / period + 1e-12)
     samples = plan.samples(np.clip(t - cycle * period, 0.0, np.nextafter(period, 0)))

@@ -47,7 +47,7 @@ def cycle_dir(tmp_path_factory):
         (["--log", "x.csv"], "--log: a 3-D cycle's simulation writes no sensor log"),
         (["--loads", "trunk"], "--loads: a 3-D cycle carries its own contact forces"),
         (["--period", "0.4"], "--gait and the gait options: with --from DIR the gait is DIR's"),
-        (["--cycles", "1"], "cycles must be an integer in 2..200"),
+        (["--cycles", "1"], "--cycles: cycles must be an integer in 2..200"),
         (["--robot", "a1"], "summary.json: the cycle of robot 'go1', not of 'a1'"),
     ],
 )
@@ -57,6 +57,33 @@ def test_a_bad_option_is_one_line(capsys, tmp_path, cycle_dir, argv, message):
     assert code == 2, err
     assert message in err and err.count("\n") == 1
     assert not (tmp_path / "o").exists()
+
+
+@pytest.mark.parametrize("cycles", ["1", "0"])
+def test_too_few_cycles_to_measure_are_one_line(capsys, tmp_path, cycles):
+    """The first cycle is the start-up, not measured: one cycle would measure nothing (a NaN
+    verdict), so ``--cycles 1`` is refused before the referee runs, as with ``--from DIR``."""
+    out = tmp_path / "o"
+    code = main(
+        ["simulate", "--model", "3d", "--robot", "go1", "--cycles", cycles, "--out", str(out)]
+    )
+    err = capsys.readouterr().err
+    assert code == 2, err
+    assert err.startswith("scalf-opt: error: --cycles: cycles must be an integer in 2..200")
+    assert err.count("\n") == 1 and not out.exists()
+
+
+def test_two_cycles_measure_one(capsys, tmp_path):
+    """Go1's trot lasts 705.5 steps: two cycles are a hair more than 1,411 steps, and the run
+    once stopped a step short of them, measured no cycle and printed a NaN verdict."""
+    out = tmp_path / "sim"
+    argv = ["simulate", "--model", "3d", "--robot", "go1", "--cycles", "2", "--ensemble", "off"]
+    code = main([*argv, "--out", str(out)])
+    text = capsys.readouterr().out
+    assert code == 0
+    assert "(each cycle after the first, 1 measured)" in text and "nan" not in text.lower()
+    data = json.loads((out / "simulation.json").read_text())
+    assert data["cycles"] == 2 and data["cycles_measured"] == 1
 
 
 def test_a_cycle_without_its_plan_is_named(capsys, tmp_path, cycle_dir):
