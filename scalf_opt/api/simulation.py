@@ -73,6 +73,9 @@ class SimulationResult(_Simulated):
             startup_s=float(self.data["gait"]["period_s"]),
             phase_energy_j=self.data["joint_energy_per_phase_j"],
             energy_goal=float(self.data["goals"]["joint_energy_relative_difference_at_most"]),
+            fell_at_s=self.data.get("fell_at_s"),
+            diverged_at_s=record.diverged_at_s,
+            divergence=record.divergence,
         )
 
     def write(self, out_dir: str | Path) -> list[Path]:
@@ -331,14 +334,12 @@ class CycleSimulationResult(_Simulated):
     the nominal referee's :class:`~scalf_opt.sim.whole_body_run.WholeBodyRecord`.
     """
 
-    def write(self, out_dir: str | Path) -> list[Path]:
-        """Write ``simulation.json``, ``simulation.png`` and ``report.txt`` (each atomically)."""
-        from scalf_opt.sim.whole_body_report import cycle_simulation_report
-        from scalf_opt.viz.figures import save_atomic
+    def figure(self) -> Any:
+        """The figure of ``simulation.png`` (a matplotlib ``Figure``)."""
         from scalf_opt.viz.whole_body_sim_figure import cycle_simulation_figure
 
-        out, r = Path(out_dir), self.record
-        figure = cycle_simulation_figure(
+        r = self.record
+        return cycle_simulation_figure(
             r.t_s,
             r.q,
             r.q_plan,
@@ -347,7 +348,16 @@ class CycleSimulationResult(_Simulated):
             r.fell_at_s,
             float(self.data["gait"]["period_s"]),
             self.title,
+            diverged_at_s=r.diverged_at_s,
+            divergence=r.divergence,
         )
+
+    def write(self, out_dir: str | Path) -> list[Path]:
+        """Write ``simulation.json``, ``simulation.png`` and ``report.txt`` (each atomically)."""
+        from scalf_opt.sim.whole_body_report import cycle_simulation_report
+        from scalf_opt.viz.figures import save_atomic
+
+        out, figure = Path(out_dir), self.figure()
         return [
             write_atomic(out / "simulation.json", to_json(self.data)),
             save_atomic(figure, out / "simulation.png"),

@@ -157,3 +157,61 @@ def shade_swing(ax: Axes, leg: LegCycle, label: bool = True) -> None:
             fontsize=7,
             color="#666666",
         )
+
+
+FALL_COLOR = "tab:red"
+"""The line at the instant a simulated robot fell."""
+
+DIVERGENCE_COLOR = "tab:purple"
+"""The line at the instant MuJoCo's integration diverged."""
+
+
+def run_stops(
+    fell_at_s: float | None, diverged_at_s: float | None, divergence: str | None
+) -> list[tuple[float, str, str]]:
+    """A simulated run's stops: ``(time [s], colour, words)`` for a fall and a divergence.
+
+    Args:
+        fell_at_s: When the robot fell [s], or ``None``.
+        diverged_at_s: When the step in which MuJoCo's integration diverged started [s], or
+            ``None``.
+        divergence: Which of MuJoCo's checks failed then, in words (``bad accelerations,
+            MuJoCo's BADQACC``; ``None``: unknown).
+    """
+    stops = []
+    if fell_at_s is not None:
+        stops.append((float(fell_at_s), FALL_COLOR, f"fell at {fell_at_s:.3f} s"))
+    if diverged_at_s is not None:
+        words = f"MuJoCo diverged at {diverged_at_s:.3f} s"
+        if divergence:
+            words += f":\n{divergence}"
+        stops.append((float(diverged_at_s), DIVERGENCE_COLOR, words))
+    return stops
+
+
+def mark_stops(axes: Sequence[Axes], stops: Sequence[tuple[float, str, str]]) -> None:
+    """Mark each of a run's :func:`run_stops` on every panel, its words on the first panel.
+
+    Call it once the time axis has its final limits: the words go on the line's emptier side
+    (left of a line in the right half of the axis), halfway up the panel (a second stop's a
+    quarter up, so that the two never overlap).
+    """
+    if len(axes) == 0:
+        return
+    x0, x1 = axes[0].get_xlim()
+    for i, (at, color, words) in enumerate(stops):
+        for ax in axes:
+            ax.axvline(at, color=color, lw=1.2)
+        right_half = at > 0.5 * (x0 + x1)
+        axes[0].annotate(
+            words,
+            (at, 0.5 if i == 0 else 0.25),
+            xycoords=axes[0].get_xaxis_transform(),
+            xytext=(-5.0 if right_half else 5.0, 0.0),
+            textcoords="offset points",
+            ha="right" if right_half else "left",
+            va="center",
+            fontsize=8,
+            color=color,
+            bbox={"facecolor": "white", "edgecolor": color, "alpha": 0.85, "pad": 2.0},
+        )

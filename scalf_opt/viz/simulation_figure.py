@@ -1,7 +1,9 @@
 """The figure of a simulated trot.
 
 Trunk height and pitch and the vertical foot forces over time, and each leg's joint energy per
-cycle beside the model's.
+cycle beside the model's. A fall (red) and a divergence of MuJoCo's integration (purple, the check
+that failed named) are lines across the panels over time; a run that diverged is NaN from there
+on (no line drawn), and its energies, not measured, are said so.
 """
 
 from __future__ import annotations
@@ -16,7 +18,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 from matplotlib.figure import Figure
 
-from scalf_opt.viz.plotting import fitted_title
+from scalf_opt.viz.plotting import fitted_title, mark_stops, run_stops
 
 
 def simulation_figure(
@@ -31,6 +33,9 @@ def simulation_figure(
     startup_s: float | None = None,
     phase_energy_j: Mapping[str, Mapping[str, Mapping[str, float]]] | None = None,
     energy_goal: float | None = None,
+    fell_at_s: float | None = None,
+    diverged_at_s: float | None = None,
+    divergence: str | None = None,
 ) -> Figure:
     """Panels over time (trunk height, trunk pitch, vertical ground force per foot) and energy.
 
@@ -53,6 +58,11 @@ def simulation_figure(
             ``model`` joint energy per cycle [J] (``simulation.json``'s
             ``joint_energy_per_phase_j``).
         energy_goal: The per-leg goal on the relative difference (0.05: 5 %).
+        fell_at_s: When the robot fell [s], or ``None``.
+        diverged_at_s: When the step in which MuJoCo's integration diverged started [s], or
+            ``None``.
+        divergence: Which of MuJoCo's checks failed then, in words (``bad accelerations,
+            MuJoCo's BADQACC``).
     """
     rows = 3 if phase_energy_j is None else 4
     fig = plt.figure(figsize=(10, 8 if rows == 3 else 10.5), layout="constrained")
@@ -88,6 +98,7 @@ def simulation_figure(
     ax_f.legend(fontsize=8, ncol=7, loc="upper center", bbox_to_anchor=(0.5, -0.22))
     for ax in (ax_z, ax_p, ax_f):
         ax.grid(True, alpha=0.3)
+    mark_stops((ax_z, ax_p, ax_f), run_stops(fell_at_s, diverged_at_s, divergence))
     if phase_energy_j is not None:
         _energy_panel(fig.add_subplot(grid[3]), phase_energy_j, energy_goal)
     return fig
@@ -132,10 +143,10 @@ def _energy_panel(
     model, simulated = tops
     for k in range(len(legs)):
         change = 100.0 * (simulated[k] - model[k]) / model[k]
-        missed = goal is not None and abs(change) > 100.0 * goal
+        missed = goal is not None and not abs(change) <= 100.0 * goal  # NaN: not measured
         ax.annotate(
-            f"{change:+.1f} %",
-            (x[k], max(model[k], simulated[k])),
+            f"{change:+.1f} %" if np.isfinite(change) else "not\nmeasured",
+            (x[k], float(np.nanmax([model[k], simulated[k]]))),
             xytext=(0, 3),
             textcoords="offset points",
             ha="center",
@@ -146,6 +157,7 @@ def _energy_panel(
     ax.set_title(f"joint energy per cycle, simulated against the model{goal_text}", fontsize=10)
     ax.set_xticks(x, legs)
     ax.set_ylabel("joint energy per cycle [J]")
-    ax.set_ylim(0.0, 1.15 * float(max(model.max(), simulated.max())))
+    top = np.nanmax(np.concatenate([model, simulated]), initial=0.0)
+    ax.set_ylim(0.0, 1.15 * float(top) if top > 0 else 1.0)
     ax.grid(True, axis="y", alpha=0.3)
     ax.legend(fontsize=8, ncol=4, loc="upper center", bbox_to_anchor=(0.5, -0.12))

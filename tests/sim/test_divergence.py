@@ -22,6 +22,7 @@ from scalf_opt.sim.ensemble import NOMINAL, MemberResult, Perturbation, ensemble
 from scalf_opt.sim.report import energy_goal_line, ensemble_lines
 from scalf_opt.sim.whole_body_control import WholeBodyController
 from scalf_opt.types import LEG_NAMES
+from scalf_opt.viz.plotting import close
 
 PENDULUM = """<mujoco><worldbody><body><joint name="j"/><geom size=".1" pos=".2 0 0"/>
 </body></worldbody><actuator><motor joint="j"/></actuator></mujoco>"""
@@ -70,6 +71,21 @@ PUSH_STEP = 700
 cycle, after the start-up)."""
 
 
+def _assert_figure_marks(fig, panels, at_s, warning):
+    """``simulation.png`` marks the divergence as it marks a fall: a line at ``at_s`` on each of
+    its first ``panels`` panels (those over time), the warning named on the first."""
+    try:
+        for ax in fig.axes[:panels]:
+            assert any(np.allclose(line.get_xdata(), at_s) for line in ax.lines), ax.get_ylabel()
+        assert any(
+            f"MuJoCo diverged at {at_s:.3f} s" in t.get_text() and warning in t.get_text()
+            for t in fig.axes[0].texts
+        )
+        fig.canvas.draw()  # the NaN samples after the divergence drawn without an error
+    finally:
+        close(fig)
+
+
 def _member(name, diff):
     energy = {leg: 100.0 * (1 + diff) for leg in LEG_NAMES}
     return MemberResult(Perturbation(name), dict.fromkeys(LEG_NAMES, diff), energy, diff, None, 0.0)
@@ -109,6 +125,7 @@ def test_the_sagittal_referee_stops_where_mujoco_diverged(monkeypatch, tmp_path)
     assert written["diverged_at_s"] == at and "BADQACC" in written["divergence"]
     assert written["joint_energy_per_cycle_j"]["RF"]["simulated"] is None  # nothing measured
     assert "MuJoCo's integration diverged at t = 0.350 s" in (tmp_path / "report.txt").read_text()
+    _assert_figure_marks(result.figure(), 3, at, "BADQACC")
 
     # as an ensemble's member: the plan is not refereeable, the member named; the medians are
     # the members' that measured
@@ -180,3 +197,4 @@ def test_the_3d_referee_stops_where_mujoco_diverged(monkeypatch, tmp_path):
     assert written["diverged_at_s"] == pytest.approx(at, abs=1e-12)
     assert "BADCTRL" in written["divergence"]
     assert "MuJoCo's integration diverged at t = 0.250 s" in (tmp_path / "report.txt").read_text()
+    _assert_figure_marks(result.figure(), 4, at, "BADCTRL")
