@@ -59,6 +59,7 @@ __all__ = [  # noqa: RUF022 (the version first, then the API of scalf_opt.api)
     "sweep_gaits",
     "sweep_gaits_3d",
     "view",
+    "view_cycles",
 ]
 
 if TYPE_CHECKING:
@@ -93,6 +94,7 @@ if TYPE_CHECKING:
         sweep_gaits,
         sweep_gaits_3d,
         view,
+        view_cycles,
     )
 
 

@@ -19,7 +19,7 @@ from scalf_opt.api.gait_optimization import GaitResult, GaitSweep, optimize_gait
 from scalf_opt.api.gaits import read_gait
 from scalf_opt.api.logs import LogResult, analyze_log
 from scalf_opt.api.optimization import OptimizationResult, optimize_swing
-from scalf_opt.api.presentation import NotSolvedError, figures, view
+from scalf_opt.api.presentation import NotSolvedError, figures, view, view_cycles
 from scalf_opt.api.reproduction import PaperResult, paper
 from scalf_opt.api.robot_logs import RobotLogResult, analyze_robot_log
 from scalf_opt.api.simulation import (
@@ -63,4 +63,5 @@ __all__ = [
     "sweep_gaits",
     "sweep_gaits_3d",
     "view",
+    "view_cycles",
 ]

@@ -37,6 +37,7 @@ from scalf_opt.viz.trajectories import REFERENCE_LABEL, Trajectory
 
 if TYPE_CHECKING:  # the drawing libraries load when something is drawn (meshcat is an extra)
     from scalf_opt.viz.scene import SceneOptions
+    from scalf_opt.viz.whole_body_walk import ShownPlan
 
 Progress = Callable[[str], None]
 
@@ -206,9 +207,74 @@ def _robot_and_gait(
     return loaded, gait or default_gait_for(loaded)
 
 
+def view_cycles(
+    out: str | Path,
+    from_dirs: str | Path | Sequence[str | Path],
+    robot: str | Robot | None = None,
+    options: SceneOptions | None = None,
+) -> tuple[Path, list[ShownPlan]]:
+    """Write the offline 3-D view of saved 3-D cycles (``optimize --model 3d --out DIR``).
+
+    Args:
+        out: The HTML file to write.
+        from_dirs: One or several 3-D cycle folders, shown side by side.
+        robot: The robot (default: the first folder's, from its ``summary.json``); a folder of
+            another robot is refused.
+        options: Scene options (cycles, frame rate, colouring, playback speed).
+
+    Returns:
+        The page, and the plans shown (each with its folder's headline).
+
+    Raises:
+        ConfigError: A folder that is not a readable 3-D cycle, or of another robot; a bad
+            output path or options.
+    """
+    from scalf_opt.energy.whole_body import WholeBodyPhysics
+    from scalf_opt.io.whole_body_export import read_cycle
+    from scalf_opt.viz.view import check_output_file, write_plan_scene_html
+    from scalf_opt.viz.visuals import load_visuals
+    from scalf_opt.viz.whole_body_walk import ShownPlan
+
+    check_output_file(out, ".html")
+    saved = [read_cycle(Path(d)) for d in _one_or_many(from_dirs)]
+    if not saved:
+        raise ConfigError("give at least one 3-D cycle folder", field="from_dirs")
+    loaded = as_robot(robot if robot is not None else str(saved[0].summary.get("robot")))
+    physics = WholeBodyPhysics.of(loaded)
+    shown = [ShownPlan.of(cycle, physics) for cycle in saved]  # another robot's is refused
+    page = write_plan_scene_html(out, shown, options, load_visuals(loaded))
+    return page, shown
+
+
+def _three_d_folders(from_dirs: Sequence[str | Path], gait: Gait | None, loads: str | None) -> bool:
+    """Whether ``from_dirs`` are 3-D cycles (all of them; a mix is refused, as a gait or loads).
+
+    Raises:
+        ConfigError: 3-D and sagittal folders together; a gait or loads with 3-D cycles.
+    """
+    from scalf_opt.io.whole_body_export import is_3d_cycle
+
+    kinds = {str(d): is_3d_cycle(Path(d)) for d in from_dirs}
+    if not any(kinds.values()):
+        return False
+    if not all(kinds.values()):
+        sagittal = next(d for d, three_d in kinds.items() if not three_d)
+        raise ConfigError(
+            f"{sagittal}: not a 3-D cycle, beside 3-D cycles; 3-D and sagittal results are "
+            "shown apart",
+            field="from_dirs",
+        )
+    if gait is not None or loads is not None:
+        raise ConfigError(
+            "a 3-D cycle brings its own gait and contact forces: give no gait or loads",
+            field="gait" if gait is not None else "loads",
+        )
+    return True
+
+
 def view(
     out: str | Path = "scene.html",
-    robot: str | Robot = "scalf",
+    robot: str | Robot | None = None,
     from_dirs: str | Path | Sequence[str | Path] = (),
     gait: Gait | None = None,
     accounting: Accounting = "paper",
@@ -220,9 +286,13 @@ def view(
 
     Args:
         out: The HTML file to write.
-        robot: A catalog name (``scalf``, ``hyq``, ``solo12``, ...) or a loaded robot.
+        robot: A catalog name (``scalf``, ``hyq``, ``solo12``, ...) or a loaded robot (default:
+            a 3-D cycle's own robot, else ``scalf``).
         from_dirs: Result directories of ``scalf-opt optimize --out`` (one or several); none:
-            the reference and the default optimum are computed.
+            the reference and the default optimum are computed. 3-D cycles
+            (``optimize --model 3d --out``) are shown as :func:`view_cycles` shows them, the
+            whole robot walking each plan; the trajectories returned are then none (the plans
+            are :func:`view_cycles`'s).
         gait: The gait without ``from_dirs`` (default: the robot's).
         accounting: Power accounting without ``from_dirs``.
         options: Scene options (cycles, frame rate, colouring, playback speed).
@@ -237,7 +307,9 @@ def view(
 
     check_output_file(out, ".html")
     from_dirs = _one_or_many(from_dirs)
-    loaded, base = _robot_and_gait(robot, gait, from_dirs)
+    if _three_d_folders(from_dirs, gait, loads):
+        return view_cycles(out, from_dirs, robot, options)[0], []
+    loaded, base = _robot_and_gait("scalf" if robot is None else robot, gait, from_dirs)
     _, shown = shown_trajectories(loaded, base, from_dirs, accounting, progress, loads)
     return write_scene_html(out, loaded, shown, options), shown
 

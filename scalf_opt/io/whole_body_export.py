@@ -160,6 +160,22 @@ def is_cycle_dir(directory: Path) -> bool:
     return (directory / "plan.csv").is_file() and (directory / "summary.json").is_file()
 
 
+def is_3d_cycle(directory: Path) -> bool:
+    """Whether ``directory`` holds a 3-D cycle: a ``plan.csv``, or a ``summary.json`` saying so.
+
+    The second case is a 3-D folder that lost its plan: its readers then say what is missing.
+    """
+    if is_cycle_dir(directory):
+        return True
+    from scalf_opt.io.saved import read_json
+
+    try:  # bounded, and a regular file only (a link to /dev/zero would never end)
+        summary = read_json(directory / "summary.json", "summary")
+    except ConfigError:
+        return False  # the sagittal reader says what is wrong with it
+    return isinstance(summary, dict) and summary.get("model") == "3d"
+
+
 def _bad_cell(header: list[str], body: list[list[str]]) -> str | None:
     """Where the first cell that is not a number is (``row 3, column 't_s': 'oops'``)."""
     for r, row in enumerate(body, start=2):

@@ -189,6 +189,7 @@ class ShownPlan:
         energy_j: Energy per cycle as its run reported it [J] (``summary.json``; NaN if not).
         cost_of_transport: Its cost of transport as reported (NaN if not).
         leg_energy_j: Each leg's energy per cycle as reported [J] (empty if not).
+        headline: Its folder, robot, period, speed and energy in one line (empty if not saved).
     """
 
     label: str
@@ -197,6 +198,7 @@ class ShownPlan:
     energy_j: float
     cost_of_transport: float
     leg_energy_j: dict[str, float]
+    headline: str = ""
 
     @classmethod
     def of(cls, saved: SavedCycle, physics: WholeBodyPhysics) -> ShownPlan:
@@ -220,6 +222,7 @@ class ShownPlan:
                 if isinstance(legs, dict)
                 else {}
             ),
+            headline=saved.headline,
         )
 
     @property

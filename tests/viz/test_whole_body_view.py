@@ -265,6 +265,37 @@ def test_cli_writes_the_page_with_the_plans_trunk_pose(cycle, tmp_path, capsys):
     assert np.ptp([np.arctan2(p[2, 1], p[2, 2]) for p in poses]) > 0.2  # it rolls
 
 
+@pytest.mark.parametrize("cycle", ["go1"], indirect=True)  # the routing, not the robot
+def test_the_python_view_shows_a_3d_cycle_as_the_cli_does(cycle, tmp_path, capsys):
+    """``scalf_opt.api.view(from_dirs=DIR)`` of a 3-D cycle: the robot from the folder, the same
+    page as ``scalf-opt view --from DIR`` (byte for byte); a mix with a sagittal folder, a gait
+    or loads refused in one sentence naming the field, nothing written."""
+    from scalf_opt.api import view
+    from scalf_opt.api.presentation import view_cycles
+    from scalf_opt.errors import ConfigError
+
+    folder = cycle[0]
+    page, shown = view(tmp_path / "api.html", from_dirs=folder)
+    assert shown == [] and page == tmp_path / "api.html"
+    assert main(["view", "--from", str(folder), "--out", str(tmp_path / "cli.html")]) == 0
+    assert page.read_bytes() == (tmp_path / "cli.html").read_bytes()
+    _, plans = view_cycles(tmp_path / "again.html", [folder, folder])
+    assert [p.headline for p in plans] == [capsys.readouterr().out.splitlines()[0]] * 2
+    sagittal = tmp_path / "sagittal"
+    sagittal.mkdir()
+    (sagittal / "summary.json").write_text("{}")
+    refused = [
+        ({"from_dirs": [folder, sagittal]}, "from_dirs", "3-D and sagittal results are shown"),
+        ({"from_dirs": folder, "loads": "trunk"}, "loads", "give no gait or loads"),
+        ({"from_dirs": folder, "robot": "solo12"}, None, "not of 'solo12'"),
+    ]
+    for kwargs, field, words in refused:
+        with pytest.raises(ConfigError, match=words) as raised:
+            view(tmp_path / "no.html", **kwargs)
+        assert field is None or raised.value.field == field
+        assert not (tmp_path / "no.html").exists()
+
+
 def test_cli_refusals_are_one_line_and_write_nothing(cycle, tmp_path, capsys):
     folder = cycle[0]
     sagittal = tmp_path / "sagittal"

@@ -103,7 +103,7 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
         )
     check_output_file(args.out, "--out")
     check_not_the_source(args.out, args.source, "--out")
-    from scalf_opt.cli.commands.simulate import is_3d_cycle
+    from scalf_opt.io.whole_body_export import is_3d_cycle
 
     three_d = is_3d_cycle(args.source)
     if args.model == "3d" and not three_d:

@@ -121,6 +121,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
 
 def run(args: argparse.Namespace) -> int:  # noqa: D103
     from scalf_opt.api import simulate
+    from scalf_opt.io.whole_body_export import is_3d_cycle
     from scalf_opt.sim.report import DETAILS, simulation_report
 
     check_output_dir(args.out)
@@ -177,22 +178,6 @@ def run(args: argparse.Namespace) -> int:  # noqa: D103
 def outputs(args: argparse.Namespace) -> Outputs:
     """The folder and the log, moved into place together."""
     return Outputs(folders={"--out": args.out}, files={"--log": args.log})
-
-
-def is_3d_cycle(directory: Path) -> bool:
-    """Whether ``directory`` holds a 3-D cycle: a ``plan.csv``, or a ``summary.json`` saying so."""
-    from scalf_opt.io.whole_body_export import is_cycle_dir
-
-    if is_cycle_dir(directory):
-        return True
-    from scalf_opt.errors import ConfigError
-    from scalf_opt.io.saved import read_json
-
-    try:  # bounded, and a regular file only (a link to /dev/zero would never end)
-        summary = read_json(directory / "summary.json", "summary")
-    except ConfigError:
-        return False  # the sagittal reader says what is wrong with it
-    return isinstance(summary, dict) and summary.get("model") == "3d"
 
 
 def run_cycle(args: argparse.Namespace) -> int:

@@ -191,7 +191,7 @@ def _holds_3d_cycles(args: argparse.Namespace) -> bool:
         ConfigError: ``--model 3d`` without a 3-D cycle, ``--model sagittal`` with one, or 3-D
             and sagittal results together (one line naming ``--from`` and the folder).
     """
-    from scalf_opt.cli.commands.simulate import is_3d_cycle
+    from scalf_opt.io.whole_body_export import is_3d_cycle
 
     kinds = {d: is_3d_cycle(d) for d in args.from_dirs}
     three_d = [d for d, is_3d in kinds.items() if is_3d]
@@ -251,23 +251,13 @@ def _refuse_for_3d(args: argparse.Namespace) -> None:
 
 def _run_3d(args: argparse.Namespace, options: SceneOptions) -> int:
     """``view --from DIR`` of 3-D cycles: the whole robot walking each plan, side by side."""
-    from scalf_opt.energy.whole_body import WholeBodyPhysics
-    from scalf_opt.io.whole_body_export import read_cycle
-    from scalf_opt.viz.view import write_plan_scene_html
-    from scalf_opt.viz.visuals import load_visuals
-    from scalf_opt.viz.whole_body_walk import ShownPlan
+    from scalf_opt.api.presentation import view_cycles
 
     _refuse_for_3d(args)
-    saved = [read_cycle(d) for d in args.from_dirs]
-    if args.robot is None and args.urdf is None:
-        args.robot = saved[0].summary.get("robot")
-    robot = load_robot(args)
-    physics = WholeBodyPhysics.of(robot)
-    shown = [ShownPlan.of(cycle, physics) for cycle in saved]  # another robot's is refused first
-    visuals = load_visuals(robot)
-    out = write_plan_scene_html(args.out, shown, options, visuals)
-    for cycle in saved:
-        args.console.text(cycle.headline)
+    robot = None if args.robot is None and args.urdf is None else load_robot(args)
+    out, shown = view_cycles(args.out, args.from_dirs, robot, options)  # robot None: the cycle's
+    for plan in shown:
+        args.console.text(plan.headline)
     args.console.text(f"wrote {out} (open it in a browser; it needs no network)")
     period = shown[0].plan.schedule.period_s
     _screenshot(args, out, 0.4 * options.n_cycles * period / options.playback_speed)
