@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import math
 import os
 import stat
 from collections.abc import Callable
@@ -14,6 +15,7 @@ from typing import TYPE_CHECKING, Any
 from scalf_opt.energy.accounting import ACCOUNTINGS, PAPER_ACCOUNTING
 from scalf_opt.energy.loads import DEFAULT_LOADS, LOAD_MODELS
 from scalf_opt.errors import ConfigError, GaitError
+from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION
 from scalf_opt.locomotion.gait import MAX_GAIT_LENGTH_M, MAX_PERIOD_S
 from scalf_opt.optimize.solvers import DEFAULT_SOLVER, SOLVERS, solver_help
 from scalf_opt.robots.catalog import robot_names
@@ -167,6 +169,33 @@ def add_method(parser: argparse.ArgumentParser) -> None:
         default=DEFAULT_SOLVER,
         help=f"the solver: {solver_help()}",
     )
+
+
+def add_friction(parser: argparse.ArgumentParser) -> None:
+    """``--friction``: the feet's friction coefficient of the 3-D model."""
+    parser.add_argument(
+        "--friction",
+        type=float,
+        default=DEFAULT_FRICTION,
+        metavar="X",
+        help=f"--model 3d: the feet's friction coefficient (default {DEFAULT_FRICTION:g})",
+    )
+
+
+def friction_of(args: argparse.Namespace) -> float:
+    """``--friction``, checked for ``--model 3d``; with the sagittal model it must be left out.
+
+    Raises:
+        ConfigError: Not a number > 0, or given (not at its default) to the sagittal model.
+    """
+    friction = float(args.friction)
+    if getattr(args, "model", "3d") != "3d":
+        if friction != DEFAULT_FRICTION:
+            raise ConfigError("--friction is an option of --model 3d", field="friction")
+        return friction
+    if not (math.isfinite(friction) and friction > 0):
+        raise ConfigError(f"--friction {friction:g} must be > 0", field="friction")
+    return friction
 
 
 def add_accept_unconverged(parser: argparse.ArgumentParser) -> None:

@@ -15,6 +15,7 @@ from scalf_opt.cli import main
         (["--model", "3d", "--rate", "-5"], "--rate -5 must be > 0 [Hz]"),
         (["--friction", "0.5"], "--friction is an option of --model 3d"),
         (["--accept-unconverged"], "--accept-unconverged is an option of --model 3d"),
+        (["--model", "3d", "--friction", "inf"], "--friction inf must be > 0"),
     ],
 )
 def test_a_bad_3d_option_is_one_line(capsys, tmp_path, argv, message):

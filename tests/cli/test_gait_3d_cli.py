@@ -28,6 +28,9 @@ from scalf_opt.cli import main
         (["--duty", "0.5"], "--duty is an option of --model 3d"),
         (["--period-range", "0.2:0.5"], "--period-range is an option of --model 3d"),
         (["--sagittal", "x.csv"], "--sagittal is an option of --model 3d"),
+        (["--friction", "0.5"], "--friction is an option of --model 3d"),
+        (["--model", "3d", "--friction", "0"], "--friction 0 must be > 0"),
+        (["--model", "3d", "--friction", "nan"], "--friction nan must be > 0"),
     ],
 )
 def test_a_bad_option_is_one_line(capsys, tmp_path, argv, message):
@@ -79,6 +82,7 @@ def test_the_sweep_writes_its_table_and_exits_3_when_a_speed_fails(capsys, tmp_p
     seen = []
 
     def fake(case, physics, previous):
+        assert case.friction == 0.6  # --friction reaches every speed's NLP
         seen.append((case.speed_m_s, dict(previous)))
         if case.speed_m_s > 1:
             failed = _answer(0.5, 0.4, False, 0.2, "Ipopt on 8 nodes: Infeasible_Problem_Detected")
@@ -88,7 +92,9 @@ def test_the_sweep_writes_its_table_and_exits_3_when_a_speed_fails(capsys, tmp_p
     monkeypatch.setattr(gait_3d, "_solve_speed", fake)
     out = tmp_path / "sweep"
     argv = ["gait", "--model", "3d", "--robot", "go1", "--speed", "0.5,1.5"]
-    code = main([*argv, "--duty", "0.5,0.4", "--workers", "1", "--out", str(out)])
+    code = main(
+        [*argv, "--duty", "0.5,0.4", "--friction", "0.6", "--workers", "1", "--out", str(out)]
+    )
     captured = capsys.readouterr()
     assert code == 3
     assert "1 of 2 speeds did not converge" in captured.err

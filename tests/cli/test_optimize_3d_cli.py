@@ -47,3 +47,14 @@ def test_a_rate_too_low_for_the_sagittal_gait_is_the_3d_grid_s_to_take():
     problem, rate, _ = build_problem(args, margins_from(args))
     assert rate == 16.0 and args.sample_rate_hz == 16.0
     assert problem.schedule.period_s * problem.schedule.duty_cycle * rate < 4
+
+
+def test_the_sagittal_optimize_refuses_the_3d_friction(capsys, tmp_path):
+    """``--friction`` shapes the 3-D model's contact cones only: the sagittal optimize, which
+    has none, refuses it rather than ignore it (it used to)."""
+    out = tmp_path / "out"
+    code = main(["optimize", "--friction", "0.5", "--out", str(out)])
+    assert code == 2
+    err = capsys.readouterr().err
+    assert "--friction is an option of --model 3d" in err and err.count("\n") == 1
+    assert not out.exists()

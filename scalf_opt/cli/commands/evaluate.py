@@ -7,17 +7,18 @@ from pathlib import Path
 
 from scalf_opt.cli.options import (
     add_accept_unconverged,
+    add_friction,
     add_gait,
     add_loads,
     add_robot,
     check_output_dir,
+    friction_of,
     gait_origin,
     load_gait,
     load_robot,
     warn_without_effect,
 )
 from scalf_opt.errors import ConfigError
-from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION
 
 NAME = "evaluate"
 HELP = "energy of the cubic-spline reference trajectory, or of a saved optimum (--swing)"
@@ -44,13 +45,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "friction cones): the balanced motion nearest the kinematic reference trot, solved by "
         "Ipopt (not optimized for energy; takes a minute or more)",
     )
-    parser.add_argument(
-        "--friction",
-        type=float,
-        default=DEFAULT_FRICTION,
-        metavar="X",
-        help=f"--model 3d: the feet's friction coefficient (default {DEFAULT_FRICTION:g})",
-    )
+    add_friction(parser)
     add_gait(parser, speed=True)
     add_loads(parser, saved=True)
     parser.add_argument(
@@ -99,8 +94,7 @@ def run_reference_3d(args: argparse.Namespace) -> int:
 def run(args: argparse.Namespace) -> int:  # noqa: D103
     if args.model == "3d":
         return run_reference_3d(args)
-    if args.friction != DEFAULT_FRICTION:
-        raise ConfigError("--friction is an option of --model 3d", field="friction")
+    friction_of(args)  # refused here: an option of --model 3d
     if args.accept_unconverged:
         raise ConfigError(
             "--accept-unconverged is an option of --model 3d (the sagittal evaluate solves "

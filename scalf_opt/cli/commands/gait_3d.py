@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 from typing import Any
 
+from scalf_opt.cli.options import add_friction, friction_of
 from scalf_opt.errors import ConfigError
 
 SAGITTAL_GAIT_ONLY = ("family", "method", "loads", "scheduler")
@@ -46,6 +47,7 @@ def add_3d_arguments(parser: argparse.ArgumentParser) -> None:
         help="--model 3d: the node rate [Hz] (default 25; the ten-times rule refines where the "
         "energy needs more)",
     )
+    add_friction(parser)
 
 
 def _numbers(text: str | None, option: str) -> list[float] | None:
@@ -102,8 +104,10 @@ def refuse_3d_options(args: argparse.Namespace) -> None:
     """Refuse a ``--model 3d`` option given to the sagittal search.
 
     Raises:
-        ConfigError: ``--duty``, ``--period``, ``--period-range`` or ``--rate`` was given.
+        ConfigError: ``--duty``, ``--period``, ``--period-range``, ``--rate`` or ``--friction``
+            was given.
     """
+    friction_of(args)  # refused here: an option of --model 3d
     for field, option in (
         ("duties", "--duty"),
         ("periods", "--period"),
@@ -122,8 +126,8 @@ def cases(args: argparse.Namespace, speeds: list[float]) -> tuple[list[Any], str
     """One :class:`~scalf_opt.api.gait_3d.SpeedCase` per speed, and the robot's name.
 
     Raises:
-        ConfigError: A bad ``--duty``, ``--period``, ``--period-range`` or ``--rate``; a duty
-            factor the 3-D trot schedule refuses.
+        ConfigError: A bad ``--duty``, ``--period``, ``--period-range``, ``--rate`` or
+            ``--friction``; a duty factor the 3-D trot schedule refuses.
     """
     from scalf_opt.api.gait_3d import DEFAULT_GAIT_RATE_HZ, SpeedCase, default_starts
     from scalf_opt.cli.options import load_robot
@@ -133,6 +137,7 @@ def cases(args: argparse.Namespace, speeds: list[float]) -> tuple[list[Any], str
 
     robot = load_robot(args)
     gait = default_gait_for(robot)
+    friction = friction_of(args)
     rate = DEFAULT_GAIT_RATE_HZ if args.sample_rate_hz is None else args.sample_rate_hz
     if not (math.isfinite(rate) and 0 < rate <= 1000):
         raise ConfigError(f"--rate {rate:g} must be in (0, 1000] [Hz]", field="sample_rate_hz")
@@ -159,6 +164,7 @@ def cases(args: argparse.Namespace, speeds: list[float]) -> tuple[list[Any], str
             starts,
             (low, high),
             rate,
+            friction=friction,
             accounting=args.accounting,
         )
         for speed in speeds

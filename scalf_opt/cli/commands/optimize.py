@@ -10,12 +10,14 @@ from typing import TYPE_CHECKING
 from scalf_opt.cli.commands.gait_3d import PERIOD_RANGE_HELP
 from scalf_opt.cli.options import (
     add_accept_unconverged,
+    add_friction,
     add_gait,
     add_loads,
     add_method,
     add_robot,
     bounded,
     check_output_dir,
+    friction_of,
     gait_origin,
     leg_name,
     load_gait,
@@ -28,7 +30,6 @@ from scalf_opt.energy.margins import (
     DEFAULT_STOP_MARGIN_RAD,
     DEFAULT_STROKE_MARGIN_M,
 )
-from scalf_opt.locomotion.contact_schedule import DEFAULT_FRICTION
 from scalf_opt.locomotion.swing.names import DEFAULT_FAMILY, FREE_FAMILY
 from scalf_opt.types import FIRST_PAIR, LEG_NAMES
 
@@ -91,13 +92,7 @@ def add_arguments(parser: argparse.ArgumentParser) -> None:  # noqa: D103
         "joint, contact forces in friction cones, --duty down to 0.2: a flying trot), solved "
         "by Ipopt on a refined grid (takes minutes; the Python API only had it before)",
     )
-    parser.add_argument(
-        "--friction",
-        type=float,
-        default=DEFAULT_FRICTION,
-        metavar="X",
-        help=f"--model 3d: the feet's friction coefficient (default {DEFAULT_FRICTION:g})",
-    )
+    add_friction(parser)
     parser.add_argument("--period-range", metavar="X", help=PERIOD_RANGE_HELP)
     add_gait(parser, speed=True)
     add_loads(parser)
@@ -241,6 +236,7 @@ def run(args: argparse.Namespace) -> int:
         from scalf_opt.errors import ConfigError
 
         raise ConfigError("--period-range is an option of --model 3d", field="period_range")
+    friction_of(args)  # refused here: an option of --model 3d
     from scalf_opt.api.optimization import goal_from, optimize_goal
     from scalf_opt.cli.progress import ProgressBar
     from scalf_opt.energy.pipeline import EnergyPipeline

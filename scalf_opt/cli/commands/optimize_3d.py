@@ -7,7 +7,7 @@ import math
 from dataclasses import replace
 from typing import TYPE_CHECKING, Any, Literal
 
-from scalf_opt.cli.options import check_output_dir, load_gait, load_robot
+from scalf_opt.cli.options import check_output_dir, friction_of, load_gait, load_robot
 from scalf_opt.energy.loads import DEFAULT_LOADS
 from scalf_opt.errors import ConfigError, GaitError
 from scalf_opt.io.whole_body_summary import cycle_summary
@@ -144,8 +144,7 @@ def run_3d(
 
     check_output_dir(args.out)
     refuse_sagittal_options(args)
-    if not (math.isfinite(args.friction) and args.friction > 0):
-        raise ConfigError(f"--friction {args.friction:g} must be > 0", field="friction")
+    friction_of(args)
     problem, rate, line = build_problem(args, margins)
     problem = replace(problem, objective=objective)
     label = f"{args.command} --model 3d"
