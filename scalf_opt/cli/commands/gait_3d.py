@@ -221,8 +221,16 @@ def gait_3d_table(robot: str, rows: list[dict[str, Any]]) -> str:
     optimum of its last coarser grid (both at ten times the rate; "-": one grid only).
     """
     header = [
-        *("v [m/s]", "T [s]", "duty", "stride [m]", "P [W]", "CoT"),
-        *("10x", "grid", "starts", "status"),
+        "v [m/s]",
+        "T [s]",
+        "duty",
+        "stride [m]",
+        "P [W]",
+        "CoT",
+        "10x",
+        "grid",
+        "starts",
+        "status",
     ]
     lines = [
         f"cheapest 3-D trot of {robot} per speed (the whole robot; the period optimized from "
